@@ -1,0 +1,1 @@
+//! Odometry calibration math.
