@@ -1,0 +1,25 @@
+//! A thin hardware layer over `avr-device` for the ATmega2560.
+//!
+//! Each module owns the peripheral it drives (taken by value from
+//! `avr_device::atmega2560::Peripherals`), so two drivers cannot program the
+//! same registers. Nothing here knows the robot: pin roles and clock values
+//! are chosen in `board.rs`.
+//!
+//! Rules every module keeps:
+//! - 16-bit timer registers are written high byte first, then low byte (the
+//!   chip latches the high byte in a shared TEMP register), see [`reg`].
+//! - Read-modify-write of a register that an interrupt handler may also touch
+//!   happens inside `interrupt::free`.
+//! - Timers 2 and 4 (PWM) are only ever written, never read, and none of their
+//!   interrupts is enabled: the bench emulates those two timers itself.
+
+pub mod clock;
+pub mod exint;
+pub mod gpio;
+pub mod oneshot;
+pub mod pwm;
+pub mod reg;
+pub mod ring;
+pub mod sleep;
+pub mod tick;
+pub mod usart;

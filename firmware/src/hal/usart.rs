@@ -1,0 +1,215 @@
+//! Interrupt-driven USART: 8N1, double speed (U2Xn = 1), a receive ring
+//! filled by the RX-complete handler and a transmit ring drained by the
+//! data-register-empty handler.
+//!
+//! Nothing here waits on the hardware: [`Serial::write`] queues what fits and
+//! reports what did not, [`Serial::read`] returns `None` when nothing came.
+
+use avr_device::interrupt::{self, Mutex};
+
+use super::ring::Ring;
+use crate::Error;
+
+/// Receive buffer size per USART.
+pub const RX_LEN: usize = 32;
+/// Transmit buffer size per USART.
+pub const TX_LEN: usize = 64;
+
+/// A USART peripheral this module can drive.
+pub trait Instance {
+    /// Programs baud, frame and enables receiver, transmitter and the RX
+    /// interrupt. UDRIE stays off until there is something to send.
+    fn setup(&self, ubrr: u16);
+    /// Turns the receiver, transmitter and their interrupts off.
+    fn shutdown(&self);
+    /// Enables the data-register-empty interrupt (it fires at once if the
+    /// transmitter is idle and then drains the transmit ring).
+    fn start_tx(&self);
+    /// The receive ring of this instance.
+    fn rx_ring() -> &'static Mutex<Ring<RX_LEN>>;
+    /// The transmit ring of this instance.
+    fn tx_ring() -> &'static Mutex<Ring<TX_LEN>>;
+}
+
+/// Baud setting, computed at compile time from the CPU clock.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Baud {
+    /// UBRRn for double-speed mode.
+    pub ubrr: u16,
+}
+
+impl Baud {
+    /// The divisor for `baud` at `cpu_hz` (double speed).
+    pub const fn new(cpu_hz: u32, baud: u32) -> Self {
+        Baud { ubrr: super::clock::ubrr_double_speed(cpu_hz, baud) }
+    }
+}
+
+/// One USART with its two rings.
+pub struct Serial<U: Instance> {
+    usart: U,
+}
+
+impl<U: Instance> Serial<U> {
+    /// Configures and enables the USART (receiver, transmitter, RX interrupt).
+    pub fn new(usart: U, baud: Baud) -> Self {
+        usart.setup(baud.ubrr);
+        Serial { usart }
+    }
+
+    /// Takes the oldest received byte, if any.
+    pub fn read(&mut self) -> Option<u8> {
+        interrupt::free(|cs| U::rx_ring().borrow(cs).pop())
+    }
+
+    /// True when at least one received byte waits.
+    pub fn has_input(&self) -> bool {
+        interrupt::free(|cs| !U::rx_ring().borrow(cs).is_empty())
+    }
+
+    /// Queues as many of `bytes` as fit and starts sending; returns how many
+    /// were queued. Never waits.
+    pub fn write(&mut self, bytes: &[u8]) -> usize {
+        let queued = interrupt::free(|cs| {
+            let tx = U::tx_ring().borrow(cs);
+            let mut n = 0;
+            for &b in bytes {
+                if !tx.push(b) {
+                    break;
+                }
+                n += 1;
+            }
+            n
+        });
+        if queued > 0 {
+            self.usart.start_tx();
+        }
+        queued
+    }
+
+    /// Queues all of `bytes` or nothing.
+    pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        let fits = interrupt::free(|cs| U::tx_ring().borrow(cs).free() >= bytes.len());
+        if !fits {
+            return Err(Error::TxFull);
+        }
+        self.write(bytes);
+        Ok(())
+    }
+
+    /// Stops the USART and gives the peripheral back.
+    pub fn release(self) -> U {
+        self.usart.shutdown();
+        self.usart
+    }
+}
+
+impl<U: Instance> ufmt::uWrite for Serial<U> {
+    type Error = Error;
+
+    /// Queues the string; a string that does not fit entirely is cut and
+    /// reported as [`Error::TxFull`] (the line is then incomplete, but the
+    /// caller never waits for the UART).
+    fn write_str(&mut self, s: &str) -> Result<(), Error> {
+        if self.write(s.as_bytes()) == s.len() {
+            Ok(())
+        } else {
+            Err(Error::TxFull)
+        }
+    }
+}
+
+// UCSRnA / UCSRnB / UCSRnC bits (same positions on every USART).
+const U2X: u8 = 1 << 1;
+const RXCIE: u8 = 1 << 7;
+const UDRIE: u8 = 1 << 5;
+const RXEN: u8 = 1 << 4;
+const TXEN: u8 = 1 << 3;
+/// UCSZn1:0 = 11: 8 data bits; no parity, 1 stop bit, asynchronous.
+const FRAME_8N1: u8 = 0b0000_0110;
+
+macro_rules! usart_instance {
+    ($module:ident, $periph:ident, $rx_vec:ident, $udre_vec:ident, $ucsra:ident, $ucsrb:ident,
+     $ucsrc:ident, $ubrr:ident, $udr:ident) => {
+        mod $module {
+            use super::*;
+            use avr_device::atmega2560::$periph;
+
+            static RX: Mutex<Ring<RX_LEN>> = Mutex::new(Ring::new());
+            static TX: Mutex<Ring<TX_LEN>> = Mutex::new(Ring::new());
+
+            impl Instance for $periph {
+                fn setup(&self, ubrr: u16) {
+                    // SAFETY: the values are valid settings of these
+                    // registers and the USART is off while they change.
+                    // UBRRn goes high byte first: writing UBRRnL applies
+                    // the divisor at once, so the high byte must be there.
+                    unsafe {
+                        self.$ucsrb().write(|w| w.bits(0));
+                        self.$ucsra().write(|w| w.bits(U2X));
+                        crate::hal::reg::write_u16(self.$ubrr().as_ptr(), ubrr);
+                        self.$ucsrc().write(|w| w.bits(FRAME_8N1));
+                        self.$ucsrb().write(|w| w.bits(RXCIE | RXEN | TXEN));
+                    }
+                }
+
+                fn shutdown(&self) {
+                    // SAFETY: 0 disables the USART; always valid.
+                    unsafe { self.$ucsrb().write(|w| w.bits(0)) };
+                }
+
+                fn start_tx(&self) {
+                    interrupt::free(|_| {
+                        // SAFETY: sets one enable bit; the handler clears it
+                        // under the same rule (interrupts off).
+                        unsafe { self.$ucsrb().modify(|r, w| w.bits(r.bits() | UDRIE)) };
+                    });
+                }
+
+                fn rx_ring() -> &'static Mutex<Ring<RX_LEN>> {
+                    &RX
+                }
+
+                fn tx_ring() -> &'static Mutex<Ring<TX_LEN>> {
+                    &TX
+                }
+            }
+
+            // Receive complete: store the byte (dropped if the ring is full)
+            // and wake the main loop.
+            #[avr_device::interrupt(atmega2560)]
+            fn $rx_vec() {
+                // SAFETY: the handler reads only UDRn, which clears RXCn; the
+                // main code never reads UDRn.
+                let usart = unsafe { $periph::steal() };
+                let byte = usart.$udr().read().bits();
+                interrupt::free(|cs| {
+                    RX.borrow(cs).push(byte);
+                });
+                crate::hal::sleep::wake();
+            }
+
+            // Data register empty: send the next byte, or turn this
+            // interrupt off when the ring is empty.
+            #[avr_device::interrupt(atmega2560)]
+            fn $udre_vec() {
+                // SAFETY: the handler writes UDRn and clears UDRIE; the main
+                // code only sets UDRIE, with interrupts off.
+                let usart = unsafe { $periph::steal() };
+                interrupt::free(|cs| match TX.borrow(cs).pop() {
+                    Some(b) => {
+                        // SAFETY: any byte is a valid UDRn value.
+                        usart.$udr().write(|w| unsafe { w.bits(b) });
+                    }
+                    None => {
+                        // SAFETY: clears one enable bit.
+                        usart.$ucsrb().modify(|r, w| unsafe { w.bits(r.bits() & !UDRIE) });
+                    }
+                });
+            }
+        }
+    };
+}
+
+usart_instance!(usart0_impl, USART0, USART0_RX, USART0_UDRE, ucsr0a, ucsr0b, ucsr0c, ubrr0, udr0);
+usart_instance!(usart1_impl, USART1, USART1_RX, USART1_UDRE, ucsr1a, ucsr1b, ucsr1c, ubrr1, udr1);
