@@ -1,0 +1,54 @@
+//! Firmware of the Henrytwo odometry-calibration robot (ATmega2560).
+//!
+//! Layers, bottom up:
+//! - [`hal`]: a thin layer over `avr-device` registers (pins, external
+//!   interrupts, PWM, tick and one-shot timers, USARTs, sleep);
+//! - [`board`]: the clock and every pin of the robot, named once;
+//! - drivers: [`encoder`], [`motors`], and the [`ticks`] counter;
+//! - the control law: [`pid`] and [`odometry`], with the robot's numbers in
+//!   [`robot`];
+//! - [`bench`]: the variables the hardware-in-the-loop bench reads by symbol.
+//!
+//! The binaries in `src/bin/` build the applications from these parts.
+
+#![no_std]
+#![feature(abi_avr_interrupt)]
+#![feature(asm_experimental_arch)]
+
+pub mod bench;
+pub mod board;
+pub mod encoder;
+pub mod hal;
+pub mod motors;
+pub mod odometry;
+pub mod pid;
+pub mod robot;
+pub mod ticks;
+
+/// Errors of this crate.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Error {
+    /// A transmit buffer had no room for the whole message.
+    TxFull,
+}
+
+/// On a panic: interrupts off, both motors' PWM inputs disconnected and
+/// driven low (the robot coasts), then halt.
+#[cfg(target_arch = "avr")]
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    avr_device::interrupt::disable();
+    // SAFETY: nothing else runs any more (interrupts are off and this never
+    // returns), so taking the peripherals again cannot race. Writing mode 1
+    // with COM bits 0 keeps the PWM mode but disconnects the pins; the PORTH
+    // bits of D6..D9 (PH3..PH6) go low.
+    unsafe {
+        let tc4 = avr_device::atmega2560::TC4::steal();
+        let tc2 = avr_device::atmega2560::TC2::steal();
+        let porth = avr_device::atmega2560::PORTH::steal();
+        porth.porth().modify(|r, w| w.bits(r.bits() & !0b0111_1000));
+        tc4.tccr4a().write(|w| w.bits(0b01));
+        tc2.tccr2a().write(|w| w.bits(0b01));
+    }
+    loop {}
+}

@@ -1,0 +1,30 @@
+//! Parameters of the thesis robot (values from the thesis and its firmware,
+//! mirrored in the shared `robot.toml`).
+
+use crate::pid::Gains;
+
+/// Encoder counts per wheel revolution used by the thesis' speed formula
+/// (100.37:1 gear, 6 counts per motor revolution on channel A, any edge).
+pub const COUNTS_PER_WHEEL_REV: f32 = 602.22;
+/// Millimetres travelled per encoder count: pi * 32 mm / 602.22, the thesis'
+/// `Constante`.
+pub const MM_PER_COUNT: f32 = 0.1669339526;
+/// Control period in seconds (thesis `Muestreo`), exact with the timer tick.
+pub const SAMPLE_PERIOD_S: f32 = 0.015;
+/// Control period in microseconds, for the tick timer.
+pub const SAMPLE_PERIOD_US: u32 = 15_000;
+
+/// Right wheel speed set-point, thesis "RPM" (`Set_D`).
+pub const SETPOINT_RIGHT: f32 = 14.47;
+/// Left wheel speed set-point, thesis "RPM" (`Set_I`).
+pub const SETPOINT_LEFT: f32 = 15.0;
+/// Right wheel PID gains (Ziegler-Nichols, `Kp_D`, `Ki_D`, `Kd_D`).
+pub const GAINS_RIGHT: Gains = Gains { kp: 2.74, ki: 45.66, kd: 0.0411 };
+/// Left wheel PID gains (`Kp_I`, `Ki_I`, `Kd_I`).
+pub const GAINS_LEFT: Gains = Gains { kp: 2.20, ki: 36.666, kd: 0.033 };
+/// Duty both wheels get from the start of a leg until the first control
+/// tick: the thesis' initial `pwm_D = pwm_I = 50`.
+pub const START_DUTY: u8 = 50;
+
+/// Default leg length for the straight-line test, millimetres.
+pub const DEFAULT_LEG_MM: f32 = 2000.0;
