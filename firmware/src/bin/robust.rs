@@ -231,10 +231,13 @@ impl App {
         self.phase = Phase::Braking { step };
     }
 
-    /// Back to idle: count the test and report the stop counts.
+    /// Back to idle: count the test, then report the stop counts. The state
+    /// changes before the (slow, software-division) formatting so the bench
+    /// sees the end of the test right when the last wait ends.
     fn finish_test(&mut self) {
         self.phase = Phase::Idle;
         bench::set_done_count(bench::done_count().wrapping_add(1));
+        bench::set_state(State::Idle);
         // The line is queued, never waited for; if the buffer were full the
         // line would be cut, which only costs debug output.
         let _ = ufmt::uwrite!(
@@ -244,7 +247,6 @@ impl App {
             bench::stop_left(),
             bench::stop_right()
         );
-        bench::set_state(State::Idle);
     }
 }
 
