@@ -63,7 +63,7 @@ impl Encoders {
         right_a: Pin<RightEncoderA, MC>,
         right_b: Pin<RightEncoderB, MD>,
     ) -> Self {
-        let enc = Encoders {
+        Encoders {
             _left_a: left_a.into_floating_input(),
             _left_b: left_b.into_floating_input(),
             _right_a: right_a.into_floating_input(),
@@ -73,8 +73,7 @@ impl Encoders {
                 exint.enable(Line::Int5, Sense::AnyEdge);
                 exint
             },
-        };
-        enc
+        }
     }
 
     /// Both counts, read with interrupts off so they belong to one instant.

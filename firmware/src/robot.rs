@@ -7,7 +7,8 @@ use crate::pid::Gains;
 /// (100.37:1 gear, 6 counts per motor revolution on channel A, any edge).
 pub const COUNTS_PER_WHEEL_REV: f32 = 602.22;
 /// Millimetres travelled per encoder count: pi * 32 mm / 602.22, the thesis'
-/// `Constante`.
+/// `Constante`, kept as the thesis writes it (f32 rounds it to 0.16693395).
+#[allow(clippy::excessive_precision)]
 pub const MM_PER_COUNT: f32 = 0.1669339526;
 /// Control period in seconds (thesis `Muestreo`), exact with the timer tick.
 pub const SAMPLE_PERIOD_S: f32 = 0.015;

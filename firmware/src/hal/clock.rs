@@ -72,7 +72,7 @@ pub const fn ctc_top(cpu_hz: u32, prescaler: Prescaler, period_us: u32) -> u16 {
 /// [`ctc_top`] is exact rather than rounded.
 pub const fn ctc_is_exact(cpu_hz: u32, prescaler: Prescaler, period_us: u32) -> bool {
     let denom = prescaler.divisor() as u64 * 1_000_000;
-    (cpu_hz as u64 * period_us as u64) % denom == 0
+    (cpu_hz as u64 * period_us as u64).is_multiple_of(denom)
 }
 
 /// UBRRn for an asynchronous USART in double-speed mode (U2Xn = 1):
