@@ -7,8 +7,6 @@
 //! ones that an interrupt handler writes are read here with interrupts off
 //! (the accessors take a `CriticalSection`). See README.md for the table.
 
-#![allow(non_upper_case_globals)]
-
 use core::ptr::{addr_of, addr_of_mut, read_volatile, write_volatile};
 
 use avr_device::interrupt::CriticalSection;
