@@ -1,0 +1,253 @@
+//! The robot's parameters, read from TOML.
+//!
+//! Keys carry their unit in their name (`_mm`, `_s`, `_v`, `_duty` for a fraction of a PWM
+//! period in `[0, 1]`, `_thesis_rpm`). Unknown keys are refused, so a typo cannot silently
+//! leave a parameter at some other value; after parsing every number is checked (finite,
+//! positive where it must be, duties in `[0, 1]`). `fixtures/robots/henrytwo-ideal.toml` lists
+//! every key with where its value comes from and equals [`RobotConfig::default`].
+//!
+//! ```toml
+//! [geometry]
+//! wheel_diameter_left_mm = 32.0
+//! wheel_diameter_right_mm = 32.0
+//! wheelbase_mm = 130.0
+//!
+//! [encoder]
+//! gear_ratio = 100.37
+//! a_edges_per_motor_rev = 6
+//! reversed_left = false      # optional, default false
+//! reversed_right = false     # optional, default false
+//!
+//! [battery]
+//! voltage_v = 7.4
+//!
+//! [motor.left]               # and [motor.right]
+//! model = "first_order"
+//! gain_thesis_rpm = 22.0
+//! reference_duty = 0.8235294117647058
+//! dead_band_duty = 0.5796
+//! tau_s = 0.055
+//! fit_voltage_v = 7.4
+//! # coast_tau_s = 0.055      # optional, default tau_s
+//! # brake_tau_s = 0.0183     # optional, default tau_s / 3
+//! ```
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::motor::{FirstOrderMotor, MotorModel};
+use crate::side::{PerSide, Side};
+use crate::Error;
+
+/// Everything the plant needs to know about one robot.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotConfig {
+    /// Wheels and wheelbase.
+    pub geometry: Geometry,
+    /// Gearbox and encoders.
+    pub encoder: EncoderConfig,
+    /// The battery.
+    pub battery: BatteryConfig,
+    /// One motor model per side (`[motor.left]`, `[motor.right]`).
+    pub motor: PerSide<MotorModel>,
+}
+
+/// Wheel sizes and wheelbase.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    /// Left wheel diameter, mm.
+    pub wheel_diameter_left_mm: f64,
+    /// Right wheel diameter, mm.
+    pub wheel_diameter_right_mm: f64,
+    /// Distance between the wheels' contact points, mm.
+    pub wheelbase_mm: f64,
+}
+
+/// Gearbox and quadrature encoders (same on both sides).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EncoderConfig {
+    /// Motor revolutions per wheel revolution.
+    pub gear_ratio: f64,
+    /// Edges on channel A per motor revolution (channel B has as many, in quadrature).
+    pub a_edges_per_motor_rev: u32,
+    /// The left encoder counts backwards when the wheel rolls forward (a wiring fault).
+    #[serde(default)]
+    pub reversed_left: bool,
+    /// The right encoder counts backwards when the wheel rolls forward (a wiring fault).
+    #[serde(default)]
+    pub reversed_right: bool,
+}
+
+impl EncoderConfig {
+    /// The `reversed_*` flag of `side`.
+    pub fn reversed(&self, side: Side) -> bool {
+        match side {
+            Side::Left => self.reversed_left,
+            Side::Right => self.reversed_right,
+        }
+    }
+}
+
+/// The battery feeding both bridges.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BatteryConfig {
+    /// Terminal voltage, volts (constant for now).
+    pub voltage_v: f64,
+}
+
+impl Default for RobotConfig {
+    /// The nominal Henrytwo of the thesis; identical to `fixtures/robots/henrytwo-ideal.toml`.
+    fn default() -> Self {
+        RobotConfig {
+            geometry: Geometry {
+                wheel_diameter_left_mm: 32.0,
+                wheel_diameter_right_mm: 32.0,
+                wheelbase_mm: 130.0,
+            },
+            encoder: EncoderConfig {
+                gear_ratio: 100.37,
+                a_edges_per_motor_rev: 6,
+                reversed_left: false,
+                reversed_right: false,
+            },
+            battery: BatteryConfig { voltage_v: 7.4 },
+            motor: PerSide {
+                left: MotorModel::FirstOrder(FirstOrderMotor::henrytwo_left()),
+                right: MotorModel::FirstOrder(FirstOrderMotor::henrytwo_right()),
+            },
+        }
+    }
+}
+
+impl RobotConfig {
+    /// Parses and validates a config from TOML text.
+    pub fn from_toml_str(text: &str) -> Result<Self, Error> {
+        let config: RobotConfig = toml::from_str(text)?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Reads, parses and validates a config file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| Error::ReadConfig {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_toml_str(&text)
+    }
+
+    /// Checks every number: finite, positive where it must be, duties in `[0, 1]`.
+    pub fn validate(&self) -> Result<(), Error> {
+        let g = &self.geometry;
+        check_positive(
+            "geometry.wheel_diameter_left_mm",
+            g.wheel_diameter_left_mm,
+            "left wheel diameter, mm",
+        )?;
+        check_positive(
+            "geometry.wheel_diameter_right_mm",
+            g.wheel_diameter_right_mm,
+            "right wheel diameter, mm",
+        )?;
+        check_positive(
+            "geometry.wheelbase_mm",
+            g.wheelbase_mm,
+            "distance between the wheels' contact points, mm",
+        )?;
+        check_positive(
+            "encoder.gear_ratio",
+            self.encoder.gear_ratio,
+            "motor revolutions per wheel revolution",
+        )?;
+        check_positive(
+            "encoder.a_edges_per_motor_rev",
+            f64::from(self.encoder.a_edges_per_motor_rev),
+            "channel-A edges per motor revolution",
+        )?;
+        check_positive(
+            "battery.voltage_v",
+            self.battery.voltage_v,
+            "battery terminal voltage, V",
+        )?;
+        for side in Side::BOTH {
+            self.motor
+                .get(side)
+                .validate(&format!("motor.{}", side.name()))?;
+        }
+        Ok(())
+    }
+
+    /// Wheel diameter of `side`, mm.
+    pub fn wheel_diameter_mm(&self, side: Side) -> f64 {
+        match side {
+            Side::Left => self.geometry.wheel_diameter_left_mm,
+            Side::Right => self.geometry.wheel_diameter_right_mm,
+        }
+    }
+}
+
+/// `value` must be finite and greater than zero.
+pub(crate) fn check_positive(key: &str, value: f64, meaning: &'static str) -> Result<(), Error> {
+    check_finite(key, value)?;
+    if value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::NotPositive {
+            key: key.to_owned(),
+            value,
+            meaning,
+        })
+    }
+}
+
+/// `value` must be finite and in `[0, 1]`.
+pub(crate) fn check_duty(key: &str, value: f64) -> Result<(), Error> {
+    check_finite(key, value)?;
+    if (0.0..=1.0).contains(&value) {
+        Ok(())
+    } else {
+        Err(Error::DutyOutOfRange {
+            key: key.to_owned(),
+            value,
+        })
+    }
+}
+
+fn check_finite(key: &str, value: f64) -> Result<(), Error> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::NotFinite {
+            key: key.to_owned(),
+            value,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default passes its own validation and survives a TOML round trip unchanged.
+    #[test]
+    fn default_is_valid_and_round_trips() {
+        let config = RobotConfig::default();
+        config.validate().unwrap();
+        let text = toml::to_string(&config).unwrap();
+        assert_eq!(RobotConfig::from_toml_str(&text).unwrap(), config);
+    }
+
+    /// A missing file is reported with its path.
+    #[test]
+    fn missing_file_names_the_path() {
+        let err = RobotConfig::load("no/such/robot.toml").unwrap_err();
+        assert!(matches!(err, Error::ReadConfig { .. }));
+        assert!(err.to_string().contains("no/such/robot.toml"), "{err}");
+    }
+}

@@ -1,0 +1,99 @@
+//! The crate's one error type.
+
+use std::path::PathBuf;
+
+use crate::units::Seconds;
+
+/// Everything that can go wrong in the plant: a bad robot config, a bad input, a bad request.
+///
+/// Config messages name the key (as `section.key`, the way it is written in the TOML file)
+/// and say what to write instead.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The config file could not be read.
+    #[error("cannot read robot config `{path}`: {source}")]
+    ReadConfig {
+        /// The file asked for.
+        path: PathBuf,
+        /// Why it could not be read.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// The config is not valid TOML, misses a key, has a value of the wrong type or a key this
+    /// crate does not know (the message from the TOML parser names it and its line).
+    #[error(
+        "robot config does not parse (fix the key it names; every key is listed in \
+         fixtures/robots/henrytwo-ideal.toml): {0}"
+    )]
+    ParseConfig(#[from] toml::de::Error),
+
+    /// A number that must be finite is `nan` or `inf`.
+    #[error(
+        "robot config `{key}` is {value}: write a finite number (nan and inf are not allowed)"
+    )]
+    NotFinite {
+        /// The key, as `section.key`.
+        key: String,
+        /// The value read.
+        value: f64,
+    },
+
+    /// A length, time, ratio or voltage that must be positive is zero or negative.
+    #[error("robot config `{key}` = {value}: it must be greater than zero ({meaning})")]
+    NotPositive {
+        /// The key, as `section.key`.
+        key: String,
+        /// The value read.
+        value: f64,
+        /// What the key is, to help choose a value.
+        meaning: &'static str,
+    },
+
+    /// A duty is outside `[0, 1]`.
+    #[error(
+        "robot config `{key}` = {value}: a duty must lie in [0, 1] \
+         (an 8-bit PWM compare value divided by 255, e.g. 210/255 = 0.8235)"
+    )]
+    DutyOutOfRange {
+        /// The key, as `section.key`.
+        key: String,
+        /// The value read.
+        value: f64,
+    },
+
+    /// The dead band reaches the reference duty, so the motor would not turn where its gain
+    /// is defined.
+    #[error(
+        "robot config `{dead_band_key}` = {dead_band} must be below `{reference_key}` = \
+         {reference}: the motor has to turn at the duty where its gain was measured"
+    )]
+    DeadBandNotBelowReference {
+        /// The dead-band key, as `section.key`.
+        dead_band_key: String,
+        /// Its value.
+        dead_band: f64,
+        /// The reference-duty key, as `section.key`.
+        reference_key: String,
+        /// Its value.
+        reference: f64,
+    },
+
+    /// A duty given at run time is outside `[0, 1]` or not finite.
+    #[error("duty {value} is outside [0, 1]: scale the PWM compare value to its period first")]
+    InvalidDuty {
+        /// The fraction given.
+        value: f64,
+    },
+
+    /// `advance_to` was asked to go back in time (or to a time that is not a number). The plant
+    /// is left as it was.
+    #[error("cannot advance the plant to {requested}: it is already at {now}, and time only moves forward")]
+    TimeWentBackwards {
+        /// The plant time.
+        now: Seconds,
+        /// The time asked for.
+        requested: Seconds,
+    },
+}

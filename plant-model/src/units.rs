@@ -1,0 +1,237 @@
+//! Physical quantities as small newtypes, so that a time cannot be passed where a length is
+//! expected.
+//!
+//! Each quantity wraps an `f64` in the unit its name says (`Seconds`, `Millimetres`,
+//! `Radians`, `RadPerSec`, `Volts`, `ThesisRpm`). Arithmetic is provided only where it keeps
+//! the unit (sum and difference of two values, scaling by a plain number). [`Duty`] is the
+//! exception: it is validated to lie in `[0, 1]`, so its field is private.
+
+use std::f64::consts::PI;
+use std::fmt;
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+
+macro_rules! quantity {
+    ($(#[$meta:meta])* $name:ident, $unit:literal) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default, Serialize, Deserialize)]
+        #[serde(transparent)]
+        pub struct $name(pub f64);
+
+        impl $name {
+            /// Zero of this quantity.
+            pub const ZERO: Self = Self(0.0);
+
+            /// The value as a plain number in this type's unit.
+            pub const fn get(self) -> f64 {
+                self.0
+            }
+
+            /// The magnitude, keeping the unit.
+            pub fn abs(self) -> Self {
+                Self(self.0.abs())
+            }
+        }
+
+        impl Add for $name {
+            type Output = Self;
+            fn add(self, rhs: Self) -> Self {
+                Self(self.0 + rhs.0)
+            }
+        }
+
+        impl Sub for $name {
+            type Output = Self;
+            fn sub(self, rhs: Self) -> Self {
+                Self(self.0 - rhs.0)
+            }
+        }
+
+        impl AddAssign for $name {
+            fn add_assign(&mut self, rhs: Self) {
+                self.0 += rhs.0;
+            }
+        }
+
+        impl SubAssign for $name {
+            fn sub_assign(&mut self, rhs: Self) {
+                self.0 -= rhs.0;
+            }
+        }
+
+        impl Neg for $name {
+            type Output = Self;
+            fn neg(self) -> Self {
+                Self(-self.0)
+            }
+        }
+
+        impl Mul<f64> for $name {
+            type Output = Self;
+            fn mul(self, rhs: f64) -> Self {
+                Self(self.0 * rhs)
+            }
+        }
+
+        impl Div<f64> for $name {
+            type Output = Self;
+            fn div(self, rhs: f64) -> Self {
+                Self(self.0 / rhs)
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                fmt::Display::fmt(&self.0, f)?;
+                f.write_str(concat!(" ", $unit))
+            }
+        }
+    };
+}
+
+quantity!(
+    /// A time or a duration, in seconds. Plant time starts at 0 when a [`crate::Robot`] is made.
+    Seconds,
+    "s"
+);
+quantity!(
+    /// A length, in millimetres.
+    Millimetres,
+    "mm"
+);
+quantity!(
+    /// An angle, in radians. Wheel angles and headings are not wrapped: they accumulate.
+    Radians,
+    "rad"
+);
+quantity!(
+    /// An angular speed, in radians per second.
+    RadPerSec,
+    "rad/s"
+);
+quantity!(
+    /// An electric potential, in volts.
+    Volts,
+    "V"
+);
+quantity!(
+    /// A wheel speed in the thesis' "RPM" unit, which is the wheel's true revolutions per
+    /// minute divided by 6.
+    ///
+    /// The thesis firmware computes `(counts/s * 60 / 6) / 602.2`: it divides by the 6 A-channel
+    /// counts per motor revolution a second time, after already dividing by the 602.2 counts
+    /// per wheel turn. The step-response tables and the motor gains use this unit, so the plant
+    /// keeps it for comparisons; internally speeds are [`RadPerSec`].
+    ThesisRpm,
+    "thesis RPM"
+);
+
+/// True wheel RPM per thesis "RPM" (see [`ThesisRpm`]).
+pub const TRUE_RPM_PER_THESIS_RPM: f64 = 6.0;
+
+/// Radians per second per thesis "RPM": `6 * 2 pi / 60 = pi / 5`, about 0.628.
+pub const RAD_PER_SEC_PER_THESIS_RPM: f64 = TRUE_RPM_PER_THESIS_RPM * 2.0 * PI / 60.0;
+
+impl From<ThesisRpm> for RadPerSec {
+    fn from(rpm: ThesisRpm) -> Self {
+        RadPerSec(rpm.0 * RAD_PER_SEC_PER_THESIS_RPM)
+    }
+}
+
+impl From<RadPerSec> for ThesisRpm {
+    fn from(speed: RadPerSec) -> Self {
+        ThesisRpm(speed.0 / RAD_PER_SEC_PER_THESIS_RPM)
+    }
+}
+
+impl RadPerSec {
+    /// The same speed in the thesis' "RPM" unit (true wheel RPM / 6).
+    pub fn to_thesis_rpm(self) -> ThesisRpm {
+        self.into()
+    }
+}
+
+impl Div for Seconds {
+    type Output = f64;
+    fn div(self, rhs: Self) -> f64 {
+        self.0 / rhs.0
+    }
+}
+
+/// The fraction of a PWM period during which an input is high, in `[0, 1]`.
+///
+/// Construct it with [`Duty::new`] (checked) or [`Duty::from_pwm8`] (an 8-bit compare value
+/// as the thesis firmware writes it with `analogWrite`: `compare / 255`).
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default, Serialize)]
+#[serde(transparent)]
+pub struct Duty(f64);
+
+impl Duty {
+    /// Always low.
+    pub const OFF: Duty = Duty(0.0);
+    /// Always high.
+    pub const FULL: Duty = Duty(1.0);
+
+    /// A duty from a fraction; an error unless the fraction is finite and in `[0, 1]`.
+    pub fn new(fraction: f64) -> Result<Duty, Error> {
+        if fraction.is_finite() && (0.0..=1.0).contains(&fraction) {
+            Ok(Duty(fraction))
+        } else {
+            Err(Error::InvalidDuty { value: fraction })
+        }
+    }
+
+    /// The duty of an 8-bit PWM output whose compare register holds `compare`, as the thesis
+    /// firmware uses it (phase-correct 8-bit PWM, `analogWrite`): `compare / 255`.
+    pub fn from_pwm8(compare: u8) -> Duty {
+        Duty(f64::from(compare) / 255.0)
+    }
+
+    /// The fraction in `[0, 1]`.
+    pub const fn get(self) -> f64 {
+        self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Duty {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let fraction = f64::deserialize(deserializer)?;
+        Duty::new(fraction).map_err(serde::de::Error::custom)
+    }
+}
+
+impl fmt::Display for Duty {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "duty {}", self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    /// 14.47 thesis RPM is about 86.8 true wheel RPM (robot.toml's comment).
+    #[test]
+    fn thesis_rpm_is_true_rpm_over_six() {
+        let speed = RadPerSec::from(ThesisRpm(14.47));
+        let true_rpm = speed.0 * 60.0 / (2.0 * PI);
+        assert_relative_eq!(true_rpm, 86.82, epsilon = 1e-9);
+        assert_relative_eq!(speed.to_thesis_rpm().0, 14.47, epsilon = 1e-12);
+    }
+
+    /// Duties outside `[0, 1]` or not finite are refused; 8-bit compare values map to /255.
+    #[test]
+    fn duty_is_checked() {
+        assert!(Duty::new(-0.01).is_err());
+        assert!(Duty::new(1.01).is_err());
+        assert!(Duty::new(f64::NAN).is_err());
+        assert_eq!(Duty::new(1.0).unwrap(), Duty::FULL);
+        assert_eq!(Duty::from_pwm8(255), Duty::FULL);
+        assert_eq!(Duty::from_pwm8(0), Duty::OFF);
+        assert_relative_eq!(Duty::from_pwm8(210).get(), 210.0 / 255.0);
+    }
+}

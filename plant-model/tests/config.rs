@@ -1,0 +1,147 @@
+//! The robot config: the nominal fixture is the default robot, and every kind of mistake in a
+//! config file is refused with an error that names the key.
+
+mod common;
+
+use plant_model::{Error, RobotConfig};
+use rstest::rstest;
+
+fn fixture_text() -> String {
+    std::fs::read_to_string(common::fixture("robots/henrytwo-ideal.toml")).unwrap()
+}
+
+/// `fixtures/robots/henrytwo-ideal.toml` loads, validates and equals `RobotConfig::default()`.
+#[test]
+fn ideal_fixture_is_the_default_robot() {
+    let loaded = RobotConfig::load(common::fixture("robots/henrytwo-ideal.toml")).unwrap();
+    assert_eq!(loaded, RobotConfig::default());
+}
+
+/// The optional keys default as documented: coast = tau, brake = tau / 3, encoders forward.
+#[test]
+fn optional_keys_take_their_documented_defaults() {
+    let config = RobotConfig::default();
+    let plant_model::MotorModel::FirstOrder(left) = &config.motor.left;
+    assert_eq!(left.coast_tau().0, 0.055);
+    assert_eq!(left.brake_tau().0, 0.055 / 3.0);
+    let text = fixture_text().replacen("# brake_tau_s = 0.018333", "brake_tau_s = 0.01", 1);
+    let config = RobotConfig::from_toml_str(&text).unwrap();
+    let plant_model::MotorModel::FirstOrder(left) = &config.motor.left;
+    assert_eq!(left.brake_tau().0, 0.01);
+    assert!(!config.encoder.reversed_left && !config.encoder.reversed_right);
+}
+
+/// Which error a one-line change of the fixture gives, and that the message names the key.
+#[derive(Debug)]
+enum Expect {
+    Parse,
+    NotFinite,
+    NotPositive,
+    DutyOutOfRange,
+    DeadBand,
+}
+
+#[rstest]
+#[case::unknown_key(
+    "wheelbase_mm = 130.0",
+    "wheelbase_mm = 130.0\nwheel_radius_mm = 16.0",
+    Expect::Parse,
+    "wheel_radius_mm"
+)]
+#[case::unknown_key_in_motor(
+    "tau_s = 0.0685",
+    "tau_s = 0.0685\ntau_ms = 68.5",
+    Expect::Parse,
+    "tau_ms"
+)]
+#[case::unknown_section("[battery]", "[batery]", Expect::Parse, "batery")]
+#[case::unknown_model(
+    "model = \"first_order\"",
+    "model = \"second_order\"",
+    Expect::Parse,
+    "second_order"
+)]
+#[case::missing_key("wheelbase_mm = 130.0", "", Expect::Parse, "wheelbase_mm")]
+#[case::wrong_type("voltage_v = 7.4", "voltage_v = \"7.4\"", Expect::Parse, "voltage_v")]
+#[case::negative_length(
+    "wheelbase_mm = 130.0",
+    "wheelbase_mm = -130.0",
+    Expect::NotPositive,
+    "geometry.wheelbase_mm"
+)]
+#[case::zero_diameter(
+    "wheel_diameter_right_mm = 32.0",
+    "wheel_diameter_right_mm = 0.0",
+    Expect::NotPositive,
+    "geometry.wheel_diameter_right_mm"
+)]
+#[case::nan_length(
+    "wheel_diameter_left_mm = 32.0",
+    "wheel_diameter_left_mm = nan",
+    Expect::NotFinite,
+    "geometry.wheel_diameter_left_mm"
+)]
+#[case::infinite_tau("tau_s = 0.055", "tau_s = inf", Expect::NotFinite, "motor.left.tau_s")]
+#[case::negative_tau(
+    "tau_s = 0.0685",
+    "tau_s = -0.0685",
+    Expect::NotPositive,
+    "motor.right.tau_s"
+)]
+#[case::zero_edges(
+    "a_edges_per_motor_rev = 6",
+    "a_edges_per_motor_rev = 0",
+    Expect::NotPositive,
+    "encoder.a_edges_per_motor_rev"
+)]
+#[case::zero_battery(
+    "voltage_v = 7.4",
+    "voltage_v = 0.0",
+    Expect::NotPositive,
+    "battery.voltage_v"
+)]
+#[case::duty_above_one(
+    "dead_band_duty = 0.5068",
+    "dead_band_duty = 1.5",
+    Expect::DutyOutOfRange,
+    "motor.right.dead_band_duty"
+)]
+#[case::negative_duty(
+    "dead_band_duty = 0.5796",
+    "dead_band_duty = -0.1",
+    Expect::DutyOutOfRange,
+    "motor.left.dead_band_duty"
+)]
+#[case::dead_band_above_reference(
+    "dead_band_duty = 0.5796",
+    "dead_band_duty = 0.9",
+    Expect::DeadBand,
+    "motor.left.dead_band_duty"
+)]
+#[case::negative_brake_tau(
+    "# brake_tau_s = 0.018333",
+    "brake_tau_s = -1.0",
+    Expect::NotPositive,
+    "motor.left.brake_tau_s"
+)]
+fn bad_config_is_refused_naming_the_key(
+    #[case] find: &str,
+    #[case] replace: &str,
+    #[case] expect: Expect,
+    #[case] key: &str,
+) {
+    let original = fixture_text();
+    assert!(original.contains(find), "fixture has `{find}`");
+    let text = original.replacen(find, replace, 1);
+    let err = RobotConfig::from_toml_str(&text).unwrap_err();
+    let matches = match expect {
+        Expect::Parse => matches!(err, Error::ParseConfig(_)),
+        Expect::NotFinite => matches!(err, Error::NotFinite { .. }),
+        Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
+        Expect::DutyOutOfRange => matches!(err, Error::DutyOutOfRange { .. }),
+        Expect::DeadBand => matches!(err, Error::DeadBandNotBelowReference { .. }),
+    };
+    assert!(matches, "expected {expect:?}, got {err:?}");
+    let message = err.to_string();
+    assert!(message.contains(key), "message names `{key}`: {message}");
+}
