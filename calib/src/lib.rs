@@ -86,6 +86,7 @@
 //! * The thesis on "Henrytwo" (Spanish): chapters 5.2.6-5.2.9 (methods), 6.5-6.6 (GUI and
 //!   experiments, Tables 5-10), ANEXO B-D (GUI code).
 
+pub mod csv;
 mod error;
 pub mod thesis;
 pub mod triangle;
