@@ -88,12 +88,14 @@
 
 pub mod csv;
 mod error;
+pub mod round;
 pub mod thesis;
 pub mod triangle;
 mod types;
 pub mod umbmark;
 
 pub use error::Error;
+pub use round::{improvement, Round};
 pub use thesis::Discrepancy;
 pub use triangle::{triangle_correction, TriangleParams, TriangleResult};
 pub use types::{
