@@ -88,6 +88,7 @@
 
 pub mod csv;
 mod error;
+pub mod forward;
 pub mod round;
 pub mod thesis;
 pub mod triangle;
