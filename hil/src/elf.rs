@@ -1,0 +1,211 @@
+//! Firmware images: flash segments and symbols read from an AVR ELF file.
+//!
+//! The bench loads flash itself instead of through simavr's loader: a Rust
+//! ELF carries no `.mmcu` section, and the bench needs the symbol table anyway
+//! (to read the firmware's variables and to name the function a PC is in).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use object::elf::{EM_AVR, PT_LOAD};
+use object::read::elf::{ElfFile32, FileHeader, ProgramHeader};
+use object::{Endianness, Object, ObjectSymbol, SymbolKind};
+use thiserror::Error;
+
+/// AVR ELF files put data space at this offset in the address space.
+pub const DATA_OFFSET: u32 = 0x80_0000;
+
+#[derive(Debug, Error)]
+pub enum ElfError {
+    #[error("cannot read firmware {path}: {source} (build it with `cargo build --release` in firmware/, or pass --elf)")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path} is not an ELF file: {reason}")]
+    NotElf { path: PathBuf, reason: String },
+    #[error("{path} is an ELF for machine {machine}, not for the AVR (machine 83); pass the firmware's ELF")]
+    NotAvr { path: PathBuf, machine: u16 },
+    #[error("{path} has no loadable flash segment")]
+    Empty { path: PathBuf },
+    #[error("the firmware has no symbol {name:?}: is this the Henrytwo firmware, built with its bench interface?")]
+    MissingSymbol { name: String },
+    #[error("symbol {name:?} has {actual} bytes, the bench expects {expected}")]
+    SymbolSize {
+        name: String,
+        expected: u64,
+        actual: u64,
+    },
+}
+
+/// A symbol: its address (flash byte address, or data-space address for
+/// variables) and size in bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Symbol {
+    pub addr: u32,
+    pub size: u64,
+    pub is_data: bool,
+}
+
+/// A loaded firmware image.
+#[derive(Debug, Clone)]
+pub struct Firmware {
+    pub path: PathBuf,
+    /// (flash byte address, bytes), in address order.
+    pub segments: Vec<(u32, Vec<u8>)>,
+    symbols: BTreeMap<String, Symbol>,
+    /// Function symbols by start address, to name a PC.
+    functions: BTreeMap<u32, (String, u64)>,
+}
+
+impl Firmware {
+    pub fn load(path: &Path) -> Result<Self, ElfError> {
+        let bytes = std::fs::read(path).map_err(|source| ElfError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::parse(path, &bytes)
+    }
+
+    pub fn parse(path: &Path, bytes: &[u8]) -> Result<Self, ElfError> {
+        let not_elf = |reason: String| ElfError::NotElf {
+            path: path.to_owned(),
+            reason,
+        };
+        if bytes.len() < 20 || &bytes[..4] != b"\x7fELF" {
+            return Err(not_elf("no ELF magic number".into()));
+        }
+        if bytes[4] != 1 {
+            // AVR ELFs are 32-bit; say which machine a 64-bit file is for.
+            let machine = u16::from_le_bytes([bytes[18], bytes[19]]);
+            return Err(ElfError::NotAvr {
+                path: path.to_owned(),
+                machine,
+            });
+        }
+        let file = ElfFile32::<Endianness>::parse(bytes).map_err(|e| not_elf(e.to_string()))?;
+        let endian = file.endian();
+        let header = file.elf_header();
+        let machine = header.e_machine(endian);
+        if machine != EM_AVR {
+            return Err(ElfError::NotAvr {
+                path: path.to_owned(),
+                machine,
+            });
+        }
+        let mut segments = Vec::new();
+        for ph in file.elf_program_headers() {
+            if ph.p_type(endian) != PT_LOAD || ph.p_filesz(endian) == 0 {
+                continue;
+            }
+            let paddr = ph.p_paddr(endian);
+            if paddr >= DATA_OFFSET {
+                // Data-space images (EEPROM, fuses): not flash.
+                continue;
+            }
+            let data = ph
+                .data(endian, bytes)
+                .map_err(|_| not_elf("truncated program segment".into()))?;
+            segments.push((paddr, data.to_vec()));
+        }
+        if segments.is_empty() {
+            return Err(ElfError::Empty {
+                path: path.to_owned(),
+            });
+        }
+        segments.sort_by_key(|(a, _)| *a);
+
+        let mut symbols = BTreeMap::new();
+        let mut functions = BTreeMap::new();
+        for sym in file.symbols() {
+            let Ok(name) = sym.name() else { continue };
+            if name.is_empty() {
+                continue;
+            }
+            let addr = sym.address() as u32;
+            let is_data = addr >= DATA_OFFSET;
+            let s = Symbol {
+                addr: if is_data { addr - DATA_OFFSET } else { addr },
+                size: sym.size(),
+                is_data,
+            };
+            if sym.kind() == SymbolKind::Text && !is_data {
+                functions.insert(addr, (name.to_owned(), sym.size()));
+            }
+            symbols.entry(name.to_owned()).or_insert(s);
+        }
+        Ok(Self {
+            path: path.to_owned(),
+            segments,
+            symbols,
+            functions,
+        })
+    }
+
+    pub fn symbol(&self, name: &str) -> Result<Symbol, ElfError> {
+        self.symbols
+            .get(name)
+            .copied()
+            .ok_or_else(|| ElfError::MissingSymbol { name: name.into() })
+    }
+
+    /// A data variable of exactly `size` bytes; returns its data-space address.
+    pub fn variable(&self, name: &str, size: u64) -> Result<u16, ElfError> {
+        let s = self.symbol(name)?;
+        if !s.is_data {
+            return Err(ElfError::MissingSymbol { name: name.into() });
+        }
+        if s.size != size {
+            return Err(ElfError::SymbolSize {
+                name: name.into(),
+                expected: size,
+                actual: s.size,
+            });
+        }
+        Ok(s.addr as u16)
+    }
+
+    /// The function containing flash byte address `pc`, with the offset into it.
+    pub fn function_at(&self, pc: u32) -> Option<(&str, u32)> {
+        let (start, (name, size)) = self.functions.range(..=pc).next_back()?;
+        if *size == 0 || pc < start + *size as u32 {
+            Some((name.as_str(), pc - start))
+        } else {
+            None
+        }
+    }
+
+    /// Flash bytes used.
+    pub fn flash_size(&self) -> usize {
+        self.segments.iter().map(|(_, b)| b.len()).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_non_elf_with_a_reason() {
+        let err = Firmware::parse(Path::new("x.bin"), b"hello world, not an elf").unwrap_err();
+        assert!(matches!(err, ElfError::NotElf { .. }), "{err}");
+        assert!(err.to_string().contains("not an ELF"));
+    }
+
+    #[test]
+    fn rejects_host_elf_naming_the_machine() {
+        // The test binary itself is an ELF for the host (x86-64: machine 62).
+        let exe = std::env::current_exe().unwrap();
+        let err = Firmware::load(&exe).unwrap_err();
+        match err {
+            ElfError::NotAvr { machine, .. } => assert_ne!(machine, EM_AVR),
+            other => panic!("expected NotAvr, got {other}"),
+        }
+    }
+
+    #[test]
+    fn missing_file_says_how_to_build() {
+        let err = Firmware::load(Path::new("does/not/exist.elf")).unwrap_err();
+        assert!(err.to_string().contains("cargo build --release"), "{err}");
+    }
+}
