@@ -1,0 +1,844 @@
+//! The bench: one emulated MCU running the firmware ELF, wired to the plant.
+//!
+//! Everything that happens in the plant is an event on one simavr cycle timer:
+//! the next encoder transition of either wheel (computed exactly by the plant),
+//! the next buffered PWM update (at the PWM timer's TOP), and a periodic plant
+//! step (pose integration and trace samples). Register writes that change what
+//! the H-bridge sees advance the plant to the cycle of the write and re-plan
+//! the queue. Nothing polls the MCU per instruction, and nothing reads the
+//! host clock: a run is a pure function of the ELF, the config and the seed.
+
+use plant_model::{Duty, Robot, RobotConfig, Seconds, Side};
+use thiserror::Error;
+
+use crate::elf::{ElfError, Firmware};
+use crate::fwvars::{FwState, FwVars};
+use crate::pwm::{PinDrive, PwmError, PwmTimer};
+use crate::sim::{Avr, Core, CpuState, Handler, IoClaim, Irq, SimError};
+use crate::time::Clock;
+use crate::wiring::{BridgeInput, PwmSource, Wiring, HENRYTWO};
+
+/// Where in the firmware something happened.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Location {
+    pub cycle: u64,
+    pub robot_time_s: f64,
+    pub pc: u32,
+    pub function: Option<String>,
+}
+
+impl std::fmt::Display for Location {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "at robot time {:.6} s (cycle {}), PC 0x{:05x}",
+            self.robot_time_s, self.cycle, self.pc
+        )?;
+        if let Some(func) = &self.function {
+            write!(f, " in {func}")?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum BenchError {
+    #[error(transparent)]
+    Elf(#[from] ElfError),
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    #[error(transparent)]
+    Plant(#[from] plant_model::Error),
+    #[error("{error} ({at})")]
+    Pwm { error: PwmError, at: Location },
+    #[error("timer {timer}: waveform mode {wgm} with clock select {cs} is not verified on this bench ({at}); the bench runs simavr's timers only in modes it has tested (timers 1 and 3: CTC)")]
+    UnverifiedTimer {
+        timer: u8,
+        wgm: u8,
+        cs: u8,
+        at: Location,
+    },
+    #[error("the firmware crashed {at}")]
+    Crashed { at: Location },
+    #[error("the firmware stopped (sleep with interrupts disabled or a break) {at}")]
+    Stopped { at: Location },
+    #[error("{what}: no progress within {robot_s} s of robot time ({at})")]
+    Timeout {
+        what: String,
+        robot_s: f64,
+        at: Location,
+    },
+}
+
+/// Bench settings that are not the robot's.
+#[derive(Debug, Clone, Copy)]
+pub struct BenchOptions {
+    pub clock: Clock,
+    /// Plant step for pose integration when no other event happens.
+    pub plant_step_s: f64,
+    /// Interval of trace samples (a multiple of the plant step).
+    pub trace_interval_s: f64,
+    pub seed: u64,
+}
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        Self {
+            clock: Clock::MEGA_16MHZ,
+            plant_step_s: 1e-3,
+            trace_interval_s: 10e-3,
+            seed: 0,
+        }
+    }
+}
+
+/// One trace sample of the plant.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Sample {
+    pub t_s: f64,
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_rad: f64,
+    pub left_edges: i64,
+    pub right_edges: i64,
+    pub left_duty: f64,
+    pub right_duty: f64,
+}
+
+/// A change of one H-bridge input, as the plant saw it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct DriveEvent {
+    pub cycle: u64,
+    /// Arduino pin number.
+    pub pin: u8,
+    pub duty: f64,
+}
+
+/// A motor switched off (its forward or reverse drive went to zero), with
+/// the firmware's counters read from SRAM at that cycle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Cutoff {
+    pub cycle: u64,
+    pub side: SideName,
+    pub left_count: i32,
+    pub right_count: i32,
+    pub left_edges: i64,
+    pub right_edges: i64,
+    /// Wheel arcs travelled by the plant at that cycle.
+    pub left_mm: f64,
+    pub right_mm: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SideName {
+    Left,
+    Right,
+}
+
+impl From<Side> for SideName {
+    fn from(s: Side) -> Self {
+        match s {
+            Side::Left => SideName::Left,
+            Side::Right => SideName::Right,
+        }
+    }
+}
+
+/// Per-pin PWM statistics.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct PinStats {
+    pub pin: u8,
+    /// Frequency of the waveform last seen on the pin while it was PWM.
+    pub hz: f64,
+    /// Time-weighted duty while the pin was not at 0.
+    pub mean_active_duty: f64,
+    pub active_s: f64,
+    #[serde(skip)]
+    duty_integral: f64,
+}
+
+const TAG_PORT_REG: u32 = 1;
+const TAG_PORT_DDR: u32 = 2;
+const TAG_UART_OUT: u32 = 16; // + USART number
+
+const SIDES: [Side; 2] = [Side::Left, Side::Right];
+const NEVER: u64 = u64::MAX;
+
+/// simavr-owned timers whose modes the bench checks: (timer, TCCRnA, TCCRnB).
+const CHECKED_TIMERS: [(u8, u16, u16); 4] = [
+    (0, 0x44, 0x45),
+    (1, 0x80, 0x81),
+    (3, 0x90, 0x91),
+    (5, 0x120, 0x121),
+];
+
+/// The bench's side of the simulation (see the module docs).
+pub struct BenchCore {
+    clock: Clock,
+    wiring: Wiring,
+    pub robot: Robot,
+    timer2: PwmTimer,
+    timer4: PwmTimer,
+    pending_top: [u64; 2],
+    port_value: u8,
+    port_ddr: u8,
+    /// (forward, reverse) duty applied to each motor's bridge, by side index.
+    bridge: [(f64, f64); 2],
+    enc_irq: [[Option<Irq>; 2]; 2],
+    enc_level: [[bool; 2]; 2],
+    /// A edges raised on the pins, signed as the thesis' decoder counts them.
+    pub edges_raised: [i64; 2],
+    next_edge: [u64; 2],
+    next_step: u64,
+    step_cycles: u64,
+    trace_every: u32,
+    steps: u32,
+    plant_cycle: u64,
+    pub uart_out: [Vec<u8>; 4],
+    pub trace: Vec<Sample>,
+    pub drive_log: Vec<DriveEvent>,
+    pub cutoffs: Vec<Cutoff>,
+    pub pins: [PinStats; 4],
+    vars: FwVars,
+    error: Option<PendingError>,
+}
+
+enum PendingError {
+    Pwm(PwmError, u64, u32),
+    Timer {
+        timer: u8,
+        wgm: u8,
+        cs: u8,
+        cycle: u64,
+        pc: u32,
+    },
+}
+
+fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+/// The thesis' encoder ISR: the count change for an A edge to level `a`
+/// while B is at `b`.
+pub fn decode_a_edge(a: bool, b: bool) -> i64 {
+    match (a, b) {
+        (true, false) | (false, true) => 1,
+        _ => -1,
+    }
+}
+
+impl BenchCore {
+    fn timer_mut(&mut self, which: usize) -> &mut PwmTimer {
+        if which == 0 {
+            &mut self.timer2
+        } else {
+            &mut self.timer4
+        }
+    }
+
+    fn input_duty(&self, input: &BridgeInput) -> f64 {
+        let bit = 1u8 << input.pin.bit;
+        if self.port_ddr & bit == 0 {
+            // An input pin floats; the DRV8833's inputs have internal
+            // pull-downs, so the bridge sees low.
+            return 0.0;
+        }
+        let drive = match input.pwm {
+            PwmSource::Timer2(ch) => self.timer2.drive(ch, self.clock.hz()),
+            PwmSource::Timer4(ch) => self.timer4.drive(ch, self.clock.hz()),
+        };
+        match drive {
+            PinDrive::Gpio => f64::from(self.port_value & bit != 0),
+            PinDrive::Pwm { duty, .. } => duty,
+        }
+    }
+
+    fn input_hz(&self, input: &BridgeInput) -> Option<f64> {
+        let drive = match input.pwm {
+            PwmSource::Timer2(ch) => self.timer2.drive(ch, self.clock.hz()),
+            PwmSource::Timer4(ch) => self.timer4.drive(ch, self.clock.hz()),
+        };
+        match drive {
+            PinDrive::Pwm { hz, duty } if hz > 0.0 && duty > 0.0 && duty < 1.0 => Some(hz),
+            _ => None,
+        }
+    }
+
+    fn advance_plant(&mut self, cycle: u64) {
+        if cycle > self.plant_cycle {
+            // PWM statistics integrate the duty held since the last advance.
+            let dt = self.clock.seconds(cycle - self.plant_cycle).0;
+            for (i, input) in self.wiring.bridge_inputs().iter().enumerate() {
+                let d = self.input_duty(input);
+                if d > 0.0 {
+                    self.pins[i].active_s += dt;
+                    self.pins[i].duty_integral += d * dt;
+                }
+            }
+            // The plant refuses only time going backwards, which the check
+            // above rules out.
+            let _ = self.robot.advance_to(self.clock.seconds(cycle));
+            self.plant_cycle = cycle;
+        }
+    }
+
+    /// Re-read what the bridge inputs see; apply changes to the plant.
+    fn refresh_bridge(&mut self, core: &Core, cycle: u64) {
+        self.advance_plant(cycle);
+        let mut changed = false;
+        for side in SIDES {
+            let m = *self.wiring.motor(side);
+            let fwd = self.input_duty(&m.forward);
+            let rev = self.input_duty(&m.reverse);
+            let i = side_index(side);
+            let (old_f, old_r) = self.bridge[i];
+            if (fwd, rev) == (old_f, old_r) {
+                continue;
+            }
+            changed = true;
+            for (input, old, new) in [(m.forward, old_f, fwd), (m.reverse, old_r, rev)] {
+                if old != new {
+                    self.drive_log.push(DriveEvent {
+                        cycle,
+                        pin: input.pin.arduino,
+                        duty: new,
+                    });
+                    if let Some(hz) = self.input_hz(&input) {
+                        let k = self.pin_slot(input.pin.arduino);
+                        self.pins[k].hz = hz;
+                    }
+                }
+            }
+            if (old_f > 0.0 && fwd == 0.0) || (old_r > 0.0 && rev == 0.0) {
+                self.cutoffs.push(Cutoff {
+                    cycle,
+                    side: side.into(),
+                    left_count: read_i32(core, self.vars.left_count),
+                    right_count: read_i32(core, self.vars.right_count),
+                    left_edges: self.robot.a_edges(Side::Left),
+                    right_edges: self.robot.a_edges(Side::Right),
+                    left_mm: self.robot.distance_travelled(Side::Left).0,
+                    right_mm: self.robot.distance_travelled(Side::Right).0,
+                });
+            }
+            self.bridge[i] = (fwd, rev);
+            self.robot.set_bridge(
+                side,
+                Duty::new(fwd).unwrap_or(Duty::from_pwm8(0)),
+                Duty::new(rev).unwrap_or(Duty::from_pwm8(0)),
+            );
+        }
+        if changed {
+            self.plan_edges(cycle);
+        }
+    }
+
+    fn pin_slot(&self, arduino: u8) -> usize {
+        self.wiring
+            .bridge_inputs()
+            .iter()
+            .position(|b| b.pin.arduino == arduino)
+            .expect("pin is a bridge input")
+    }
+
+    fn plan_edges(&mut self, now: u64) {
+        for side in SIDES {
+            let i = side_index(side);
+            self.next_edge[i] = match self.robot.next_encoder_transition(side) {
+                Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
+                None => NEVER,
+            };
+        }
+    }
+
+    fn next_event(&self) -> u64 {
+        self.next_edge[0]
+            .min(self.next_edge[1])
+            .min(self.next_step)
+            .min(self.pending_top[0])
+            .min(self.pending_top[1])
+    }
+
+    fn raise_encoders(&mut self, core: &mut Core) {
+        for side in SIDES {
+            let i = side_index(side);
+            let (a, b) = self.robot.encoder_levels(side);
+            let [old_a, old_b] = self.enc_level[i];
+            let [Some(irq_a), Some(irq_b)] = self.enc_irq[i] else {
+                continue;
+            };
+            if b != old_b {
+                core.raise(irq_b, b as u32);
+                self.enc_level[i][1] = b;
+            }
+            if a != old_a {
+                core.raise(irq_a, a as u32);
+                self.enc_level[i][0] = a;
+                self.edges_raised[i] += decode_a_edge(a, b);
+            }
+        }
+    }
+
+    fn sample(&mut self, cycle: u64) {
+        let pose = self.robot.pose();
+        self.trace.push(Sample {
+            t_s: self.clock.seconds(cycle).0,
+            x_mm: pose.x().0,
+            y_mm: pose.y().0,
+            theta_rad: pose.theta().0,
+            left_edges: self.robot.a_edges(Side::Left),
+            right_edges: self.robot.a_edges(Side::Right),
+            left_duty: self.bridge[0].0 - self.bridge[0].1,
+            right_duty: self.bridge[1].0 - self.bridge[1].1,
+        });
+    }
+
+    fn check_simavr_timer(&mut self, core: &Core, timer: u8, a: u16, b: u16) {
+        let tccra = core.data(a);
+        let tccrb = core.data(b);
+        let cs = tccrb & 0b111;
+        if cs == 0 {
+            return; // not clocked: any mode is harmless
+        }
+        let wgm = ((tccrb >> 3) & 0b11) << 2 | (tccra & 0b11);
+        let verified = matches!((timer, wgm), (1, 4) | (3, 4)) && cs <= 5;
+        if !verified && self.error.is_none() {
+            self.error = Some(PendingError::Timer {
+                timer,
+                wgm,
+                cs,
+                cycle: core.cycle(),
+                pc: core.pc(),
+            });
+        }
+    }
+
+    /// Mean active duty per pin, finalised.
+    pub fn pin_stats(&self) -> [PinStats; 4] {
+        let mut out = self.pins;
+        for p in &mut out {
+            p.mean_active_duty = if p.active_s > 0.0 {
+                p.duty_integral / p.active_s
+            } else {
+                0.0
+            };
+        }
+        out
+    }
+}
+
+fn read_i32(core: &Core, addr: u16) -> i32 {
+    i32::from_le_bytes([
+        core.data(addr),
+        core.data(addr + 1),
+        core.data(addr + 2),
+        core.data(addr + 3),
+    ])
+}
+
+impl Handler for BenchCore {
+    fn io_write(&mut self, core: &mut Core, addr: u16, value: u8) {
+        let cycle = core.cycle();
+        if let Some(&(timer, a, b)) = CHECKED_TIMERS.iter().find(|t| t.1 == addr || t.2 == addr) {
+            self.check_simavr_timer(core, timer, a, b);
+            return;
+        }
+        let which = if self.timer2.write_addresses().contains(&addr) {
+            0
+        } else {
+            1
+        };
+        // The bench emulates these registers; keep data space readable.
+        core.set_data(addr, value);
+        // Bring the plant to this cycle before the output can change.
+        self.advance_plant(cycle);
+        match self.timer_mut(which).write(addr, value, cycle) {
+            Ok(effect) => {
+                if effect.pending_update {
+                    self.pending_top[which] = self
+                        .timer_mut(which)
+                        .pending_update_at(cycle)
+                        .unwrap_or(NEVER);
+                }
+                if effect.outputs_changed {
+                    self.refresh_bridge(core, cycle);
+                    if self.pending_top[which] == NEVER {
+                        // A timer that just started applies buffered
+                        // values at its first TOP.
+                        self.pending_top[which] = self
+                            .timer_mut(which)
+                            .pending_update_at(cycle)
+                            .unwrap_or(NEVER);
+                    }
+                }
+                core.schedule(self.next_event());
+            }
+            Err(e) => {
+                if self.error.is_none() {
+                    self.error = Some(PendingError::Pwm(e, cycle, core.pc()));
+                }
+            }
+        }
+    }
+
+    fn io_read(&mut self, core: &mut Core, addr: u16) -> u8 {
+        let timer = if self.timer2.read_addresses().contains(&addr) {
+            &self.timer2
+        } else {
+            &self.timer4
+        };
+        let err = timer.read(addr);
+        if self.error.is_none() {
+            self.error = Some(PendingError::Pwm(err, core.cycle(), core.pc()));
+        }
+        0
+    }
+
+    fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
+        self.advance_plant(when);
+        for which in 0..2 {
+            if self.pending_top[which] <= when {
+                self.timer_mut(which).apply_buffered();
+                self.pending_top[which] = NEVER;
+                self.refresh_bridge(core, when);
+            }
+        }
+        self.raise_encoders(core);
+        if self.next_step <= when {
+            self.steps += 1;
+            if self.steps % self.trace_every == 0 {
+                self.sample(when);
+            }
+            self.next_step = when + self.step_cycles;
+        }
+        self.plan_edges(when);
+        let next = self.next_event();
+        if next == NEVER {
+            0
+        } else {
+            next
+        }
+    }
+
+    fn irq(&mut self, core: &mut Core, tag: u32, value: u32) {
+        match tag {
+            TAG_PORT_REG => {
+                self.port_value = value as u8;
+                self.refresh_bridge(core, core.cycle());
+                core.schedule(self.next_event());
+            }
+            TAG_PORT_DDR => {
+                self.port_ddr = value as u8;
+                self.refresh_bridge(core, core.cycle());
+                core.schedule(self.next_event());
+            }
+            t if (TAG_UART_OUT..TAG_UART_OUT + 4).contains(&t) => {
+                self.uart_out[(t - TAG_UART_OUT) as usize].push(value as u8);
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The bench: firmware, MCU, plant.
+pub struct Bench {
+    avr: Avr<BenchCore>,
+    firmware: Firmware,
+    vars: FwVars,
+    clock: Clock,
+    uart_in: [Option<Irq>; 4],
+    sleep_cycles: u64,
+}
+
+impl Bench {
+    pub fn new(
+        firmware: Firmware,
+        robot: &RobotConfig,
+        options: BenchOptions,
+    ) -> Result<Self, BenchError> {
+        let vars = FwVars::resolve(&firmware)?;
+        let clock = options.clock;
+        let wiring = HENRYTWO;
+        let step_cycles = clock.cycles_in(Seconds(options.plant_step_s)).max(1);
+        let trace_every = ((options.trace_interval_s / options.plant_step_s).round() as u32).max(1);
+        let core = BenchCore {
+            clock,
+            wiring,
+            robot: Robot::new(robot, options.seed)?,
+            timer2: PwmTimer::timer2(),
+            timer4: PwmTimer::timer4(),
+            pending_top: [NEVER; 2],
+            port_value: 0,
+            port_ddr: 0,
+            bridge: [(0.0, 0.0); 2],
+            enc_irq: [[None; 2]; 2],
+            enc_level: [[false; 2]; 2],
+            edges_raised: [0; 2],
+            next_edge: [NEVER; 2],
+            next_step: step_cycles,
+            step_cycles,
+            trace_every,
+            steps: 0,
+            plant_cycle: 0,
+            uart_out: Default::default(),
+            trace: Vec::new(),
+            drive_log: Vec::new(),
+            cutoffs: Vec::new(),
+            pins: wiring.bridge_inputs().map(|b| PinStats {
+                pin: b.pin.arduino,
+                ..Default::default()
+            }),
+            vars,
+            error: None,
+        };
+        let mut avr = Avr::new("atmega2560", clock.hz(), core)?;
+        for (addr, bytes) in &firmware.segments {
+            avr.load_flash(*addr, bytes)?;
+        }
+        // Timers 2 and 4: emulated by the bench (see pwm.rs).
+        for timer in [PwmTimer::timer2(), PwmTimer::timer4()] {
+            for addr in timer.write_addresses() {
+                avr.claim_io_write(addr, IoClaim::Replace)?;
+            }
+            for addr in timer.read_addresses() {
+                avr.claim_io_read(addr)?;
+            }
+        }
+        for (_, a, b) in CHECKED_TIMERS {
+            avr.claim_io_write(a, IoClaim::Observe)?;
+            avr.claim_io_write(b, IoClaim::Observe)?;
+        }
+        // All four bridge inputs are on one port (checked by a wiring test).
+        let port = wiring.left_motor.forward.pin.port;
+        let reg = avr.port_register(port)?;
+        let ddr = avr.port_direction(port)?;
+        avr.watch_irq(reg, TAG_PORT_REG);
+        avr.watch_irq(ddr, TAG_PORT_DDR);
+        let mut enc_irq = [[None; 2]; 2];
+        for side in SIDES {
+            let e = wiring.encoder(side);
+            enc_irq[side_index(side)] = [
+                Some(avr.port_pin(e.a.port, e.a.bit)?),
+                Some(avr.port_pin(e.b.port, e.b.bit)?),
+            ];
+        }
+        let mut uart_in = [None; 4];
+        for n in [wiring.debug_uart, wiring.bluetooth_uart] {
+            let (input, output) = avr.uart(n)?;
+            avr.watch_irq(output, TAG_UART_OUT + n as u32);
+            uart_in[n as usize] = Some(input);
+        }
+        avr.with_core(|core, c| {
+            core.enc_irq = enc_irq;
+            // Encoder lines start at the plant's levels.
+            for side in SIDES {
+                let i = side_index(side);
+                let (a, b) = core.robot.encoder_levels(side);
+                for (irq, level) in enc_irq[i].into_iter().zip([a, b]) {
+                    if let Some(irq) = irq {
+                        c.raise(irq, level as u32);
+                    }
+                }
+                core.enc_level[i] = [a, b];
+            }
+            core.plan_edges(0);
+        });
+        let first = avr.handler().next_event();
+        avr.schedule(first);
+        Ok(Self {
+            avr,
+            firmware,
+            vars,
+            clock,
+            uart_in,
+            sleep_cycles: 0,
+        })
+    }
+
+    pub fn clock(&self) -> Clock {
+        self.clock
+    }
+
+    pub fn cycle(&self) -> u64 {
+        self.avr.cycle()
+    }
+
+    pub fn robot_time_s(&self) -> f64 {
+        self.clock.seconds(self.avr.cycle()).0
+    }
+
+    pub fn core(&self) -> &BenchCore {
+        self.avr.handler()
+    }
+
+    pub fn vars(&self) -> &FwVars {
+        &self.vars
+    }
+
+    pub fn firmware(&self) -> &Firmware {
+        &self.firmware
+    }
+
+    /// Fraction of cycles the CPU was awake.
+    pub fn awake_fraction(&self) -> f64 {
+        let c = self.avr.cycle();
+        if c == 0 {
+            return 0.0;
+        }
+        1.0 - self.sleep_cycles as f64 / c as f64
+    }
+
+    pub fn location(&self) -> Location {
+        let pc = self.avr.pc();
+        self.location_at(self.avr.cycle(), pc)
+    }
+
+    fn location_at(&self, cycle: u64, pc: u32) -> Location {
+        Location {
+            cycle,
+            robot_time_s: self.clock.seconds(cycle).0,
+            pc,
+            function: self
+                .firmware
+                .function_at(pc)
+                .map(|(name, off)| format!("{name}+0x{off:x}")),
+        }
+    }
+
+    pub fn read_u8(&self, addr: u16) -> u8 {
+        self.avr.data(addr)
+    }
+
+    pub fn read_u16(&self, addr: u16) -> u16 {
+        u16::from_le_bytes(self.avr.read_bytes::<2>(addr))
+    }
+
+    pub fn read_i32(&self, addr: u16) -> i32 {
+        i32::from_le_bytes(self.avr.read_bytes::<4>(addr))
+    }
+
+    pub fn read_u32(&self, addr: u16) -> u32 {
+        u32::from_le_bytes(self.avr.read_bytes::<4>(addr))
+    }
+
+    pub fn read_f32(&self, addr: u16) -> f32 {
+        f32::from_le_bytes(self.avr.read_bytes::<4>(addr))
+    }
+
+    pub fn write_f32(&mut self, addr: u16, v: f32) {
+        self.avr.write_bytes(addr, &v.to_le_bytes());
+    }
+
+    pub fn fw_state(&self) -> FwState {
+        FwState::from(self.read_u8(self.vars.state))
+    }
+
+    /// Send bytes to USART `n`'s receiver (simavr paces them at the baud rate).
+    pub fn send(&mut self, n: u8, bytes: &[u8]) {
+        if let Some(irq) = self.uart_in[n as usize] {
+            for &b in bytes {
+                self.avr.raise(irq, b as u32);
+            }
+        }
+    }
+
+    /// Bytes the firmware sent on USART `n` so far.
+    pub fn uart_output(&self, n: u8) -> &[u8] {
+        &self.avr.handler().uart_out[n as usize]
+    }
+
+    /// Run until `done` holds or `limit_s` of robot time pass; Ok(false) on
+    /// the limit. `done` is checked every few instructions and at least once
+    /// per plant step while the CPU sleeps.
+    pub fn run_until(
+        &mut self,
+        limit_s: f64,
+        mut done: impl FnMut(&Bench) -> bool,
+    ) -> Result<bool, BenchError> {
+        let limit = self.avr.cycle() + self.clock.cycles_in(Seconds(limit_s));
+        let mut n: u32 = 0;
+        loop {
+            let sleeping = self.avr.state() == CpuState::Sleeping;
+            let before = self.avr.cycle();
+            let state = self.avr.step();
+            // simavr jumps over a sleep in the same step that executes the
+            // `sleep` instruction, and again in each step while asleep.
+            if sleeping || state == CpuState::Sleeping {
+                self.sleep_cycles += self.avr.cycle() - before;
+            }
+            match state {
+                CpuState::Running | CpuState::Sleeping => {}
+                CpuState::Crashed => {
+                    return Err(BenchError::Crashed {
+                        at: self.location(),
+                    })
+                }
+                _ => {
+                    return Err(BenchError::Stopped {
+                        at: self.location(),
+                    })
+                }
+            }
+            if let Some(e) = self.avr.handler_mut().error.take() {
+                return Err(self.pending_error(e));
+            }
+            n = n.wrapping_add(1);
+            if n % 64 == 0 || sleeping {
+                if done(self) {
+                    return Ok(true);
+                }
+                if self.avr.cycle() >= limit {
+                    return Ok(false);
+                }
+            }
+        }
+    }
+
+    fn pending_error(&self, e: PendingError) -> BenchError {
+        match e {
+            PendingError::Pwm(error, cycle, pc) => BenchError::Pwm {
+                error,
+                at: self.location_at(cycle, pc),
+            },
+            PendingError::Timer {
+                timer,
+                wgm,
+                cs,
+                cycle,
+                pc,
+            } => BenchError::UnverifiedTimer {
+                timer,
+                wgm,
+                cs,
+                at: self.location_at(cycle, pc),
+            },
+        }
+    }
+
+    /// Run until `done`, or fail with a timeout naming `what`.
+    pub fn run_expect(
+        &mut self,
+        what: &str,
+        limit_s: f64,
+        done: impl FnMut(&Bench) -> bool,
+    ) -> Result<(), BenchError> {
+        if self.run_until(limit_s, done)? {
+            Ok(())
+        } else {
+            Err(BenchError::Timeout {
+                what: what.into(),
+                robot_s: limit_s,
+                at: self.location(),
+            })
+        }
+    }
+
+    /// Run for `seconds` of robot time.
+    pub fn run_for(&mut self, seconds: f64) -> Result<(), BenchError> {
+        self.run_until(seconds, |_| false).map(|_| ())
+    }
+}

@@ -1,0 +1,62 @@
+//! The firmware's bench interface: variables the bench reads from SRAM by
+//! their ELF symbol names (documented in firmware/README.md).
+
+use crate::elf::{ElfError, Firmware};
+
+/// Firmware states reported in `HT_STATE`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum FwState {
+    Booting,
+    Idle,
+    Driving,
+    Braking,
+    Other(u8),
+}
+
+impl From<u8> for FwState {
+    fn from(v: u8) -> Self {
+        match v {
+            0 => FwState::Booting,
+            1 => FwState::Idle,
+            2 => FwState::Driving,
+            3 => FwState::Braking,
+            other => FwState::Other(other),
+        }
+    }
+}
+
+/// Data-space addresses of the interface variables.
+#[derive(Debug, Clone, Copy)]
+pub struct FwVars {
+    pub left_count: u16,
+    pub right_count: u16,
+    pub ticks: u16,
+    pub state: u16,
+    pub done_count: u16,
+    pub leg_length_mm: u16,
+    pub stop_left: u16,
+    pub stop_right: u16,
+    pub speed_left: u16,
+    pub speed_right: u16,
+    pub duty_left: u16,
+    pub duty_right: u16,
+}
+
+impl FwVars {
+    pub fn resolve(fw: &Firmware) -> Result<Self, ElfError> {
+        Ok(Self {
+            left_count: fw.variable("HT_LEFT_COUNT", 4)?,
+            right_count: fw.variable("HT_RIGHT_COUNT", 4)?,
+            ticks: fw.variable("HT_TICKS", 4)?,
+            state: fw.variable("HT_STATE", 1)?,
+            done_count: fw.variable("HT_DONE_COUNT", 2)?,
+            leg_length_mm: fw.variable("HT_LEG_LENGTH_MM", 4)?,
+            stop_left: fw.variable("HT_STOP_LEFT", 4)?,
+            stop_right: fw.variable("HT_STOP_RIGHT", 4)?,
+            speed_left: fw.variable("HT_SPEED_LEFT", 4)?,
+            speed_right: fw.variable("HT_SPEED_RIGHT", 4)?,
+            duty_left: fw.variable("HT_DUTY_LEFT", 1)?,
+            duty_right: fw.variable("HT_DUTY_RIGHT", 1)?,
+        })
+    }
+}

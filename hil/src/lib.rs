@@ -1,0 +1,18 @@
+//! Hardware-in-the-loop bench for the Henrytwo robot.
+//!
+//! The firmware's real ELF runs inside simavr ([`sim`]); the plant model
+//! (`plant-model`) drives the MCU's encoder pins at the exact cycles at which
+//! the physics says the edges happen, and sees the H-bridge inputs through the
+//! bench's own model of the PWM timers ([`pwm`]), wired as the robot is wired
+//! ([`wiring`]). [`bench`] ties them together on one event queue; [`line`] is
+//! the straight-line test.
+
+pub mod bench;
+pub mod elf;
+pub mod fwvars;
+pub mod line;
+pub mod paths;
+pub mod pwm;
+pub mod sim;
+pub mod time;
+pub mod wiring;

@@ -1,0 +1,277 @@
+//! The straight-line test: command byte 4 on the Bluetooth UART, the robot
+//! drives until its own odometry says `length_mm`, brakes and stops.
+
+use plant_model::{RobotConfig, Side};
+
+use crate::bench::{Bench, BenchError, BenchOptions, Cutoff, PinStats, Sample};
+use crate::elf::Firmware;
+use crate::fwvars::FwState;
+
+/// The thesis' odometry constant: mm per encoder count (pi * 32 / 602.22).
+pub const MM_PER_COUNT: f64 = 0.166_933_952_6;
+
+/// The command byte of the straight-line test.
+pub const CMD_LINE: u8 = 4;
+
+#[derive(Debug, Clone)]
+pub struct LineOptions {
+    pub length_mm: f64,
+    pub bench: BenchOptions,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Pose {
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_rad: f64,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct WheelSummary {
+    /// Net A-channel edges the plant produced (signed, forward positive).
+    pub plant_edges: i64,
+    /// A edges raised on the MCU pin, signed as the firmware's decoder counts.
+    pub raised_edges: i64,
+    /// The firmware's counter, read from SRAM at the end.
+    pub firmware_count: i32,
+    /// The firmware's counter when it cut the motors (HT_STOP_*).
+    pub stop_count: i32,
+    /// Wheel arc travelled, by the plant.
+    pub distance_mm: f64,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Wheels {
+    pub left: WheelSummary,
+    pub right: WheelSummary,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PwmPin {
+    pub pin: String,
+    pub hz: f64,
+    pub mean_active_duty: f64,
+    pub active_s: f64,
+}
+
+/// Host-side measurements: not part of the simulation's result.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct HostTiming {
+    pub wall_s: f64,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct LineSummary {
+    pub test: &'static str,
+    pub firmware: String,
+    pub length_mm: f64,
+    pub completed: bool,
+    /// Robot time from reset to the end of the test (braking and waits included).
+    pub robot_time_s: f64,
+    /// Robot time from the command byte to the motors' cut-off.
+    pub drive_time_s: f64,
+    /// Real-time factor (robot time / wall time); null when not measured.
+    pub rtf: Option<f64>,
+    pub pwm_hz: f64,
+    /// Mean of the two wheels' counts at cut-off, times the thesis' constant.
+    pub distance_firmware_mm: f64,
+    /// Mean of the two wheels' arcs at cut-off, by the plant.
+    pub distance_plant_mm: f64,
+    /// Mean wheel arc at the end, after braking and coasting.
+    pub distance_plant_final_mm: f64,
+    pub pose: Pose,
+    pub wheels: Wheels,
+    pub pwm: Vec<PwmPin>,
+    pub cycles: u64,
+    pub awake_fraction: f64,
+    pub cutoff_cycle: Option<u64>,
+    pub firmware_log: String,
+}
+
+/// Everything a line run produced.
+#[derive(Debug, Clone)]
+pub struct LineRun {
+    pub summary: LineSummary,
+    pub trace: Vec<Sample>,
+    pub cutoffs: Vec<Cutoff>,
+    pub pins: [PinStats; 4],
+    /// Cycle at which the command byte was sent.
+    pub start_cycle: u64,
+}
+
+/// Wait for the firmware to report idle after reset.
+pub fn wait_ready(bench: &mut Bench) -> Result<(), BenchError> {
+    let state = bench.vars().state;
+    bench.run_expect(
+        "the firmware did not report idle (HT_STATE = 1) after reset",
+        2.0,
+        |b| b.read_u8(state) == 1,
+    )
+}
+
+pub fn run_line(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    opts: &LineOptions,
+) -> Result<LineRun, BenchError> {
+    let name = firmware
+        .path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    wait_ready(&mut bench)?;
+    let vars = *bench.vars();
+    bench.write_f32(vars.leg_length_mm, opts.length_mm as f32);
+    let done_before = bench.read_u16(vars.done_count);
+    let start_cycle = bench.cycle();
+    bench.send(1, &[CMD_LINE]);
+    // Generous: a third of the nominal speed, plus braking and waits.
+    let limit = opts.length_mm / 50.0 + 5.0;
+    let completed = bench.run_until(limit, |b| {
+        b.read_u16(vars.done_count) != done_before && b.fw_state() == FwState::Idle
+    })?;
+    if !completed {
+        return Err(BenchError::Timeout {
+            what: format!(
+                "the straight line of {} mm did not complete (HT_DONE_COUNT unchanged, state {:?})",
+                opts.length_mm,
+                bench.fw_state()
+            ),
+            robot_s: limit,
+            at: bench.location(),
+        });
+    }
+    // Let the firmware's end-of-test line drain from the UART (about 1 ms per
+    // byte at 9600 baud).
+    bench.run_for(0.1)?;
+    let core = bench.core();
+    let cutoff = core.cutoffs.iter().find(|c| c.cycle > start_cycle).copied();
+    let clock = bench.clock();
+    let stop_left = bench.read_i32(vars.stop_left);
+    let stop_right = bench.read_i32(vars.stop_right);
+    let robot = &core.robot;
+    let pose = robot.pose();
+    let wheel = |side: Side, idx: usize, count_addr: u16, stop: i32| WheelSummary {
+        plant_edges: robot.a_edges(side),
+        raised_edges: core.edges_raised[idx],
+        firmware_count: bench.read_i32(count_addr),
+        stop_count: stop,
+        distance_mm: robot.distance_travelled(side).0,
+    };
+    let wheels = Wheels {
+        left: wheel(Side::Left, 0, vars.left_count, stop_left),
+        right: wheel(Side::Right, 1, vars.right_count, stop_right),
+    };
+    // Plant distance at cut-off from the edges the plant had produced then:
+    // the trace is coarse, the cut-off snapshot is exact.
+    let distance_plant_mm = cutoff
+        .map(|c| (c.left_mm + c.right_mm) / 2.0)
+        .unwrap_or(f64::NAN);
+    let pins = core.pin_stats();
+    let pwm_hz = pins.iter().map(|p| p.hz).fold(0.0, f64::max);
+    let summary = LineSummary {
+        test: "line",
+        firmware: name,
+        length_mm: opts.length_mm,
+        completed,
+        robot_time_s: bench.robot_time_s(),
+        drive_time_s: cutoff
+            .map(|c| clock.seconds(c.cycle - start_cycle).0)
+            .unwrap_or(f64::NAN),
+        rtf: None,
+        pwm_hz,
+        distance_firmware_mm: (stop_left as f64 + stop_right as f64) / 2.0 * MM_PER_COUNT,
+        distance_plant_mm,
+        distance_plant_final_mm: (wheels.left.distance_mm + wheels.right.distance_mm) / 2.0,
+        pose: Pose {
+            x_mm: pose.x().0,
+            y_mm: pose.y().0,
+            theta_rad: pose.theta().0,
+        },
+        wheels,
+        pwm: pins
+            .iter()
+            .map(|p| PwmPin {
+                pin: format!("D{}", p.pin),
+                hz: p.hz,
+                mean_active_duty: p.mean_active_duty,
+                active_s: p.active_s,
+            })
+            .collect(),
+        cycles: bench.cycle(),
+        awake_fraction: bench.awake_fraction(),
+        cutoff_cycle: cutoff.map(|c| c.cycle),
+        firmware_log: String::from_utf8_lossy(bench.uart_output(0)).into_owned(),
+    };
+    Ok(LineRun {
+        summary,
+        trace: core.trace.clone(),
+        cutoffs: core.cutoffs.clone(),
+        pins,
+        start_cycle,
+    })
+}
+
+impl LineSummary {
+    /// The human-readable summary.
+    pub fn render(&self) -> String {
+        let mut s = String::new();
+        use std::fmt::Write;
+        let _ = writeln!(
+            s,
+            "straight line, {} mm ({})",
+            self.length_mm, self.firmware
+        );
+        let _ = writeln!(
+            s,
+            "  robot time     {:.3} s total, {:.3} s driving",
+            self.robot_time_s, self.drive_time_s
+        );
+        if let Some(rtf) = self.rtf {
+            let _ = writeln!(s, "  real-time x    {rtf:.1}");
+        }
+        let _ = writeln!(
+            s,
+            "  distance       {:.1} mm by firmware odometry, {:.1} mm by the plant at cut-off ({:.1} mm after braking)",
+            self.distance_firmware_mm, self.distance_plant_mm, self.distance_plant_final_mm
+        );
+        let _ = writeln!(
+            s,
+            "  final pose     x {:.1} mm, y {:.1} mm, theta {:.4} rad ({:.2} deg)",
+            self.pose.x_mm,
+            self.pose.y_mm,
+            self.pose.theta_rad,
+            self.pose.theta_rad.to_degrees()
+        );
+        for (name, w) in [("left", &self.wheels.left), ("right", &self.wheels.right)] {
+            let _ = writeln!(
+                s,
+                "  {name:<5} wheel    plant edges {}, raised {}, firmware count {} (at cut-off {}), {}",
+                w.plant_edges,
+                w.raised_edges,
+                w.firmware_count,
+                w.stop_count,
+                if w.plant_edges == w.firmware_count as i64 {
+                    "equal"
+                } else {
+                    "DIFFERENT"
+                }
+            );
+        }
+        for p in &self.pwm {
+            let _ = writeln!(
+                s,
+                "  PWM {:<3}        {:.2} Hz, mean duty {:.3} over {:.3} s",
+                p.pin, p.hz, p.mean_active_duty, p.active_s
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  CPU            {} cycles, awake {:.2} %",
+            self.cycles,
+            self.awake_fraction * 100.0
+        );
+        s
+    }
+}

@@ -1,0 +1,166 @@
+//! `hil`: the bench's command line.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use hil::bench::BenchOptions;
+use hil::elf::Firmware;
+use hil::line::{run_line, LineOptions};
+use plant_model::RobotConfig;
+
+#[derive(Parser)]
+#[command(
+    name = "hil",
+    version,
+    about = "Hardware-in-the-loop bench for the Henrytwo robot firmware"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args, Clone)]
+struct Common {
+    /// Firmware ELF (default: the robust build in firmware/target).
+    #[arg(long, value_name = "FILE")]
+    elf: Option<PathBuf>,
+    /// Robot config TOML (default: fixtures/robots/henrytwo-ideal.toml).
+    #[arg(long, value_name = "FILE")]
+    robot: Option<PathBuf>,
+    /// Seed of the plant's random effects.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Print one JSON object instead of the text summary.
+    #[arg(long)]
+    json: bool,
+    /// Leave host timing (wall time, real-time factor) out of the output,
+    /// so that two runs print byte-identical results.
+    #[arg(long)]
+    deterministic: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the straight-line test (command byte 4) and summarise it.
+    Line {
+        /// Length of the line in millimetres.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        length_mm: f64,
+        /// Write the plant trace (10 ms samples) as CSV.
+        #[arg(long, value_name = "FILE")]
+        trace_csv: Option<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+fn parse_length(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of millimetres"))?;
+    if !v.is_finite() || v <= 0.0 || v > 100_000.0 {
+        return Err(format!(
+            "{s} mm is out of range: give a length above 0 and up to 100000 mm"
+        ));
+    }
+    Ok(v)
+}
+
+fn load_robot(path: Option<&PathBuf>) -> Result<RobotConfig> {
+    let path = path
+        .cloned()
+        .unwrap_or_else(|| hil::paths::robot_config("henrytwo-ideal"));
+    RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
+}
+
+fn load_firmware(path: Option<&PathBuf>) -> Result<Firmware> {
+    let path = path
+        .cloned()
+        .unwrap_or_else(|| hil::paths::firmware_elf("robust"));
+    Ok(Firmware::load(&path)?)
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Line {
+            length_mm,
+            trace_csv,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(common.elf.as_ref())?;
+            let opts = LineOptions {
+                length_mm,
+                bench: BenchOptions {
+                    seed: common.seed,
+                    ..Default::default()
+                },
+            };
+            let wall = Instant::now();
+            let mut run = run_line(firmware, &robot, &opts)?;
+            let wall_s = wall.elapsed().as_secs_f64();
+            if !common.deterministic {
+                run.summary.rtf = Some(run.summary.robot_time_s / wall_s);
+            }
+            if let Some(path) = trace_csv {
+                let mut csv = String::from(
+                    "t_s,x_mm,y_mm,theta_rad,left_edges,right_edges,left_duty,right_duty\n",
+                );
+                for s in &run.trace {
+                    csv.push_str(&format!(
+                        "{},{},{},{},{},{},{},{}\n",
+                        s.t_s,
+                        s.x_mm,
+                        s.y_mm,
+                        s.theta_rad,
+                        s.left_edges,
+                        s.right_edges,
+                        s.left_duty,
+                        s.right_duty
+                    ));
+                }
+                std::fs::write(&path, csv)
+                    .with_context(|| format!("writing the trace to {}", path.display()))?;
+            }
+            if common.json {
+                println!("{}", serde_json::to_string_pretty(&run.summary)?);
+            } else {
+                print!("{}", run.summary.render());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            // One line: what is wrong. `--help` says the rest.
+            let text = e.render().to_string();
+            let first = text.lines().next().unwrap_or("error: bad arguments");
+            eprintln!("{first} (see `hil --help`)");
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
