@@ -1,0 +1,55 @@
+#![allow(dead_code)] // each test file uses a part
+//! Shared set-up for the end-to-end tests (included by each test file): the firmware ELF, built from
+//! source on first use, and the robot configs.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::OnceLock;
+
+use hil::elf::Firmware;
+use plant_model::config::RobotConfig;
+
+/// Build the firmware (incremental: about a second when nothing changed) once
+/// per test process and return the path of build `name` ("robust").
+pub fn firmware_path(name: &str) -> PathBuf {
+    static BUILT: OnceLock<Result<(), String>> = OnceLock::new();
+    let built = BUILT.get_or_init(|| {
+        let dir = hil::paths::workspace_root().join("firmware");
+        let mut cmd = Command::new("cargo");
+        cmd.current_dir(&dir)
+            .args(["build", "--release", "--quiet"]);
+        // The host build's environment must not leak into the AVR build: the
+        // firmware picks its own toolchain from rust-toolchain.toml.
+        for (key, _) in std::env::vars_os() {
+            let k = key.to_string_lossy();
+            if k.starts_with("CARGO")
+                || k.starts_with("RUSTUP_TOOLCHAIN")
+                || k.starts_with("RUSTC")
+                || k == "RUSTFLAGS"
+                || k == "RUSTDOC"
+            {
+                cmd.env_remove(&key);
+            }
+        }
+        let out = cmd.output().map_err(|e| format!("cannot run cargo: {e}"))?;
+        if out.status.success() {
+            Ok(())
+        } else {
+            Err(String::from_utf8_lossy(&out.stderr).into_owned())
+        }
+    });
+    if let Err(e) = built {
+        panic!("building the firmware failed (run tools/setup.sh):\n{e}");
+    }
+    hil::paths::firmware_elf(name)
+}
+
+/// The firmware build `name`, loaded.
+pub fn firmware(name: &str) -> Firmware {
+    Firmware::load(&firmware_path(name)).expect("firmware ELF loads")
+}
+
+/// A robot config from fixtures/robots/.
+pub fn robot(name: &str) -> RobotConfig {
+    RobotConfig::load(hil::paths::robot_config(name)).expect("robot config loads")
+}

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Idempotent set-up on a Debian machine with Rust stable and nightly:
+# system packages, the nightly's rust-src, and the firmware ELFs built from
+# source. Quiet when everything is already there.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(gcc-avr avr-libc binutils-avr libelf-dev libclang-dev clang pkg-config zlib1g-dev libzstd-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+if ! rustup +nightly component list --installed 2>/dev/null | grep -q '^rust-src'; then
+  echo "setup: adding rust-src to the nightly toolchain" >&2
+  rustup component add rust-src --toolchain nightly
+fi
+
+# The firmware: built from source, never committed. cargo is incremental, so
+# this is about a second when nothing changed.
+(cd firmware && cargo build --release --quiet 2>&1 | grep -v -e 'Linker does not support -no-pie' -e '^$' >&2 || true)
+for elf in firmware/target/avr-none/release/*.elf; do
+  [ -f "$elf" ] || { echo "setup: the firmware build produced no ELF" >&2; exit 1; }
+done

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# The test suite: set up, then lint and test the host workspace (the tests
+# run the real firmware ELF in the emulator).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/setup.sh
+cargo fmt --all --check
+cargo clippy --workspace --all-targets --release --quiet -- -D warnings
+cargo test --workspace --release
