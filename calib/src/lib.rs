@@ -89,6 +89,7 @@
 pub mod csv;
 mod error;
 pub mod forward;
+pub mod plot;
 pub mod round;
 pub mod thesis;
 pub mod triangle;
@@ -96,6 +97,7 @@ mod types;
 pub mod umbmark;
 
 pub use error::Error;
+pub use plot::{plot_triangle, plot_umbmark};
 pub use round::{improvement, Round};
 pub use thesis::Discrepancy;
 pub use triangle::{triangle_correction, TriangleParams, TriangleResult};
