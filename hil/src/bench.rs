@@ -85,7 +85,10 @@ impl Default for BenchOptions {
     fn default() -> Self {
         Self {
             clock: Clock::MEGA_16MHZ,
-            plant_step_s: 1e-3,
+            // The plant integrates the pose at every event anyway (each encoder
+            // transition, every input change); the step only bounds the gap
+            // while nothing else happens and paces the trace.
+            plant_step_s: 10e-3,
             trace_interval_s: 10e-3,
             seed: 0,
         }
@@ -202,6 +205,8 @@ pub struct BenchCore {
     pub pins: [PinStats; 4],
     vars: FwVars,
     error: Option<PendingError>,
+    /// Set with `error`, read after every instruction (cheaper than the Option).
+    failed: bool,
 }
 
 enum PendingError {
@@ -347,12 +352,15 @@ impl BenchCore {
 
     fn plan_edges(&mut self, now: u64) {
         for side in SIDES {
-            let i = side_index(side);
-            self.next_edge[i] = match self.robot.next_encoder_transition(side) {
-                Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
-                None => NEVER,
-            };
+            self.plan_edge(side, now);
         }
+    }
+
+    fn plan_edge(&mut self, side: Side, now: u64) {
+        self.next_edge[side_index(side)] = match self.robot.next_encoder_transition(side) {
+            Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
+            None => NEVER,
+        };
     }
 
     fn next_event(&self) -> u64 {
@@ -407,6 +415,7 @@ impl BenchCore {
         let wgm = ((tccrb >> 3) & 0b11) << 2 | (tccra & 0b11);
         let verified = matches!((timer, wgm), (1, 4) | (3, 4)) && cs <= 5;
         if !verified && self.error.is_none() {
+            self.failed = true;
             self.error = Some(PendingError::Timer {
                 timer,
                 wgm,
@@ -479,6 +488,7 @@ impl Handler for BenchCore {
             }
             Err(e) => {
                 if self.error.is_none() {
+                    self.failed = true;
                     self.error = Some(PendingError::Pwm(e, cycle, core.pc()));
                 }
             }
@@ -493,6 +503,7 @@ impl Handler for BenchCore {
         };
         let err = timer.read(addr);
         if self.error.is_none() {
+            self.failed = true;
             self.error = Some(PendingError::Pwm(err, core.cycle(), core.pc()));
         }
         0
@@ -515,7 +526,14 @@ impl Handler for BenchCore {
             }
             self.next_step = when + self.step_cycles;
         }
-        self.plan_edges(when);
+        // The other wheel's prediction stays valid: its input has not changed
+        // (a change re-plans both in `refresh_bridge`).
+        for side in SIDES {
+            let i = side_index(side);
+            if self.next_edge[i] <= when {
+                self.plan_edge(side, when);
+            }
+        }
         let next = self.next_event();
         if next == NEVER {
             0
@@ -552,6 +570,8 @@ pub struct Bench {
     clock: Clock,
     uart_in: [Option<Irq>; 4],
     sleep_cycles: u64,
+    /// Awake cycles per flash word, when profiling.
+    profile: Option<Vec<u64>>,
 }
 
 impl Bench {
@@ -594,6 +614,7 @@ impl Bench {
             }),
             vars,
             error: None,
+            failed: false,
         };
         let mut avr = Avr::new("atmega2560", clock.hz(), core)?;
         for (addr, bytes) in &firmware.segments {
@@ -656,6 +677,7 @@ impl Bench {
             clock,
             uart_in,
             sleep_cycles: 0,
+            profile: None,
         })
     }
 
@@ -681,6 +703,33 @@ impl Bench {
 
     pub fn firmware(&self) -> &Firmware {
         &self.firmware
+    }
+
+    /// Attribute awake cycles to the instruction executing them, from now on.
+    pub fn start_profiling(&mut self) {
+        self.profile = Some(vec![0; 0x2_0000]);
+    }
+
+    /// Awake cycles per function since [`Bench::start_profiling`], most first.
+    /// (Cycles spent in an interrupt's entry are the interrupted instruction's.)
+    pub fn profile_by_function(&self) -> Vec<(String, u64)> {
+        let Some(profile) = &self.profile else {
+            return Vec::new();
+        };
+        let mut by: std::collections::BTreeMap<String, u64> = Default::default();
+        for (word, &c) in profile.iter().enumerate() {
+            if c > 0 {
+                let name = self
+                    .firmware
+                    .function_at(word as u32 * 2)
+                    .map(|(n, _)| n.to_owned())
+                    .unwrap_or_else(|| format!("0x{:05x}", word * 2));
+                *by.entry(name).or_default() += c;
+            }
+        }
+        let mut v: Vec<_> = by.into_iter().collect();
+        v.sort_by_key(|e| std::cmp::Reverse(e.1));
+        v
     }
 
     /// Fraction of cycles the CPU was awake.
@@ -761,14 +810,18 @@ impl Bench {
     ) -> Result<bool, BenchError> {
         let limit = self.avr.cycle() + self.clock.cycles_in(Seconds(limit_s));
         let mut n: u32 = 0;
+        let mut check_at = self.avr.cycle();
         loop {
             let sleeping = self.avr.state() == CpuState::Sleeping;
             let before = self.avr.cycle();
+            let pc_before = self.avr.pc();
             let state = self.avr.step();
             // simavr jumps over a sleep in the same step that executes the
             // `sleep` instruction, and again in each step while asleep.
             if sleeping || state == CpuState::Sleeping {
                 self.sleep_cycles += self.avr.cycle() - before;
+            } else if let Some(profile) = &mut self.profile {
+                profile[(pc_before / 2) as usize] += self.avr.cycle() - before;
             }
             match state {
                 CpuState::Running | CpuState::Sleeping => {}
@@ -783,11 +836,19 @@ impl Bench {
                     })
                 }
             }
-            if let Some(e) = self.avr.handler_mut().error.take() {
-                return Err(self.pending_error(e));
+            if self.avr.handler().failed {
+                let core = self.avr.handler_mut();
+                core.failed = false;
+                if let Some(e) = core.error.take() {
+                    return Err(self.pending_error(e));
+                }
             }
             n = n.wrapping_add(1);
-            if n % 64 == 0 || sleeping {
+            // Check every 64 instructions, and at least once per millisecond
+            // of robot time while the CPU sleeps through long stretches.
+            let now = self.avr.cycle();
+            if n % 64 == 0 || now >= check_at {
+                check_at = now + self.clock.cycles_per_ms();
                 if done(self) {
                     return Ok(true);
                 }
