@@ -60,10 +60,10 @@ fn stops_within_one_count_of_the_length() {
     let cut = run
         .cutoffs
         .iter()
-        .find(|c| c.cycle > run.start_cycle)
+        .find(|c| c.at.cycle > run.start_cycle)
         .expect("a motor cut-off after the command");
-    assert_eq!(cut.left_count, s.wheels.left.stop_count);
-    assert_eq!(cut.right_count, s.wheels.right.stop_count);
+    assert_eq!(cut.at.left_count, s.wheels.left.stop_count);
+    assert_eq!(cut.at.right_count, s.wheels.right.stop_count);
 }
 
 /// The PID holds each wheel at its setpoint: after the first second, the mean

@@ -117,19 +117,72 @@ pub struct DriveEvent {
     pub duty: f64,
 }
 
-/// A motor switched off (its forward or reverse drive went to zero), with
-/// the firmware's counters read from SRAM at that cycle.
+/// The plant and the firmware's counters at one cycle.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Cutoff {
+pub struct Snapshot {
     pub cycle: u64,
-    pub side: SideName,
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_rad: f64,
+    /// The firmware's counters, read from SRAM at that cycle.
     pub left_count: i32,
     pub right_count: i32,
+    /// Net A edges the plant produced.
     pub left_edges: i64,
     pub right_edges: i64,
-    /// Wheel arcs travelled by the plant at that cycle.
+    /// Wheel arcs travelled by the plant.
     pub left_mm: f64,
     pub right_mm: f64,
+}
+
+/// A motor switched off: its forward or reverse drive went to zero.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Cutoff {
+    pub side: SideName,
+    #[serde(flatten)]
+    pub at: Snapshot,
+}
+
+/// What the two motors do together, from the H-bridge inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Motion {
+    Stopped,
+    Forward,
+    Reverse,
+    /// Spin in place, clockwise seen from above (left forward, right back).
+    SpinCw,
+    SpinCcw,
+    /// One motor driven, the other off.
+    OneWheel,
+    /// At least one motor braking (both inputs high).
+    Brake,
+    /// Anything else (e.g. one forward, one braking).
+    Mixed,
+}
+
+impl Motion {
+    /// From each motor's drive: +1 forward, -1 reverse, 0 off, 2 brake.
+    pub fn classify(left: i8, right: i8) -> Motion {
+        match (left, right) {
+            (0, 0) => Motion::Stopped,
+            (1, 1) => Motion::Forward,
+            (-1, -1) => Motion::Reverse,
+            (1, -1) => Motion::SpinCw,
+            (-1, 1) => Motion::SpinCcw,
+            (2, _) | (_, 2) => Motion::Brake,
+            (0, _) | (_, 0) => Motion::OneWheel,
+            _ => Motion::Mixed,
+        }
+    }
+}
+
+/// A change of [`Motion`], with the state at that cycle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct MotionEvent {
+    pub motion: Motion,
+    #[serde(flatten)]
+    pub at: Snapshot,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -202,6 +255,7 @@ pub struct BenchCore {
     pub trace: Vec<Sample>,
     pub drive_log: Vec<DriveEvent>,
     pub cutoffs: Vec<Cutoff>,
+    pub motions: Vec<MotionEvent>,
     pub pins: [PinStats; 4],
     vars: FwVars,
     error: Option<PendingError>,
@@ -319,15 +373,10 @@ impl BenchCore {
                 }
             }
             if (old_f > 0.0 && fwd == 0.0) || (old_r > 0.0 && rev == 0.0) {
+                let at = self.snapshot(core, cycle);
                 self.cutoffs.push(Cutoff {
-                    cycle,
                     side: side.into(),
-                    left_count: read_i32(core, self.vars.left_count),
-                    right_count: read_i32(core, self.vars.right_count),
-                    left_edges: self.robot.a_edges(Side::Left),
-                    right_edges: self.robot.a_edges(Side::Right),
-                    left_mm: self.robot.distance_travelled(Side::Left).0,
-                    right_mm: self.robot.distance_travelled(Side::Right).0,
+                    at,
                 });
             }
             self.bridge[i] = (fwd, rev);
@@ -339,6 +388,34 @@ impl BenchCore {
         }
         if changed {
             self.plan_edges(cycle);
+            let sign = |(f, r): (f64, f64)| match (f > 0.0, r > 0.0) {
+                (false, false) => 0,
+                (true, false) => 1,
+                (false, true) => -1,
+                (true, true) => 2,
+            };
+            let motion = Motion::classify(sign(self.bridge[0]), sign(self.bridge[1]));
+            if self.motions.last().map(|m| m.motion) != Some(motion) {
+                let at = self.snapshot(core, cycle);
+                self.motions.push(MotionEvent { motion, at });
+            }
+        }
+    }
+
+    /// The plant and the firmware's counters now (`cycle` is the current one).
+    pub fn snapshot(&self, core: &Core, cycle: u64) -> Snapshot {
+        let pose = self.robot.pose();
+        Snapshot {
+            cycle,
+            x_mm: pose.x().0,
+            y_mm: pose.y().0,
+            theta_rad: pose.theta().0,
+            left_count: read_i32(core, self.vars.left_count),
+            right_count: read_i32(core, self.vars.right_count),
+            left_edges: self.robot.a_edges(Side::Left),
+            right_edges: self.robot.a_edges(Side::Right),
+            left_mm: self.robot.distance_travelled(Side::Left).0,
+            right_mm: self.robot.distance_travelled(Side::Right).0,
         }
     }
 
@@ -608,6 +685,7 @@ impl Bench {
             trace: Vec::new(),
             drive_log: Vec::new(),
             cutoffs: Vec::new(),
+            motions: Vec::new(),
             pins: wiring.bridge_inputs().map(|b| PinStats {
                 pin: b.pin.arduino,
                 ..Default::default()

@@ -9,10 +9,12 @@
 
 pub mod bench;
 pub mod elf;
+pub mod experiment;
 pub mod fwvars;
 pub mod line;
 pub mod paths;
 pub mod pwm;
+pub mod report;
 pub mod sim;
 pub mod time;
 pub mod wiring;

@@ -146,7 +146,11 @@ pub fn run_line(
     // byte at 9600 baud).
     bench.run_for(0.1)?;
     let core = bench.core();
-    let cutoff = core.cutoffs.iter().find(|c| c.cycle > start_cycle).copied();
+    let cutoff = core
+        .cutoffs
+        .iter()
+        .find(|c| c.at.cycle > start_cycle)
+        .map(|c| c.at);
     let clock = bench.clock();
     let stop_left = bench.read_i32(vars.stop_left);
     let stop_right = bench.read_i32(vars.stop_right);

@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use hil::bench::BenchOptions;
 use hil::elf::Firmware;
+use hil::experiment::{run_test, Test, TestOptions};
 use hil::line::{run_line, LineOptions};
 use plant_model::RobotConfig;
 
@@ -24,7 +25,10 @@ struct Cli {
 
 #[derive(clap::Args, Clone)]
 struct Common {
-    /// Firmware ELF (default: the robust build in firmware/target).
+    /// Which firmware build to run.
+    #[arg(long, value_enum, default_value_t = Build::Robust)]
+    firmware: Build,
+    /// Firmware ELF to run instead of the build in firmware/target.
     #[arg(long, value_name = "FILE")]
     elf: Option<PathBuf>,
     /// Robot config TOML (default: fixtures/robots/henrytwo-ideal.toml).
@@ -42,8 +46,33 @@ struct Common {
     deterministic: bool,
 }
 
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq)]
+enum Build {
+    Robust,
+    Thesis,
+}
+
+impl Build {
+    fn name(self) -> &'static str {
+        match self {
+            Build::Robust => "robust",
+            Build::Thesis => "thesis",
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
+    /// Run one of the firmware's tests and report each leg and turn.
+    Run {
+        /// umbmark-cw, umbmark-ccw, line or triangle.
+        test: Test,
+        /// Leg length in millimetres.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        leg_mm: f64,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Run the straight-line test (command byte 4) and summarise it.
     Line {
         /// Length of the line in millimetres.
@@ -76,22 +105,54 @@ fn load_robot(path: Option<&PathBuf>) -> Result<RobotConfig> {
     RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
 }
 
-fn load_firmware(path: Option<&PathBuf>) -> Result<Firmware> {
-    let path = path
-        .cloned()
-        .unwrap_or_else(|| hil::paths::firmware_elf("robust"));
+fn load_firmware(common: &Common) -> Result<Firmware> {
+    let path = common
+        .elf
+        .clone()
+        .unwrap_or_else(|| hil::paths::firmware_elf(common.firmware.name()));
     Ok(Firmware::load(&path)?)
 }
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Run {
+            test,
+            leg_mm,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            let opts = TestOptions {
+                leg_mm,
+                bench: BenchOptions {
+                    seed: common.seed,
+                    ..Default::default()
+                },
+                limit_s: None,
+            };
+            let wall = Instant::now();
+            let run = run_test(firmware, &robot, test, &opts)?;
+            let wall_s = wall.elapsed().as_secs_f64();
+            if common.json {
+                let mut v = serde_json::to_value(&run)?;
+                if !common.deterministic {
+                    v["rtf"] = (run.robot_time_s / wall_s).into();
+                }
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                print!("{}", hil::report::render_run(&run));
+                if !common.deterministic {
+                    println!("  real-time x    {:.1}", run.robot_time_s / wall_s);
+                }
+            }
+        }
         Command::Line {
             length_mm,
             trace_csv,
             common,
         } => {
             let robot = load_robot(common.robot.as_ref())?;
-            let firmware = load_firmware(common.elf.as_ref())?;
+            let firmware = load_firmware(&common)?;
             let opts = LineOptions {
                 length_mm,
                 bench: BenchOptions {

@@ -1,0 +1,360 @@
+//! The thesis' tests on the emulated robot: a command byte on the Bluetooth
+//! UART, the firmware drives legs and spin turns, and the bench measures what
+//! a person on the floor would: each leg's distance, each turn's angle, the
+//! end position relative to the start.
+//!
+//! Legs and turns are found from the H-bridge inputs ([`Motion`] events), not
+//! from the firmware's own idea of them, so the same analysis holds for the
+//! thesis build and the robust build.
+
+use plant_model::RobotConfig;
+
+use crate::bench::{
+    Bench, BenchError, BenchOptions, Motion, MotionEvent, Sample, SideName, Snapshot,
+};
+use crate::elf::Firmware;
+use crate::line::wait_ready;
+
+/// The tests the firmware's selector knows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Test {
+    UmbmarkCw,
+    UmbmarkCcw,
+    Line,
+    Triangle,
+}
+
+impl Test {
+    pub const ALL: [Test; 4] = [
+        Test::UmbmarkCw,
+        Test::UmbmarkCcw,
+        Test::Line,
+        Test::Triangle,
+    ];
+
+    /// The thesis' selector byte on USART1.
+    pub fn command_byte(self) -> u8 {
+        match self {
+            Test::UmbmarkCw => 2,
+            Test::UmbmarkCcw => 3,
+            Test::Line => 4,
+            Test::Triangle => 5,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Test::UmbmarkCw => "umbmark-cw",
+            Test::UmbmarkCcw => "umbmark-ccw",
+            Test::Line => "line",
+            Test::Triangle => "triangle",
+        }
+    }
+
+    /// (legs, turns, turn angle in degrees, positive counter-clockwise).
+    pub fn shape(self) -> (usize, usize, f64) {
+        match self {
+            Test::UmbmarkCw => (4, 4, -90.0),
+            Test::UmbmarkCcw => (4, 4, 90.0),
+            Test::Line => (1, 0, 0.0),
+            Test::Triangle => (3, 3, 120.0),
+        }
+    }
+
+    /// Where an ideal robot ends, in the start frame (mm).
+    pub fn ideal_end(self, leg_mm: f64) -> (f64, f64) {
+        match self {
+            Test::Line => (leg_mm, 0.0),
+            _ => (0.0, 0.0),
+        }
+    }
+}
+
+impl std::str::FromStr for Test {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Test::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| {
+                format!("unknown test {s:?}: use umbmark-cw, umbmark-ccw, line or triangle")
+            })
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct TestOptions {
+    pub leg_mm: f64,
+    pub bench: BenchOptions,
+    /// Robot time allowed for the whole test before the bench calls it a hang.
+    pub limit_s: Option<f64>,
+}
+
+impl Default for TestOptions {
+    fn default() -> Self {
+        Self {
+            leg_mm: 2000.0,
+            bench: BenchOptions::default(),
+            limit_s: None,
+        }
+    }
+}
+
+/// One straight leg.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Leg {
+    /// Straight-line distance the robot's axle centre moved, from the leg's
+    /// start to rest (coasting included), by the plant.
+    pub plant_distance_mm: f64,
+    /// Heading change during the leg (curvature), degrees.
+    pub plant_heading_change_deg: f64,
+    /// Firmware counts over the leg, at the motors' cut-off.
+    pub firmware_count_left: i32,
+    pub firmware_count_right: i32,
+    pub start_cycle: u64,
+    pub cutoff_cycle: u64,
+}
+
+/// One spin turn.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Turn {
+    /// Firmware counts (relative to the turn's start) when each motor was cut;
+    /// None when that motor was never cut inside the turn.
+    pub count_left_at_cutoff: Option<i32>,
+    pub count_right_at_cutoff: Option<i32>,
+    /// Heading change from the turn's start to rest, degrees (positive CCW).
+    pub plant_angle_deg: f64,
+    /// The plant's wheel arcs over the turn (mm, signed).
+    pub plant_left_mm: f64,
+    pub plant_right_mm: f64,
+    pub start_cycle: u64,
+    pub cutoff_left_cycle: Option<u64>,
+    pub cutoff_right_cycle: Option<u64>,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FinalPose {
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_deg: f64,
+}
+
+/// One run of a test.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TestRun {
+    pub test: Test,
+    pub firmware: String,
+    pub seed: u64,
+    pub completed: bool,
+    /// Why it did not complete (a hang, a fault): a finding, not an error.
+    pub finding: Option<String>,
+    pub legs: Vec<Leg>,
+    pub turns: Vec<Turn>,
+    pub final_pose: FinalPose,
+    /// End position error (end minus ideal end) in cm, start frame: x along
+    /// the first leg, y to the left.
+    pub x_cm: f64,
+    pub y_cm: f64,
+    pub robot_time_s: f64,
+    pub awake_fraction: f64,
+    #[serde(skip)]
+    pub trace: Vec<Sample>,
+    #[serde(skip)]
+    pub motions: Vec<MotionEvent>,
+}
+
+/// Run `test` from a fresh reset.
+pub fn run_test(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    test: Test,
+    opts: &TestOptions,
+) -> Result<TestRun, BenchError> {
+    let name = firmware
+        .path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    wait_ready(&mut bench)?;
+    let vars = *bench.vars();
+    bench.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
+    let done_before = bench.read_u16(vars.done_count);
+    let start_cycle = bench.cycle();
+    bench.send(1, &[test.command_byte()]);
+    let (legs, turns, _) = test.shape();
+    // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
+    // braking and waits per segment: generous, so a slow robot is not a hang.
+    let limit = opts
+        .limit_s
+        .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0);
+    let completed = bench.run_until(limit, |b| {
+        b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
+    })?;
+    let finding = (!completed).then(|| {
+        format!(
+            "did not complete within {limit:.0} s of robot time; the firmware is {}",
+            bench.location()
+        )
+    });
+    // Let the last coast and the UART drain.
+    if completed {
+        bench.run_for(0.1)?;
+    }
+    Ok(analyse(
+        &bench,
+        test,
+        name,
+        opts,
+        start_cycle,
+        completed,
+        finding,
+    ))
+}
+
+fn analyse(
+    bench: &Bench,
+    test: Test,
+    firmware: String,
+    opts: &TestOptions,
+    start_cycle: u64,
+    completed: bool,
+    finding: Option<String>,
+) -> TestRun {
+    let core = bench.core();
+    let motions: Vec<MotionEvent> = core
+        .motions
+        .iter()
+        .filter(|m| m.at.cycle >= start_cycle)
+        .copied()
+        .collect();
+    let end = bench_now(bench);
+    let clock = bench.clock();
+    let pulse_cycles = clock.cycles_in(plant_model::Seconds(PULSE_MAX_S));
+    let segments = segments(&motions, pulse_cycles);
+    let mut legs = Vec::new();
+    let mut turns = Vec::new();
+    for (k, seg) in segments.iter().enumerate() {
+        let start = motions[seg.start].at;
+        let stop = motions.get(seg.stop).map(|e| e.at).unwrap_or(end);
+        // At rest: when the next segment starts (after braking and waits),
+        // or at the end of the run.
+        let rest = segments
+            .get(k + 1)
+            .map(|n| motions[n.start].at)
+            .unwrap_or(end);
+        match motions[seg.start].motion {
+            Motion::Forward => legs.push(Leg {
+                plant_distance_mm: (rest.x_mm - start.x_mm).hypot(rest.y_mm - start.y_mm),
+                plant_heading_change_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
+                firmware_count_left: stop.left_count - start.left_count,
+                firmware_count_right: stop.right_count - start.right_count,
+                start_cycle: start.cycle,
+                cutoff_cycle: stop.cycle,
+            }),
+            Motion::SpinCw | Motion::SpinCcw => {
+                let cutoff = |side: SideName| {
+                    core.cutoffs
+                        .iter()
+                        .find(|c| {
+                            c.side == side && c.at.cycle >= start.cycle && c.at.cycle <= stop.cycle
+                        })
+                        .map(|c| c.at)
+                };
+                let left = cutoff(SideName::Left);
+                let right = cutoff(SideName::Right);
+                turns.push(Turn {
+                    count_left_at_cutoff: left.map(|c| c.left_count - start.left_count),
+                    count_right_at_cutoff: right.map(|c| c.right_count - start.right_count),
+                    plant_angle_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
+                    plant_left_mm: rest.left_mm - start.left_mm,
+                    plant_right_mm: rest.right_mm - start.right_mm,
+                    start_cycle: start.cycle,
+                    cutoff_left_cycle: left.map(|c| c.cycle),
+                    cutoff_right_cycle: right.map(|c| c.cycle),
+                });
+            }
+            _ => {}
+        }
+    }
+    let (ix, iy) = test.ideal_end(opts.leg_mm);
+    TestRun {
+        test,
+        firmware,
+        seed: opts.bench.seed,
+        completed,
+        finding,
+        legs,
+        turns,
+        final_pose: FinalPose {
+            x_mm: end.x_mm,
+            y_mm: end.y_mm,
+            theta_deg: end.theta_rad.to_degrees(),
+        },
+        x_cm: (end.x_mm - ix) / 10.0,
+        y_cm: (end.y_mm - iy) / 10.0,
+        robot_time_s: bench.robot_time_s(),
+        awake_fraction: bench.awake_fraction(),
+        trace: core.trace.clone(),
+        motions,
+    }
+}
+
+/// Driven phases shorter than this are braking pulses, not legs or turns
+/// (the thesis brakes with 5 ms of full reverse).
+const PULSE_MAX_S: f64 = 0.03;
+
+/// A leg or turn: motion events `start..stop`, where `stop` is the first
+/// event at which no motor drives any more (or the end).
+#[derive(Debug, Clone, Copy)]
+struct Segment {
+    start: usize,
+    stop: usize,
+}
+
+fn segments(motions: &[MotionEvent], pulse_cycles: u64) -> Vec<Segment> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < motions.len() {
+        let driven = matches!(
+            motions[i].motion,
+            Motion::Forward | Motion::SpinCw | Motion::SpinCcw | Motion::Reverse
+        );
+        if !driven {
+            i += 1;
+            continue;
+        }
+        // A turn goes on through phases where one motor is already cut.
+        let mut j = i + 1;
+        while j < motions.len() && motions[j].motion == Motion::OneWheel {
+            j += 1;
+        }
+        let long = motions
+            .get(j)
+            .is_none_or(|e| e.at.cycle - motions[i].at.cycle > pulse_cycles);
+        if long && motions[i].motion != Motion::Reverse {
+            out.push(Segment { start: i, stop: j });
+        }
+        i = j;
+    }
+    out
+}
+
+fn bench_now(bench: &Bench) -> Snapshot {
+    let core = bench.core();
+    let pose = core.robot.pose();
+    let vars = bench.vars();
+    Snapshot {
+        cycle: bench.cycle(),
+        x_mm: pose.x().0,
+        y_mm: pose.y().0,
+        theta_rad: pose.theta().0,
+        left_count: bench.read_i32(vars.left_count),
+        right_count: bench.read_i32(vars.right_count),
+        left_edges: core.robot.a_edges(plant_model::Side::Left),
+        right_edges: core.robot.a_edges(plant_model::Side::Right),
+        left_mm: core.robot.distance_travelled(plant_model::Side::Left).0,
+        right_mm: core.robot.distance_travelled(plant_model::Side::Right).0,
+    }
+}
