@@ -175,6 +175,19 @@ impl Firmware {
         }
     }
 
+    /// A content hash of the flash image (FNV-1a, 64 bits, hex): two ELFs
+    /// with the same hash load the same program.
+    pub fn content_hash(&self) -> String {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for (addr, bytes) in &self.segments {
+            for b in addr.to_le_bytes().iter().chain(bytes) {
+                h ^= *b as u64;
+                h = h.wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        }
+        format!("{h:016x}")
+    }
+
     /// Flash bytes used.
     pub fn flash_size(&self) -> usize {
         self.segments.iter().map(|(_, b)| b.len()).sum()

@@ -10,6 +10,7 @@ use hil::bench::BenchOptions;
 use hil::elf::Firmware;
 use hil::experiment::{run_test, Test, TestOptions};
 use hil::line::{run_line, LineOptions};
+use hil::umbmark::{execute, Partial, Plan, Shard};
 use plant_model::RobotConfig;
 
 #[derive(Parser)]
@@ -63,6 +64,38 @@ impl Build {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The reduced UMBmark: 5 runs clockwise, 5 counter-clockwise, and the correction.
+    Umbmark {
+        /// Side of the square in millimetres.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        leg_mm: f64,
+        /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`).
+        #[arg(long, default_value_t = 130.0)]
+        firmware_wheelbase_mm: f64,
+        /// Run only shard K of N (K/N) and write its partial result to --out.
+        #[arg(long, value_name = "K/N")]
+        shard: Option<Shard>,
+        /// Output folder for partial results, reports and plots.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Parallel runs (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Combine the partial results of `hil umbmark --shard` into the full result.
+    Merge {
+        /// Partial result files (JSON).
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// The wheelbase the firmware's odometry uses, mm.
+        #[arg(long, default_value_t = 130.0)]
+        firmware_wheelbase_mm: f64,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Run one of the firmware's tests and report each leg and turn.
     Run {
         /// umbmark-cw, umbmark-ccw, line or triangle.
@@ -98,6 +131,18 @@ fn parse_length(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+fn progress_bar(runs: usize, leg_mm: f64) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(runs as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{{bar:30}} {{pos}}/{{len}} runs of a {:.0} mm square, {{msg}} [{{elapsed}}]",
+            leg_mm
+        ))
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
 fn load_robot(path: Option<&PathBuf>) -> Result<RobotConfig> {
     let path = path
         .cloned()
@@ -115,6 +160,107 @@ fn load_firmware(common: &Common) -> Result<Firmware> {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Umbmark {
+            leg_mm,
+            firmware_wheelbase_mm,
+            shard,
+            out,
+            jobs,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            let plan = Plan::new(leg_mm, common.seed, &robot, &firmware);
+            let specs = match shard {
+                Some(s) => plan.shard(s),
+                None => plan.runs(),
+            };
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(jobs.unwrap_or(0))
+                .build()
+                .context("starting the worker threads")?;
+            let bar = progress_bar(specs.len(), leg_mm);
+            let wall = Instant::now();
+            let runs = pool.install(|| {
+                execute(
+                    &firmware,
+                    &robot,
+                    &plan,
+                    &specs,
+                    BenchOptions::default(),
+                    &|n, robot_s| {
+                        bar.set_position(n as u64);
+                        bar.set_message(format!("{robot_s:.0} s of robot time"));
+                    },
+                )
+            })?;
+            bar.finish_and_clear();
+            let wall_s = wall.elapsed().as_secs_f64();
+            let partial = Partial {
+                kind: if shard.is_some() {
+                    "umbmark-partial".into()
+                } else {
+                    "umbmark".into()
+                },
+                plan,
+                shard,
+                runs,
+            };
+            if let Some(s) = shard {
+                let dir = out.unwrap_or_else(|| PathBuf::from("."));
+                let path = hil::umbmark::partial_path(&dir, s);
+                hil::output::write_atomic(
+                    &path,
+                    serde_json::to_string_pretty(&partial)?.as_bytes(),
+                )?;
+                eprintln!("wrote {} ({} runs)", path.display(), partial.runs.len());
+                return Ok(());
+            }
+            let report = hil::umbmark::report(&partial, firmware_wheelbase_mm, None)?;
+            let robot_s = report.robot_time_s;
+            if common.json {
+                let mut v = serde_json::to_value(&report)?;
+                if !common.deterministic {
+                    v["rtf"] = (robot_s / wall_s).into();
+                    v["wall_s"] = wall_s.into();
+                }
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                print!("{}", report.render());
+                if !common.deterministic {
+                    println!(
+                        "  wall time {wall_s:.2} s on {} threads: {:.0}x real time",
+                        pool.current_num_threads(),
+                        robot_s / wall_s
+                    );
+                }
+            }
+        }
+        Command::Merge {
+            parts,
+            firmware_wheelbase_mm,
+            json,
+        } => {
+            let mut partials = Vec::new();
+            for p in &parts {
+                let text = std::fs::read_to_string(p)
+                    .with_context(|| format!("reading {}", p.display()))?;
+                let part: Partial = serde_json::from_str(&text).with_context(|| {
+                    format!(
+                        "{} is not a partial result of `hil umbmark --shard`",
+                        p.display()
+                    )
+                })?;
+                partials.push(part);
+            }
+            let full = hil::umbmark::merge(partials)?;
+            let report = hil::umbmark::report(&full, firmware_wheelbase_mm, None)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{}", report.render());
+            }
+        }
         Command::Run {
             test,
             leg_mm,

@@ -1,0 +1,380 @@
+//! The reduced UMBmark on the emulated robot, as the thesis ran it on the floor:
+//! five runs clockwise and five counter-clockwise around a square of side L,
+//! each from a fresh firmware reset with its own seed, end errors measured by
+//! the plant as a person with a tape would, then Borenstein's correction.
+//!
+//! Runs are independent, so they run in parallel (rayon) and in any order,
+//! and a plan can be split into shards that run on different machines:
+//! [`Plan::runs`] fixes every run's index and seed up front, so a merge of
+//! shards is exactly what one machine would have produced.
+
+use std::path::PathBuf;
+
+use calib::{Direction, Endpoint, UmbmarkParams, UmbmarkResult, UmbmarkRuns};
+use plant_model::RobotConfig;
+use rayon::prelude::*;
+use thiserror::Error;
+
+use crate::bench::{BenchError, BenchOptions};
+use crate::elf::Firmware;
+use crate::experiment::{run_test, Test, TestOptions, TestRun};
+
+#[derive(Debug, Error)]
+pub enum UmbmarkError {
+    #[error(transparent)]
+    Bench(#[from] BenchError),
+    #[error("shard {0}: give it as K/N with 1 <= K <= N, e.g. 2/4")]
+    BadShard(String),
+    #[error("partial results do not belong together: {0}")]
+    Mismatch(String),
+    #[error("runs {missing:?} are missing: merge the partial results of every shard")]
+    Missing { missing: Vec<usize> },
+    #[error("calibration: {0}")]
+    Calib(#[from] calib::Error),
+}
+
+/// What to run. Everything that changes a result is in here.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Plan {
+    pub leg_mm: f64,
+    pub runs_per_direction: usize,
+    /// Run `i` uses seed `seed + i`.
+    pub seed: u64,
+    /// The robot config, by content (a file name would not pin it).
+    pub robot: String,
+    /// The firmware, by name and content hash.
+    pub firmware: String,
+    pub firmware_hash: String,
+}
+
+/// One run of a plan: its index, direction and seed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct RunSpec {
+    pub index: usize,
+    pub test: Test,
+    pub seed: u64,
+}
+
+/// K of N, 1-based: runs whose index i has i % N == K - 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shard {
+    pub k: usize,
+    pub n: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = UmbmarkError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || UmbmarkError::BadShard(s.into());
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let k: usize = k.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        if n == 0 || k == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+impl Plan {
+    pub fn new(leg_mm: f64, seed: u64, robot: &RobotConfig, firmware: &Firmware) -> Self {
+        let name = firmware
+            .path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        Self {
+            leg_mm,
+            runs_per_direction: 5,
+            seed,
+            robot: toml::to_string(robot).unwrap_or_default(),
+            firmware: name,
+            firmware_hash: firmware.content_hash(),
+        }
+    }
+
+    /// Every run: CW first, then CCW.
+    pub fn runs(&self) -> Vec<RunSpec> {
+        let n = self.runs_per_direction;
+        (0..2 * n)
+            .map(|i| RunSpec {
+                index: i,
+                test: if i < n {
+                    Test::UmbmarkCw
+                } else {
+                    Test::UmbmarkCcw
+                },
+                seed: self.seed.wrapping_add(i as u64),
+            })
+            .collect()
+    }
+
+    pub fn shard(&self, shard: Shard) -> Vec<RunSpec> {
+        self.runs()
+            .into_iter()
+            .filter(|r| r.index % shard.n == shard.k - 1)
+            .collect()
+    }
+}
+
+/// Runs of a plan (all of them, or one shard's), each with its index.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct Partial {
+    pub kind: String,
+    pub plan: Plan,
+    pub shard: Option<Shard>,
+    pub runs: Vec<IndexedRun>,
+}
+
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct IndexedRun {
+    pub spec: RunSpec,
+    pub completed: bool,
+    pub finding: Option<String>,
+    pub x_cm: f64,
+    pub y_cm: f64,
+    pub robot_time_s: f64,
+    pub awake_fraction: f64,
+    /// Per-leg and per-turn detail.
+    pub detail: serde_json::Value,
+}
+
+impl IndexedRun {
+    fn from_run(spec: RunSpec, run: &TestRun) -> Self {
+        let mut detail = serde_json::to_value(run).unwrap_or_default();
+        if let Some(obj) = detail.as_object_mut() {
+            for k in ["test", "seed", "completed", "finding", "x_cm", "y_cm"] {
+                obj.remove(k);
+            }
+        }
+        Self {
+            spec,
+            completed: run.completed,
+            finding: run.finding.clone(),
+            x_cm: run.x_cm,
+            y_cm: run.y_cm,
+            robot_time_s: run.robot_time_s,
+            awake_fraction: run.awake_fraction,
+            detail,
+        }
+    }
+}
+
+/// Execute `specs`, in parallel, in index order. `progress` is called after
+/// each run with (runs done, robot seconds so far).
+pub fn execute(
+    firmware: &Firmware,
+    robot: &RobotConfig,
+    plan: &Plan,
+    specs: &[RunSpec],
+    bench: BenchOptions,
+    progress: &(dyn Fn(usize, f64) + Sync),
+) -> Result<Vec<IndexedRun>, BenchError> {
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let robot_s = std::sync::Mutex::new(0.0f64);
+    let mut runs: Vec<IndexedRun> = specs
+        .par_iter()
+        .map(|spec| {
+            let opts = TestOptions {
+                leg_mm: plan.leg_mm,
+                bench: BenchOptions {
+                    seed: spec.seed,
+                    ..bench
+                },
+                limit_s: None,
+            };
+            let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            let total = {
+                let mut t = robot_s.lock().expect("progress lock");
+                *t += run.robot_time_s;
+                *t
+            };
+            progress(n, total);
+            Ok(IndexedRun::from_run(*spec, &run))
+        })
+        .collect::<Result<_, BenchError>>()?;
+    runs.sort_by_key(|r| r.spec.index);
+    Ok(runs)
+}
+
+/// Combine partial results into the full set, checking they belong together.
+pub fn merge(parts: Vec<Partial>) -> Result<Partial, UmbmarkError> {
+    let mut iter = parts.into_iter();
+    let first = iter
+        .next()
+        .ok_or_else(|| UmbmarkError::Mismatch("no partial results given".into()))?;
+    let plan = first.plan.clone();
+    let mut runs = first.runs;
+    for p in iter {
+        if p.plan != plan {
+            return Err(UmbmarkError::Mismatch(
+                "they come from different plans (leg, seed, robot or firmware differ)".into(),
+            ));
+        }
+        runs.extend(p.runs);
+    }
+    runs.sort_by_key(|r| r.spec.index);
+    runs.dedup_by_key(|r| r.spec.index);
+    let expected = plan.runs();
+    let missing: Vec<usize> = expected
+        .iter()
+        .filter(|s| !runs.iter().any(|r| r.spec == **s))
+        .map(|s| s.index)
+        .collect();
+    if !missing.is_empty() {
+        return Err(UmbmarkError::Missing { missing });
+    }
+    Ok(Partial {
+        kind: "umbmark".into(),
+        plan,
+        shard: None,
+        runs,
+    })
+}
+
+/// The experiment's result: the runs' end errors and Borenstein's correction.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Report {
+    pub plan: Plan,
+    pub runs: Vec<RunRow>,
+    #[serde(flatten)]
+    pub result: UmbmarkResult,
+    pub robot_time_s: f64,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct RunRow {
+    pub run: usize,
+    pub direction: &'static str,
+    pub seed: u64,
+    pub completed: bool,
+    pub x_cm: f64,
+    pub y_cm: f64,
+}
+
+/// Borenstein's correction from a complete set of runs.
+pub fn report(
+    full: &Partial,
+    wheelbase_mm: f64,
+    params: Option<UmbmarkParams>,
+) -> Result<Report, UmbmarkError> {
+    let n = full.plan.runs_per_direction;
+    let point = |r: &IndexedRun| Endpoint::new(r.x_cm, r.y_cm);
+    let cw: Vec<Endpoint> = full
+        .runs
+        .iter()
+        .filter(|r| r.spec.index < n)
+        .map(point)
+        .collect();
+    let ccw: Vec<Endpoint> = full
+        .runs
+        .iter()
+        .filter(|r| r.spec.index >= n)
+        .map(point)
+        .collect();
+    let runs = UmbmarkRuns::new(cw, ccw)?;
+    let params = params.unwrap_or(UmbmarkParams {
+        side_cm: full.plan.leg_mm / 10.0,
+        wheelbase_mm,
+        ..UmbmarkParams::default()
+    });
+    let result = calib::umbmark_correction(&runs, &params);
+    Ok(Report {
+        plan: full.plan.clone(),
+        runs: full
+            .runs
+            .iter()
+            .map(|r| RunRow {
+                run: r.spec.index % n + 1,
+                direction: if r.spec.index < n {
+                    Direction::Cw.as_str()
+                } else {
+                    Direction::Ccw.as_str()
+                },
+                seed: r.spec.seed,
+                completed: r.completed,
+                x_cm: r.x_cm,
+                y_cm: r.y_cm,
+            })
+            .collect(),
+        result,
+        robot_time_s: full.runs.iter().map(|r| r.robot_time_s).sum(),
+    })
+}
+
+impl Report {
+    /// The thesis-style table and the correction.
+    pub fn render(&self) -> String {
+        use std::fmt::Write;
+        let r = &self.result;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "Reduced UMBmark, L = {:.0} mm, {} runs per direction ({}, seeds {}..)",
+            self.plan.leg_mm, self.plan.runs_per_direction, self.plan.firmware, self.plan.seed
+        );
+        let _ = writeln!(
+            s,
+            "  end errors (cm; x along the first leg, y to the left):"
+        );
+        let _ = writeln!(s, "    run |     CW x     CW y |    CCW x    CCW y");
+        let n = self.plan.runs_per_direction;
+        for i in 0..n {
+            let cw = &self.runs[i];
+            let ccw = &self.runs[n + i];
+            let _ = writeln!(
+                s,
+                "    {:>3} | {:8.2} {:8.2} | {:8.2} {:8.2}{}",
+                i + 1,
+                cw.x_cm,
+                cw.y_cm,
+                ccw.x_cm,
+                ccw.y_cm,
+                if cw.completed && ccw.completed {
+                    ""
+                } else {
+                    "  (incomplete run)"
+                }
+            );
+        }
+        let _ = writeln!(
+            s,
+            "    c.g.| {:8.2} {:8.2} | {:8.2} {:8.2}",
+            r.centroid_cw.x_cm, r.centroid_cw.y_cm, r.centroid_ccw.x_cm, r.centroid_ccw.y_cm
+        );
+        let _ = writeln!(
+            s,
+            "  r_cg CW {:.2} cm, r_cg CCW {:.2} cm, E_max,syst {:.2} cm",
+            r.r_cg_cw_cm, r.r_cg_ccw_cm, r.e_max_cm
+        );
+        let _ = writeln!(
+            s,
+            "  alpha {:+.4} deg (from y {:+.4}), beta {:+.4} deg (from y {:+.4})",
+            r.alpha_deg, r.alpha_y_deg, r.beta_deg, r.beta_y_deg
+        );
+        let _ = writeln!(
+            s,
+            "  R {}, Ed {:.5}, Eb {:.5}",
+            r.radius_cm
+                .map_or("infinite".to_string(), |v| format!("{v:.1} cm")),
+            r.ed,
+            r.eb
+        );
+        let _ = writeln!(
+            s,
+            "  correction: cL {:.5}, cR {:.5}, wheelbase {:.2} mm (was {:.2} mm)",
+            r.cl, r.cr, r.wheelbase_mm, r.wheelbase_nominal_mm
+        );
+        for w in &r.warnings {
+            let _ = writeln!(s, "  warning: {w}");
+        }
+        let _ = writeln!(s, "  robot time {:.1} s in all", self.robot_time_s);
+        s
+    }
+}
+
+/// Where a plan's partial result goes by default.
+pub fn partial_path(dir: &std::path::Path, shard: Shard) -> PathBuf {
+    dir.join(format!("umbmark-shard-{}-of-{}.json", shard.k, shard.n))
+}
