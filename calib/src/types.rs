@@ -101,7 +101,10 @@ pub enum Frame {
     /// the same as [`Frame::Default`] with the x axis mirrored (x_gui = −x). Evidence: on the
     /// thesis' UMBmark experiment 1 the x- and y-based estimates of α and β have opposite
     /// signs in the default frame and the same signs with x mirrored, and the GUI abandoned
-    /// Borenstein's x formula for α (it is commented out in ANEXO C).
+    /// Borenstein's x formula for α (it is commented out in ANEXO C). The thesis' triangle
+    /// tables, by contrast, fit [`Frame::Default`] (there x and y give turn errors within
+    /// 0.5° of each other, and 4.2° apart with x mirrored); experiments 2 and 3 of UMBmark
+    /// favour neither.
     ThesisGui,
 }
 
@@ -137,6 +140,10 @@ pub enum Mode {
     /// The thesis' MATLAB GUI (ANEXO C and D) applied exactly as printed, bugs included, to
     /// the numbers as the thesis authors typed them ([`Frame::ThesisGui`]). Only for
     /// reproducing the thesis; see [`crate::thesis`] for the list of differences.
+    ///
+    /// The end points are converted from the declared frame into the GUI's before its
+    /// formulas run, so the thesis' own tables must be declared [`Frame::ThesisGui`] (the
+    /// numbers as typed), whatever physical frame they were measured in.
     ThesisCompat,
 }
 
