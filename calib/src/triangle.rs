@@ -403,6 +403,12 @@ pub fn triangle_correction(
             eb = gt.error_base_t;
             wheelbase_mm = gt.base_actual_t_mm;
             ed_variant = EdVariant::Borenstein;
+            if !ed.is_finite() {
+                warnings.push(
+                    "the GUI's line beta is 0: it divides by sin(0) and its Ed is not a number"
+                        .into(),
+                );
+            }
             warnings.push(
                 "Mode::ThesisCompat: the thesis GUI's formulas, bugs included (90° turn formula \
                  for 120° turns, missing √3/2, inverted Ed); for reproducing the thesis only"

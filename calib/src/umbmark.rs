@@ -381,6 +381,11 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
             eb = g.error_base;
             wheelbase_mm = g.base_act_cm * 10.0;
             ed_variant = EdVariant::Borenstein;
+            if !ed.is_finite() {
+                warnings.push(
+                    "the GUI's beta is 0: it divides by sin(0) and its Ed is not a number".into(),
+                );
+            }
             if runs.cw().len() != 5 || runs.ccw().len() != 5 {
                 warnings.push(
                     "the thesis GUI accepts exactly 5 runs per direction; centroids here use all runs"

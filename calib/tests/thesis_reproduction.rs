@@ -320,3 +320,19 @@ fn frame_check_on_thesis_triangle() {
     assert!(!a.consistent && a.alpha_diff_deg.abs() > 4.0);
     assert!(a.explained_by.iter().any(|s| s == "x mirrored"));
 }
+
+/// Like the GUI, compat mode has no answer for β = 0 (it divides by sin(0)): Ed is NaN and a
+/// warning says why, where Mode::Correct gives exactly 1.
+#[test]
+fn compat_mode_fails_like_the_gui_on_straight_legs() {
+    let zeros = calib::UmbmarkRuns::new(
+        vec![calib::Endpoint::new(0.0, 0.0); 5],
+        vec![calib::Endpoint::new(0.0, 0.0); 5],
+    )
+    .unwrap();
+    let r = umbmark_correction(&zeros, &umbmark_params_for_experiment(1).unwrap());
+    assert!(r.ed.is_nan());
+    assert!(r.warnings.iter().any(|w| w.contains("sin(0)")));
+    let ok = umbmark_correction(&zeros, &UmbmarkParams::default());
+    assert_eq!(ok.ed, 1.0);
+}
