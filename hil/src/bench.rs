@@ -245,6 +245,9 @@ pub struct BenchCore {
     enc_level: [[bool; 2]; 2],
     /// A edges raised on the pins, signed as the thesis' decoder counts them.
     pub edges_raised: [i64; 2],
+    /// Cycle at which the last A edge of each encoder was due (the plant's
+    /// edge time; simavr raises it at the first instruction boundary after).
+    pub last_a_edge: [u64; 2],
     next_edge: [u64; 2],
     next_step: u64,
     step_cycles: u64,
@@ -448,7 +451,7 @@ impl BenchCore {
             .min(self.pending_top[1])
     }
 
-    fn raise_encoders(&mut self, core: &mut Core) {
+    fn raise_encoders(&mut self, core: &mut Core, when: u64) {
         for side in SIDES {
             let i = side_index(side);
             let (a, b) = self.robot.encoder_levels(side);
@@ -464,6 +467,7 @@ impl BenchCore {
                 core.raise(irq_a, a as u32);
                 self.enc_level[i][0] = a;
                 self.edges_raised[i] += decode_a_edge(a, b);
+                self.last_a_edge[i] = when;
             }
         }
     }
@@ -595,7 +599,7 @@ impl Handler for BenchCore {
                 self.refresh_bridge(core, when);
             }
         }
-        self.raise_encoders(core);
+        self.raise_encoders(core, when);
         if self.next_step <= when {
             self.steps += 1;
             if self.steps % self.trace_every == 0 {
@@ -639,6 +643,34 @@ impl Handler for BenchCore {
     }
 }
 
+/// One executed step of the CPU, for observers that need instruction-level
+/// detail (timing analysis, traces). Observing costs speed; the bench runs
+/// without an observer by default.
+#[derive(Debug, Clone, Copy)]
+pub struct Step {
+    pub pc_before: u32,
+    pub pc_after: u32,
+    pub cycle_before: u64,
+    pub cycle_after: u64,
+    pub sp_before: u16,
+    pub sp_after: u16,
+    pub interrupts_before: bool,
+    pub interrupts_after: bool,
+    /// The opcode at `pc_before` (the instruction executed, unless asleep).
+    pub opcode: u16,
+    /// The CPU slept during (part of) the step.
+    pub slept: bool,
+    /// Cycle of the last A-channel edge raised on each encoder (left, right).
+    pub last_a_edge: [u64; 2],
+}
+
+/// Sees every step of the CPU.
+pub trait Observer: std::any::Any {
+    fn step(&mut self, step: &Step);
+    /// For taking a concrete observer back out of the bench.
+    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any>;
+}
+
 /// The bench: firmware, MCU, plant.
 pub struct Bench {
     avr: Avr<BenchCore>,
@@ -649,6 +681,7 @@ pub struct Bench {
     sleep_cycles: u64,
     /// Awake cycles per flash word, when profiling.
     profile: Option<Vec<u64>>,
+    observer: Option<Box<dyn Observer>>,
 }
 
 impl Bench {
@@ -675,6 +708,7 @@ impl Bench {
             enc_irq: [[None; 2]; 2],
             enc_level: [[false; 2]; 2],
             edges_raised: [0; 2],
+            last_a_edge: [0; 2],
             next_edge: [NEVER; 2],
             next_step: step_cycles,
             step_cycles,
@@ -756,6 +790,7 @@ impl Bench {
             uart_in,
             sleep_cycles: 0,
             profile: None,
+            observer: None,
         })
     }
 
@@ -781,6 +816,19 @@ impl Bench {
 
     pub fn firmware(&self) -> &Firmware {
         &self.firmware
+    }
+
+    /// Watch every step from now on (see [`Observer`]).
+    pub fn set_observer(
+        &mut self,
+        observer: Option<Box<dyn Observer>>,
+    ) -> Option<Box<dyn Observer>> {
+        std::mem::replace(&mut self.observer, observer)
+    }
+
+    /// Take the observer back.
+    pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
+        self.observer.take()
     }
 
     /// Attribute awake cycles to the instruction executing them, from now on.
@@ -893,13 +941,22 @@ impl Bench {
             let sleeping = self.avr.state() == CpuState::Sleeping;
             let before = self.avr.cycle();
             let pc_before = self.avr.pc();
+            let (sp_before, i_before) = if self.observer.is_some() {
+                (self.avr.sp(), self.avr.interrupts_enabled())
+            } else {
+                (0, false)
+            };
             let state = self.avr.step();
             // simavr jumps over a sleep in the same step that executes the
             // `sleep` instruction, and again in each step while asleep.
-            if sleeping || state == CpuState::Sleeping {
+            let slept = sleeping || state == CpuState::Sleeping;
+            if slept {
                 self.sleep_cycles += self.avr.cycle() - before;
             } else if let Some(profile) = &mut self.profile {
                 profile[(pc_before / 2) as usize] += self.avr.cycle() - before;
+            }
+            if self.observer.is_some() {
+                self.observe(pc_before, before, sp_before, i_before, slept);
             }
             match state {
                 CpuState::Running | CpuState::Sleeping => {}
@@ -934,6 +991,32 @@ impl Bench {
                     return Ok(false);
                 }
             }
+        }
+    }
+
+    fn observe(
+        &mut self,
+        pc_before: u32,
+        cycle_before: u64,
+        sp_before: u16,
+        i_before: bool,
+        slept: bool,
+    ) {
+        let step = Step {
+            pc_before,
+            pc_after: self.avr.pc(),
+            cycle_before,
+            cycle_after: self.avr.cycle(),
+            sp_before,
+            sp_after: self.avr.sp(),
+            interrupts_before: i_before,
+            interrupts_after: self.avr.interrupts_enabled(),
+            opcode: self.avr.flash_word(pc_before),
+            slept,
+            last_a_edge: self.avr.handler().last_a_edge,
+        };
+        if let Some(o) = &mut self.observer {
+            o.step(&step);
         }
     }
 

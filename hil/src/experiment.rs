@@ -10,7 +10,7 @@
 use plant_model::RobotConfig;
 
 use crate::bench::{
-    Bench, BenchError, BenchOptions, Motion, MotionEvent, Sample, SideName, Snapshot,
+    Bench, BenchError, BenchOptions, Motion, MotionEvent, Observer, Sample, SideName, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::wait_ready;
@@ -171,6 +171,18 @@ pub fn run_test(
     test: Test,
     opts: &TestOptions,
 ) -> Result<TestRun, BenchError> {
+    run_test_observed(firmware, robot, test, opts, None).map(|(run, _)| run)
+}
+
+/// Run `test` from a fresh reset with `observer` watching every step from
+/// the command byte on; returns the observer too.
+pub fn run_test_observed(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    test: Test,
+    opts: &TestOptions,
+    observer: Option<Box<dyn Observer>>,
+) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
     let name = firmware
         .path
         .file_stem()
@@ -182,6 +194,7 @@ pub fn run_test(
     bench.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
     let done_before = bench.read_u16(vars.done_count);
     let start_cycle = bench.cycle();
+    bench.set_observer(observer);
     bench.send(1, &[test.command_byte()]);
     let (legs, turns, _) = test.shape();
     // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
@@ -202,15 +215,9 @@ pub fn run_test(
     if completed {
         bench.run_for(0.1)?;
     }
-    Ok(analyse(
-        &bench,
-        test,
-        name,
-        opts,
-        start_cycle,
-        completed,
-        finding,
-    ))
+    let observer = bench.take_observer();
+    let run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    Ok((run, observer))
 }
 
 fn analyse(

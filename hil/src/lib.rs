@@ -18,5 +18,6 @@ pub mod pwm;
 pub mod report;
 pub mod sim;
 pub mod time;
+pub mod timing;
 pub mod umbmark;
 pub mod wiring;

@@ -8,8 +8,9 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use hil::bench::BenchOptions;
 use hil::elf::Firmware;
-use hil::experiment::{run_test, Test, TestOptions};
+use hil::experiment::{run_test, run_test_observed, Test, TestOptions};
 use hil::line::{run_line, LineOptions};
+use hil::timing::{Budgets, TimingProbe};
 use hil::umbmark::{execute, Partial, Plan, Shard};
 use plant_model::RobotConfig;
 
@@ -83,6 +84,37 @@ enum Command {
         jobs: Option<usize>,
         #[command(flatten)]
         common: Common,
+    },
+    /// Measure the firmware's timing cycle-exactly over a run and check it
+    /// against the budgets; fails when one is exceeded.
+    Timing {
+        /// The test to run while measuring.
+        #[arg(long, default_value = "line")]
+        test: Test,
+        /// Leg length in millimetres.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        leg_mm: f64,
+        /// Budgets (TOML; default: fixtures/timing-budgets.toml).
+        #[arg(long, value_name = "FILE")]
+        budgets: Option<PathBuf>,
+        /// The control function to time.
+        #[arg(long, default_value = "ht_control_tick")]
+        function: String,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Identify a motor from a step-response CSV (the thesis' layout):
+    /// 63.2 % fit, first order plus dead time, Ziegler-Nichols, ZOH model,
+    /// and which thesis figures it reproduces or contradicts.
+    Identify {
+        /// Step-response CSV (e.g. fixtures/thesis-data/motor_step_right.csv).
+        csv: PathBuf,
+        /// Which motor, when the file name does not say (left or right).
+        #[arg(long)]
+        side: Option<String>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Combine the partial results of `hil umbmark --shard` into the full result.
     Merge {
@@ -234,6 +266,88 @@ fn run(cli: Cli) -> Result<()> {
                         robot_s / wall_s
                     );
                 }
+            }
+        }
+        Command::Timing {
+            test,
+            leg_mm,
+            budgets,
+            function,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            let budgets_path = budgets.unwrap_or_else(|| {
+                hil::paths::workspace_root().join("fixtures/timing-budgets.toml")
+            });
+            let budgets = Budgets::load(&budgets_path)?;
+            let clock = BenchOptions::default().clock;
+            let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
+            let probe = TimingProbe::new(&firmware, &function, period)?;
+            let opts = TestOptions {
+                leg_mm,
+                bench: BenchOptions {
+                    seed: common.seed,
+                    ..Default::default()
+                },
+                limit_s: None,
+            };
+            let (run, observer) =
+                run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
+            let probe = observer
+                .and_then(|o| o.into_any().downcast::<TimingProbe>().ok())
+                .context("the timing probe was lost")?;
+            let report = probe.report(&firmware, &function, clock.hz());
+            let rows = report.check(&budgets);
+            let failed: Vec<&str> = rows
+                .iter()
+                .filter(|r| !r.pass)
+                .map(|r| r.what.as_str())
+                .collect();
+            if common.json {
+                let v = serde_json::json!({
+                    "test": test.name(),
+                    "completed": run.completed,
+                    "report": report,
+                    "budgets": rows,
+                    "pass": failed.is_empty(),
+                });
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!(
+                    "timing of {} over {} ({}):",
+                    firmware.path.display(),
+                    test.name(),
+                    if run.completed {
+                        "completed"
+                    } else {
+                        "did not complete"
+                    }
+                );
+                print!("{}", report.render(&rows));
+            }
+            if !failed.is_empty() {
+                anyhow::bail!(
+                    "{} timing budget(s) exceeded: {} (budgets in {})",
+                    failed.len(),
+                    failed.join("; "),
+                    budgets_path.display()
+                );
+            }
+        }
+        Command::Identify { csv, side, json } => {
+            let side = match side.as_deref() {
+                None => None,
+                Some("left") => Some(plant_model::Side::Left),
+                Some("right") => Some(plant_model::Side::Right),
+                Some(other) => anyhow::bail!("--side {other}: give left or right"),
+            };
+            let id = plant_model::identify::identify_csv(csv.as_path(), side)
+                .with_context(|| format!("identifying {}", csv.display()))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&id)?);
+            } else {
+                print!("{}", id.render());
             }
         }
         Command::Merge {

@@ -379,6 +379,27 @@ impl<H: Handler> Avr<H> {
         unsafe { (*self.avr.as_ptr()).pc }
     }
 
+    /// The global interrupt enable flag (SREG.I).
+    pub fn interrupts_enabled(&self) -> bool {
+        // SAFETY: plain read of simavr's split SREG array (8 entries).
+        unsafe { (*self.avr.as_ptr()).sreg[7] != 0 }
+    }
+
+    /// The 16-bit word of flash at byte address `addr` (an opcode).
+    pub fn flash_word(&self, addr: u32) -> u16 {
+        // SAFETY: `flash` holds flashend + 1 bytes; the bound is checked.
+        unsafe {
+            let a = self.avr.as_ptr();
+            if addr + 1 > (*a).flashend {
+                return 0;
+            }
+            u16::from_le_bytes([
+                *(*a).flash.add(addr as usize),
+                *(*a).flash.add(addr as usize + 1),
+            ])
+        }
+    }
+
     /// Stack pointer (SPH:SPL).
     pub fn sp(&self) -> u16 {
         u16::from_le_bytes([self.data(0x5d), self.data(0x5e)])
