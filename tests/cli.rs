@@ -103,3 +103,35 @@ fn invalid_length_is_one_clear_line() {
         assert_one_line_error(&out, "length");
     }
 }
+
+/// `hil identify --json` on the thesis' right motor prints the fields a
+/// script reads, with the thesis' Ziegler-Nichols times.
+#[test]
+fn identify_json_fields() {
+    let csv = hil::paths::workspace_root().join("fixtures/thesis-data/motor_step_right.csv");
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(["identify", csv.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "k",
+        "tau_s",
+        "dead_time_s",
+        "kp",
+        "ti_s",
+        "td_s",
+        "ki",
+        "kd",
+        "pole",
+    ] {
+        assert!(v[key].is_number(), "{key} missing");
+    }
+    assert!((v["ti_s"].as_f64().unwrap() - 0.06).abs() < 1e-9);
+    assert!((v["k"].as_f64().unwrap() - 25.0).abs() < 0.5);
+}
