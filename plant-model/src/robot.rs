@@ -341,9 +341,10 @@ impl Robot {
     /// # Guarantee
     ///
     /// With `t_next` the answer and no input change before it:
-    /// - `advance_to(t)` for any `t` from `t_next` up to the following transition (at least
-    ///   ~200 us later at the robot's top speed) leaves [`Robot::quadrature_index`] changed by
-    ///   exactly one. So the bench may round `t_next` up to its next emulated cycle.
+    /// - `advance_to(t)` for any `t` from `t_next` up to the following transition (one state
+    ///   is about 210 us at the top speed of the nominal robot, 24.5 rad/s) leaves
+    ///   [`Robot::quadrature_index`] changed by exactly one. So the bench may round `t_next`
+    ///   up to its next emulated cycle (62.5 ns).
     /// - There is a time `t_lo` with `t_next - t_lo <= max(1e-12 s, one f64 step of t_next)`
     ///   at which the state has not changed yet: `advance_to(t_next - 1e-9)` leaves it
     ///   unchanged.
