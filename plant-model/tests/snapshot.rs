@@ -48,5 +48,10 @@ fn scripted_run() {
             Duty::from_pwm8(right.1),
         );
     }
-    insta::assert_snapshot!(table);
+    // An absolute snapshot folder: found even when insta cannot ask cargo for the workspace.
+    insta::with_settings!({
+        snapshot_path => concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"),
+    }, {
+        insta::assert_snapshot!(table);
+    });
 }
