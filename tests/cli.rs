@@ -135,3 +135,72 @@ fn identify_json_fields() {
     assert!((v["ti_s"].as_f64().unwrap() - 0.06).abs() < 1e-9);
     assert!((v["k"].as_f64().unwrap() - 25.0).abs() < 0.5);
 }
+
+/// `hil calibrate --from-csv --thesis-compat` reproduces the thesis GUI's
+/// figure 43 on experiment 1 (cL 0.983934, cR 1.01607, Ba 12.2323 cm), and
+/// the default mode names the formulas the GUI gets wrong.
+#[test]
+fn calibrate_from_csv_reproduces_the_thesis_gui() {
+    let csv = hil::paths::workspace_root().join("fixtures/thesis-data/umbmark_endpoints.csv");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["calibrate", "--from-csv", csv.to_str().unwrap(), "--json"];
+        args.extend_from_slice(extra);
+        let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let compat = run(&["--thesis-compat"]);
+    let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k}"));
+    assert!((f(&compat, "cl") - 0.983934).abs() < 5e-7);
+    assert!((f(&compat, "cr") - 1.01607).abs() < 5e-6);
+    assert!((f(&compat, "wheelbase_mm") - 122.323).abs() < 5e-3);
+    assert_eq!(compat["runs"].as_array().unwrap().len(), 10);
+    let correct = run(&[]);
+    for key in [
+        "r_cg_cw_cm",
+        "r_cg_ccw_cm",
+        "e_max_cm",
+        "alpha_deg",
+        "beta_deg",
+        "ed",
+        "eb",
+        "cl",
+        "cr",
+        "wheelbase_mm",
+    ] {
+        assert!(correct[key].is_number(), "{key}");
+    }
+    let formulas: Vec<String> = correct["thesis_discrepancies"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["formula"].as_str().unwrap().to_string())
+        .collect();
+    assert!(formulas.iter().any(|f| f.contains("sin()")), "{formulas:?}");
+}
+
+/// A malformed end-point table is refused with the line it is on.
+#[test]
+fn calibrate_bad_csv_names_the_line() {
+    let dir = std::env::temp_dir().join(format!("hil-cal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        "experiment,direction,run,x_cm,y_cm\n1,cw,1,-28.6,30.5\n1,cw,2,abc,32.2\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(["calibrate", "--from-csv", bad.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_one_line_error(&out, "line 3");
+    let _ = std::fs::remove_dir_all(&dir);
+}

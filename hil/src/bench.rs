@@ -9,7 +9,11 @@
 //! host clock: a run is a pure function of the ELF, the config and the seed.
 
 use plant_model::{Duty, Robot, RobotConfig, Seconds, Side};
+use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
 use thiserror::Error;
+
+use crate::inject::{EncoderFault, Injection, LinkFault};
 
 use crate::elf::{ElfError, Firmware};
 use crate::fwvars::{FwState, FwVars};
@@ -185,7 +189,7 @@ pub struct MotionEvent {
     pub at: Snapshot,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SideName {
     Left,
@@ -212,6 +216,37 @@ pub struct PinStats {
     pub active_s: f64,
     #[serde(skip)]
     duty_integral: f64,
+}
+
+/// A change the bench makes at a cycle: a fault starting or ending.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "action")]
+pub enum Action {
+    Encoder {
+        side: SideName,
+        fault: EncoderFault,
+    },
+    Link {
+        fault: LinkFault,
+    },
+    MotorDisconnected {
+        side: SideName,
+        disconnected: bool,
+    },
+    /// Pull the MCU's reset line (the firmware restarts; the plant goes on).
+    Reset,
+}
+
+/// When a scheduled action happens.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "at")]
+pub enum Trigger {
+    /// At a robot time (seconds since reset).
+    Time { s: f64 },
+    /// When the n-th spin turn (1-based) of the run starts.
+    TurnStart { n: u32 },
+    /// When the n-th straight leg (1-based) of the run starts.
+    LegStart { n: u32 },
 }
 
 const TAG_PORT_REG: u32 = 1;
@@ -261,6 +296,23 @@ pub struct BenchCore {
     pub motions: Vec<MotionEvent>,
     pub pins: [PinStats; 4],
     vars: FwVars,
+    pub inject: Injection,
+    /// Bytes from the host waiting to go out on each USART, one per byte time.
+    uart_tx: [VecDeque<u8>; 4],
+    uart_next: [u64; 4],
+    uart_irq: [Option<Irq>; 4],
+    uart_byte_cycles: u64,
+    /// Scheduled actions, sorted by cycle (stable for equal cycles).
+    actions: Vec<(u64, Action)>,
+    /// Actions waiting for an event, with an optional duration in cycles
+    /// after which `undo` runs.
+    triggered: Vec<(Trigger, Action, Option<(u64, Action)>)>,
+    turns_started: u32,
+    legs_started: u32,
+    /// Set by a Reset action; the run loop resets the MCU after the step.
+    pub reset_requested: bool,
+    /// Log of the actions applied: (cycle, action).
+    pub applied: Vec<(u64, Action)>,
     error: Option<PendingError>,
     /// Set with `error`, read after every instruction (cheaper than the Option).
     failed: bool,
@@ -354,9 +406,12 @@ impl BenchCore {
         let mut changed = false;
         for side in SIDES {
             let m = *self.wiring.motor(side);
-            let fwd = self.input_duty(&m.forward);
-            let rev = self.input_duty(&m.reverse);
             let i = side_index(side);
+            let (fwd, rev) = if self.inject.motor_disconnected[i] {
+                (0.0, 0.0)
+            } else {
+                (self.input_duty(&m.forward), self.input_duty(&m.reverse))
+            };
             let (old_f, old_r) = self.bridge[i];
             if (fwd, rev) == (old_f, old_r) {
                 continue;
@@ -401,6 +456,7 @@ impl BenchCore {
             if self.motions.last().map(|m| m.motion) != Some(motion) {
                 let at = self.snapshot(core, cycle);
                 self.motions.push(MotionEvent { motion, at });
+                self.fire_triggers(cycle, motion);
             }
         }
     }
@@ -444,18 +500,107 @@ impl BenchCore {
     }
 
     fn next_event(&self) -> u64 {
+        let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
+        let action = self.actions.first().map_or(NEVER, |a| a.0);
         self.next_edge[0]
             .min(self.next_edge[1])
             .min(self.next_step)
             .min(self.pending_top[0])
             .min(self.pending_top[1])
+            .min(uart)
+            .min(action)
+    }
+
+    /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
+    pub fn schedule_action(&mut self, cycle: u64, action: Action) {
+        let pos = self.actions.partition_point(|a| a.0 <= cycle);
+        self.actions.insert(pos, (cycle, action));
+    }
+
+    /// Run `action` when `trigger` fires, and `undo` `duration` cycles later.
+    pub fn schedule_triggered(
+        &mut self,
+        trigger: Trigger,
+        action: Action,
+        undo: Option<(u64, Action)>,
+    ) {
+        match trigger {
+            Trigger::Time { s } => {
+                let at = self.clock.cycle_at_or_after(Seconds(s));
+                if let Some((d, u)) = undo {
+                    self.schedule_action(at + d, u);
+                }
+                self.schedule_action(at, action);
+            }
+            _ => self.triggered.push((trigger, action, undo)),
+        }
+    }
+
+    fn fire_triggers(&mut self, cycle: u64, motion: Motion) {
+        let event = match motion {
+            Motion::SpinCw | Motion::SpinCcw => {
+                self.turns_started += 1;
+                Trigger::TurnStart {
+                    n: self.turns_started,
+                }
+            }
+            Motion::Forward => {
+                self.legs_started += 1;
+                Trigger::LegStart {
+                    n: self.legs_started,
+                }
+            }
+            _ => return,
+        };
+        let mut i = 0;
+        while i < self.triggered.len() {
+            if self.triggered[i].0 == event {
+                let (_, action, undo) = self.triggered.remove(i);
+                if let Some((d, u)) = undo {
+                    self.schedule_action(cycle + d, u);
+                }
+                self.schedule_action(cycle, action);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    fn apply_action(&mut self, core: &Core, cycle: u64, action: Action) {
+        self.applied.push((cycle, action.clone()));
+        match action {
+            Action::Encoder { side, fault } => {
+                self.inject.encoder[side as usize] = fault;
+            }
+            Action::Link { fault } => self.inject.link = fault,
+            Action::MotorDisconnected { side, disconnected } => {
+                self.inject.motor_disconnected[side as usize] = disconnected;
+                // Force a re-read: the plant sees the bridge anew.
+                self.bridge[side as usize] = (f64::NAN, f64::NAN);
+                self.refresh_bridge(core, cycle);
+            }
+            Action::Reset => self.reset_requested = true,
+        }
+    }
+
+    /// Queue bytes from the host for USART `n`.
+    pub fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
+        for &b in bytes {
+            let out = self.inject.link_bytes(b);
+            self.uart_tx[n].extend(out);
+        }
+        if self.uart_next[n] == NEVER && !self.uart_tx[n].is_empty() {
+            self.uart_next[n] = now + 1;
+        }
     }
 
     fn raise_encoders(&mut self, core: &mut Core, when: u64) {
         for side in SIDES {
             let i = side_index(side);
-            let (a, b) = self.robot.encoder_levels(side);
             let [old_a, old_b] = self.enc_level[i];
+            let (a, b) =
+                self.inject
+                    .encoder_levels(i, self.robot.encoder_levels(side), (old_a, old_b));
             let [Some(irq_a), Some(irq_b)] = self.enc_irq[i] else {
                 continue;
             };
@@ -599,6 +744,22 @@ impl Handler for BenchCore {
                 self.refresh_bridge(core, when);
             }
         }
+        while self.actions.first().is_some_and(|a| a.0 <= when) {
+            let (_, action) = self.actions.remove(0);
+            self.apply_action(core, when, action);
+        }
+        for n in 0..4 {
+            if self.uart_next[n] <= when {
+                if let (Some(b), Some(irq)) = (self.uart_tx[n].pop_front(), self.uart_irq[n]) {
+                    core.raise(irq, b as u32);
+                }
+                self.uart_next[n] = if self.uart_tx[n].is_empty() {
+                    NEVER
+                } else {
+                    when + self.uart_byte_cycles
+                };
+            }
+        }
         self.raise_encoders(core, when);
         if self.next_step <= when {
             self.steps += 1;
@@ -677,7 +838,6 @@ pub struct Bench {
     firmware: Firmware,
     vars: FwVars,
     clock: Clock,
-    uart_in: [Option<Irq>; 4],
     sleep_cycles: u64,
     /// Awake cycles per flash word, when profiling.
     profile: Option<Vec<u64>>,
@@ -725,6 +885,18 @@ impl Bench {
                 ..Default::default()
             }),
             vars,
+            inject: Injection::new(options.seed ^ 0x5eed_f417),
+            uart_tx: Default::default(),
+            uart_next: [NEVER; 4],
+            uart_irq: [None; 4],
+            // 10 bits per byte (8N1) at 9600 baud, as the HC-05 sends them.
+            uart_byte_cycles: (clock.hz() as u64 * 10).div_ceil(9600),
+            actions: Vec::new(),
+            triggered: Vec::new(),
+            turns_started: 0,
+            legs_started: 0,
+            reset_requested: false,
+            applied: Vec::new(),
             error: None,
             failed: false,
         };
@@ -759,11 +931,10 @@ impl Bench {
                 Some(avr.port_pin(e.b.port, e.b.bit)?),
             ];
         }
-        let mut uart_in = [None; 4];
         for n in [wiring.debug_uart, wiring.bluetooth_uart] {
             let (input, output) = avr.uart(n)?;
             avr.watch_irq(output, TAG_UART_OUT + n as u32);
-            uart_in[n as usize] = Some(input);
+            avr.handler_mut().uart_irq[n as usize] = Some(input);
         }
         avr.with_core(|core, c| {
             core.enc_irq = enc_irq;
@@ -787,7 +958,6 @@ impl Bench {
             firmware,
             vars,
             clock,
-            uart_in,
             sleep_cycles: 0,
             profile: None,
             observer: None,
@@ -914,11 +1084,31 @@ impl Bench {
 
     /// Send bytes to USART `n`'s receiver (simavr paces them at the baud rate).
     pub fn send(&mut self, n: u8, bytes: &[u8]) {
-        if let Some(irq) = self.uart_in[n as usize] {
-            for &b in bytes {
-                self.avr.raise(irq, b as u32);
-            }
-        }
+        let now = self.avr.cycle();
+        self.avr.handler_mut().queue_uart(n as usize, bytes, now);
+        let next = self.avr.handler().next_event();
+        self.avr.schedule(next);
+    }
+
+    /// Schedule a fault action (see [`Trigger`]); `undo` runs `duration_s`
+    /// after it.
+    pub fn schedule(&mut self, trigger: Trigger, action: Action, undo: Option<(f64, Action)>) {
+        let clock = self.clock;
+        let undo = undo.map(|(d, a)| (clock.cycles_in(Seconds(d)), a));
+        self.avr
+            .handler_mut()
+            .schedule_triggered(trigger, action, undo);
+        let next = self.avr.handler().next_event();
+        self.avr.schedule(next);
+    }
+
+    /// Pull the reset line now: the firmware restarts from its reset vector,
+    /// the plant carries on. simavr drops its cycle timers on reset, so the
+    /// bench's is scheduled again.
+    pub fn reset_mcu(&mut self) {
+        self.avr.reset();
+        let next = self.avr.handler().next_event();
+        self.avr.schedule(next);
     }
 
     /// Bytes the firmware sent on USART `n` so far.
@@ -970,6 +1160,10 @@ impl Bench {
                         at: self.location(),
                     })
                 }
+            }
+            if self.avr.handler().reset_requested {
+                self.avr.handler_mut().reset_requested = false;
+                self.reset_mcu();
             }
             if self.avr.handler().failed {
                 let core = self.avr.handler_mut();

@@ -8,9 +8,11 @@
 //! the straight-line test.
 
 pub mod bench;
+pub mod calibrate;
 pub mod elf;
 pub mod experiment;
 pub mod fwvars;
+pub mod inject;
 pub mod line;
 pub mod output;
 pub mod paths;

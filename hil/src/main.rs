@@ -116,6 +116,36 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Odometry corrections from measured end points (a real robot's, or the
+    /// thesis' tables), or calibration rounds on the emulated robot.
+    Calibrate {
+        /// End points in the layout of umbmark_endpoints.csv or triangular_endpoints.csv.
+        #[arg(long, value_name = "FILE")]
+        from_csv: Option<PathBuf>,
+        /// The experiment number in the table.
+        #[arg(long, default_value_t = 1)]
+        experiment: u32,
+        /// umbmark or triangle (default: from the table's header).
+        #[arg(long)]
+        method: Option<String>,
+        /// The thesis GUI's formulas exactly as printed (its bugs included).
+        #[arg(long)]
+        thesis_compat: bool,
+        /// The frame the end points are recorded in: default (x along the
+        /// first leg, y to the left) or thesis-gui (x mirrored). Default:
+        /// default, or in --thesis-compat the GUI's.
+        #[arg(long)]
+        frame: Option<String>,
+        /// Square side / line length, cm (default 200).
+        #[arg(long)]
+        side_cm: Option<f64>,
+        /// The wheelbase the robot's odometry used, mm.
+        #[arg(long)]
+        wheelbase_mm: Option<f64>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Combine the partial results of `hil umbmark --shard` into the full result.
     Merge {
         /// Partial result files (JSON).
@@ -348,6 +378,49 @@ fn run(cli: Cli) -> Result<()> {
                 println!("{}", serde_json::to_string_pretty(&id)?);
             } else {
                 print!("{}", id.render());
+            }
+        }
+        Command::Calibrate {
+            from_csv,
+            experiment,
+            method,
+            thesis_compat,
+            frame,
+            side_cm,
+            wheelbase_mm,
+            json,
+        } => {
+            let Some(path) = from_csv else {
+                anyhow::bail!("give --from-csv FILE (calibration rounds on the emulated robot need the robust firmware's protocol)");
+            };
+            let method = match method.as_deref() {
+                None => hil::calibrate::detect(&path)?,
+                Some("umbmark") => hil::calibrate::Method::Umbmark,
+                Some("triangle") => hil::calibrate::Method::Triangle,
+                Some(m) => anyhow::bail!("--method {m}: use umbmark or triangle"),
+            };
+            let frame = match frame.as_deref() {
+                None => None,
+                Some("default") => Some(calib::Frame::Default),
+                Some("thesis-gui") => Some(calib::Frame::ThesisGui),
+                Some(f) => anyhow::bail!("--frame {f}: use default or thesis-gui"),
+            };
+            if let Some(l) = side_cm.filter(|l| !(l.is_finite() && *l > 0.0)) {
+                anyhow::bail!("--side-cm {l}: give a positive length in centimetres");
+            }
+            let opts = hil::calibrate::FromCsv {
+                experiment,
+                thesis_compat,
+                frame,
+                side_cm,
+                wheelbase_mm,
+            };
+            let result = hil::calibrate::from_csv(&path, method, &opts)
+                .with_context(|| format!("{}", path.display()))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&result)?);
+            } else {
+                print!("{}", result.render());
             }
         }
         Command::Merge {
