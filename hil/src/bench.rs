@@ -55,7 +55,7 @@ pub enum BenchError {
     Plant(#[from] plant_model::Error),
     #[error("{error} ({at})")]
     Pwm { error: PwmError, at: Location },
-    #[error("timer {timer}: waveform mode {wgm} with clock select {cs} is not verified on this bench ({at}); the bench runs simavr's timers only in modes it has tested (timers 1 and 3: CTC)")]
+    #[error("timer {timer}: waveform mode {wgm} with clock select {cs} is not verified on this bench ({at}); the bench runs simavr's timers only in modes it has tested (timers 1 and 3: CTC; timer 0: fast PWM at /64)")]
     UnverifiedTimer {
         timer: u8,
         wgm: u8,
@@ -110,6 +110,14 @@ pub struct Sample {
     pub right_edges: i64,
     pub left_duty: f64,
     pub right_duty: f64,
+}
+
+/// An encoder line change raised on a pin: line 0/1 = left A/B, 2/3 = right A/B.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct PinEvent {
+    pub cycle: u64,
+    pub line: u8,
+    pub level: bool,
 }
 
 /// A change of one H-bridge input, as the plant saw it.
@@ -313,6 +321,10 @@ pub struct BenchCore {
     pub reset_requested: bool,
     /// Log of the actions applied: (cycle, action).
     pub applied: Vec<(u64, Action)>,
+    /// Encoder pin changes, when recording (for replays without the bench).
+    pub recording: Option<Vec<PinEvent>>,
+    /// Callbacks from simavr into the bench (timer, IO, IRQ).
+    pub callbacks: u64,
     error: Option<PendingError>,
     /// Set with `error`, read after every instruction (cheaper than the Option).
     failed: bool,
@@ -607,9 +619,23 @@ impl BenchCore {
             if b != old_b {
                 core.raise(irq_b, b as u32);
                 self.enc_level[i][1] = b;
+                if let Some(rec) = &mut self.recording {
+                    rec.push(PinEvent {
+                        cycle: when,
+                        line: 2 * i as u8 + 1,
+                        level: b,
+                    });
+                }
             }
             if a != old_a {
                 core.raise(irq_a, a as u32);
+                if let Some(rec) = &mut self.recording {
+                    rec.push(PinEvent {
+                        cycle: when,
+                        line: 2 * i as u8,
+                        level: a,
+                    });
+                }
                 self.enc_level[i][0] = a;
                 self.edges_raised[i] += decode_a_edge(a, b);
                 self.last_a_edge[i] = when;
@@ -639,7 +665,10 @@ impl BenchCore {
             return; // not clocked: any mode is harmless
         }
         let wgm = ((tccrb >> 3) & 0b11) << 2 | (tccra & 0b11);
-        let verified = matches!((timer, wgm), (1, 4) | (3, 4)) && cs <= 5;
+        // Verified by tests/timers.rs: CTC on timers 1 and 3 (the robust
+        // build's tick and delays), and Arduino's timer 0 (fast PWM, /64,
+        // overflow interrupt every 1024 us: millis and micros).
+        let verified = matches!((timer, wgm, cs), (1, 4, 1..=5) | (3, 4, 1..=5) | (0, 3, 3));
         if !verified && self.error.is_none() {
             self.failed = true;
             self.error = Some(PendingError::Timer {
@@ -677,6 +706,7 @@ fn read_i32(core: &Core, addr: u16) -> i32 {
 
 impl Handler for BenchCore {
     fn io_write(&mut self, core: &mut Core, addr: u16, value: u8) {
+        self.callbacks += 1;
         let cycle = core.cycle();
         if let Some(&(timer, a, b)) = CHECKED_TIMERS.iter().find(|t| t.1 == addr || t.2 == addr) {
             self.check_simavr_timer(core, timer, a, b);
@@ -736,6 +766,7 @@ impl Handler for BenchCore {
     }
 
     fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
+        self.callbacks += 1;
         self.advance_plant(when);
         for which in 0..2 {
             if self.pending_top[which] <= when {
@@ -785,6 +816,7 @@ impl Handler for BenchCore {
     }
 
     fn irq(&mut self, core: &mut Core, tag: u32, value: u32) {
+        self.callbacks += 1;
         match tag {
             TAG_PORT_REG => {
                 self.port_value = value as u8;
@@ -897,6 +929,8 @@ impl Bench {
             legs_started: 0,
             reset_requested: false,
             applied: Vec::new(),
+            recording: None,
+            callbacks: 0,
             error: None,
             failed: false,
         };
@@ -999,6 +1033,11 @@ impl Bench {
     /// Take the observer back.
     pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
         self.observer.take()
+    }
+
+    /// Record every encoder pin change from now on.
+    pub fn start_recording(&mut self) {
+        self.avr.handler_mut().recording = Some(Vec::new());
     }
 
     /// Attribute awake cycles to the instruction executing them, from now on.

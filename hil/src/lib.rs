@@ -16,6 +16,7 @@ pub mod inject;
 pub mod line;
 pub mod output;
 pub mod paths;
+pub mod perf;
 pub mod pwm;
 pub mod report;
 pub mod sim;

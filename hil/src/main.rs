@@ -146,6 +146,18 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Measure the bench's speed: real-time factors of the bench, raw simavr
+    /// on the same ELF, and the thesis build; the bench's overhead.
+    Bench {
+        /// The test to time.
+        #[arg(long, default_value = "umbmark-cw")]
+        test: Test,
+        /// Leg length in millimetres.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        leg_mm: f64,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Combine the partial results of `hil umbmark --shard` into the full result.
     Merge {
         /// Partial result files (JSON).
@@ -421,6 +433,45 @@ fn run(cli: Cli) -> Result<()> {
                 println!("{}", serde_json::to_string_pretty(&result)?);
             } else {
                 print!("{}", result.render());
+            }
+        }
+        Command::Bench {
+            test,
+            leg_mm,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            let rec = hil::perf::bench_run(&firmware, &robot, test, leg_mm)?;
+            let raw = hil::perf::raw_replay(&firmware, &rec, true)?;
+            let raw_np = hil::perf::raw_replay(&firmware, &rec, false)?;
+            let thesis_path = hil::paths::firmware_elf("thesis");
+            let thesis = if thesis_path.exists() {
+                let fw = Firmware::load(&thesis_path)?;
+                Some(hil::perf::bench_run(&fw, &robot, test, leg_mm)?.measured)
+            } else {
+                None
+            };
+            let report = hil::perf::BenchReport {
+                test: test.name().into(),
+                rtf_robust_umbmark: rec.measured.rtf,
+                rtf_thesis: thesis.as_ref().map(|t| t.rtf),
+                rtf_raw_simavr: raw.rtf,
+                rtf_raw_simavr_without_pwm_timers: raw_np.rtf,
+                overhead_ratio: rec.measured.wall_s / raw_np.wall_s.max(1e-9),
+                awake_fraction: rec.awake_fraction,
+                callbacks_per_robot_s: rec.callbacks as f64 / rec.measured.robot_s,
+                robot_s: rec.measured.robot_s,
+                bench: rec.measured.clone(),
+                raw,
+                raw_without_pwm_timers: raw_np,
+                thesis,
+                completed: rec.completed,
+            };
+            if common.json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{}", report.render());
             }
         }
         Command::Merge {
