@@ -326,8 +326,11 @@ pub struct BenchCore {
     /// Callbacks from simavr into the bench (timer, IO, IRQ).
     pub callbacks: u64,
     error: Option<PendingError>,
-    /// Set with `error`, read after every instruction (cheaper than the Option).
+    /// Set with `error`.
     failed: bool,
+    /// Something for the run loop: an error or a reset (one flag read per
+    /// instruction).
+    attention: bool,
 }
 
 enum PendingError {
@@ -591,7 +594,10 @@ impl BenchCore {
                 self.bridge[side as usize] = (f64::NAN, f64::NAN);
                 self.refresh_bridge(core, cycle);
             }
-            Action::Reset => self.reset_requested = true,
+            Action::Reset => {
+                self.reset_requested = true;
+                self.attention = true;
+            }
         }
     }
 
@@ -671,6 +677,7 @@ impl BenchCore {
         let verified = matches!((timer, wgm, cs), (1, 4, 1..=5) | (3, 4, 1..=5) | (0, 3, 3));
         if !verified && self.error.is_none() {
             self.failed = true;
+            self.attention = true;
             self.error = Some(PendingError::Timer {
                 timer,
                 wgm,
@@ -745,6 +752,7 @@ impl Handler for BenchCore {
             Err(e) => {
                 if self.error.is_none() {
                     self.failed = true;
+                    self.attention = true;
                     self.error = Some(PendingError::Pwm(e, cycle, core.pc()));
                 }
             }
@@ -760,6 +768,7 @@ impl Handler for BenchCore {
         let err = timer.read(addr);
         if self.error.is_none() {
             self.failed = true;
+            self.attention = true;
             self.error = Some(PendingError::Pwm(err, core.cycle(), core.pc()));
         }
         0
@@ -933,6 +942,7 @@ impl Bench {
             callbacks: 0,
             error: None,
             failed: false,
+            attention: false,
         };
         let mut avr = Avr::new("atmega2560", clock.hz(), core)?;
         for (addr, bytes) in &firmware.segments {
@@ -1164,67 +1174,78 @@ impl Bench {
         mut done: impl FnMut(&Bench) -> bool,
     ) -> Result<bool, BenchError> {
         let limit = self.avr.cycle() + self.clock.cycles_in(Seconds(limit_s));
+        let ms = self.clock.cycles_per_ms();
         let mut n: u32 = 0;
         let mut check_at = self.avr.cycle();
+        // Instruction-level detail costs speed: only when someone looks.
+        let watch = self.profile.is_some() || self.observer.is_some();
+        let mut sleeping = self.avr.state() == CpuState::Sleeping;
         loop {
-            let sleeping = self.avr.state() == CpuState::Sleeping;
             let before = self.avr.cycle();
-            let pc_before = self.avr.pc();
-            let (sp_before, i_before) = if self.observer.is_some() {
-                (self.avr.sp(), self.avr.interrupts_enabled())
+            let (pc_before, sp_before, i_before) = if watch {
+                (self.avr.pc(), self.avr.sp(), self.avr.interrupts_enabled())
             } else {
-                (0, false)
+                (0, 0, false)
             };
             let state = self.avr.step();
+            let now = self.avr.cycle();
             // simavr jumps over a sleep in the same step that executes the
             // `sleep` instruction, and again in each step while asleep.
-            let slept = sleeping || state == CpuState::Sleeping;
+            let asleep = state == CpuState::Sleeping;
+            let slept = sleeping || asleep;
+            sleeping = asleep;
             if slept {
-                self.sleep_cycles += self.avr.cycle() - before;
-            } else if let Some(profile) = &mut self.profile {
-                profile[(pc_before / 2) as usize] += self.avr.cycle() - before;
+                self.sleep_cycles += now - before;
             }
-            if self.observer.is_some() {
-                self.observe(pc_before, before, sp_before, i_before, slept);
-            }
-            match state {
-                CpuState::Running | CpuState::Sleeping => {}
-                CpuState::Crashed => {
-                    return Err(BenchError::Crashed {
-                        at: self.location(),
-                    })
+            if watch {
+                if let (false, Some(profile)) = (slept, &mut self.profile) {
+                    profile[(pc_before / 2) as usize] += now - before;
                 }
-                _ => {
-                    return Err(BenchError::Stopped {
-                        at: self.location(),
-                    })
+                if self.observer.is_some() {
+                    self.observe(pc_before, before, sp_before, i_before, slept);
                 }
             }
-            if self.avr.handler().reset_requested {
-                self.avr.handler_mut().reset_requested = false;
-                self.reset_mcu();
+            if !matches!(state, CpuState::Running | CpuState::Sleeping) {
+                let at = self.location();
+                return Err(if state == CpuState::Crashed {
+                    BenchError::Crashed { at }
+                } else {
+                    BenchError::Stopped { at }
+                });
             }
-            if self.avr.handler().failed {
-                let core = self.avr.handler_mut();
-                core.failed = false;
-                if let Some(e) = core.error.take() {
-                    return Err(self.pending_error(e));
-                }
+            if self.avr.handler().attention {
+                self.attend()?;
+                sleeping = self.avr.state() == CpuState::Sleeping;
             }
             n = n.wrapping_add(1);
             // Check every 64 instructions, and at least once per millisecond
             // of robot time while the CPU sleeps through long stretches.
-            let now = self.avr.cycle();
             if n % 64 == 0 || now >= check_at {
-                check_at = now + self.clock.cycles_per_ms();
+                check_at = now + ms;
                 if done(self) {
                     return Ok(true);
                 }
-                if self.avr.cycle() >= limit {
+                if now >= limit {
                     return Ok(false);
                 }
             }
         }
+    }
+
+    /// Handle what a callback flagged: a reset to perform, an error to report.
+    fn attend(&mut self) -> Result<(), BenchError> {
+        let core = self.avr.handler_mut();
+        core.attention = false;
+        if std::mem::take(&mut core.reset_requested) {
+            self.reset_mcu();
+        }
+        let core = self.avr.handler_mut();
+        if std::mem::take(&mut core.failed) {
+            if let Some(e) = core.error.take() {
+                return Err(self.pending_error(e));
+            }
+        }
+        Ok(())
     }
 
     fn observe(
