@@ -19,6 +19,7 @@ fn report() -> &'static TimingReport {
             leg_mm: 600.0,
             bench: BenchOptions::default(),
             limit_s: None,
+            record: false,
         };
         let (run, obs) = run_test_observed(
             fw.clone(),

@@ -127,6 +127,10 @@ pub struct DriveEvent {
     /// Arduino pin number.
     pub pin: u8,
     pub duty: f64,
+    /// When the timer drives the pin: the counter's BOTTOM cycle and
+    /// prescaler, from which the exact waveform follows (see pwm.rs).
+    #[serde(skip)]
+    pub wave: Option<(crate::pwm::PhaseCorrect, u32, crate::pwm::Com)>,
 }
 
 /// The plant and the firmware's counters at one cycle.
@@ -298,6 +302,8 @@ pub struct BenchCore {
     steps: u32,
     plant_cycle: u64,
     pub uart_out: [Vec<u8>; 4],
+    /// Bytes the firmware sent: (cycle, USART, byte).
+    pub uart_log: Vec<(u64, u8, u8)>,
     pub trace: Vec<Sample>,
     pub drive_log: Vec<DriveEvent>,
     pub cutoffs: Vec<Cutoff>,
@@ -434,10 +440,16 @@ impl BenchCore {
             changed = true;
             for (input, old, new) in [(m.forward, old_f, fwd), (m.reverse, old_r, rev)] {
                 if old != new {
+                    let wave = match input.pwm {
+                        PwmSource::Timer2(ch) => self.timer2.waveform(ch),
+                        PwmSource::Timer4(ch) => self.timer4.waveform(ch),
+                    }
+                    .filter(|(_, _, com)| *com != crate::pwm::Com::Disconnected);
                     self.drive_log.push(DriveEvent {
                         cycle,
                         pin: input.pin.arduino,
                         duty: new,
+                        wave,
                     });
                     if let Some(hz) = self.input_hz(&input) {
                         let k = self.pin_slot(input.pin.arduino);
@@ -838,7 +850,9 @@ impl Handler for BenchCore {
                 core.schedule(self.next_event());
             }
             t if (TAG_UART_OUT..TAG_UART_OUT + 4).contains(&t) => {
-                self.uart_out[(t - TAG_UART_OUT) as usize].push(value as u8);
+                let n = (t - TAG_UART_OUT) as usize;
+                self.uart_out[n].push(value as u8);
+                self.uart_log.push((core.cycle(), n as u8, value as u8));
             }
             _ => {}
         }
@@ -917,6 +931,7 @@ impl Bench {
             steps: 0,
             plant_cycle: 0,
             uart_out: Default::default(),
+            uart_log: Vec::new(),
             trace: Vec::new(),
             drive_log: Vec::new(),
             cutoffs: Vec::new(),

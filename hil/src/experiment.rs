@@ -10,7 +10,8 @@
 use plant_model::RobotConfig;
 
 use crate::bench::{
-    Bench, BenchError, BenchOptions, Motion, MotionEvent, Observer, Sample, SideName, Snapshot,
+    Bench, BenchError, BenchOptions, DriveEvent, Motion, MotionEvent, Observer, PinEvent, Sample,
+    SideName, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::wait_ready;
@@ -89,6 +90,8 @@ pub struct TestOptions {
     pub bench: BenchOptions,
     /// Robot time allowed for the whole test before the bench calls it a hang.
     pub limit_s: Option<f64>,
+    /// Record pin-level detail (encoder edges, drive events, UART bytes) for traces.
+    pub record: bool,
 }
 
 impl Default for TestOptions {
@@ -97,6 +100,7 @@ impl Default for TestOptions {
             leg_mm: 2000.0,
             bench: BenchOptions::default(),
             limit_s: None,
+            record: false,
         }
     }
 }
@@ -162,6 +166,13 @@ pub struct TestRun {
     pub trace: Vec<Sample>,
     #[serde(skip)]
     pub motions: Vec<MotionEvent>,
+    /// Pin-level detail, when recorded (see [`TestOptions::record`]).
+    #[serde(skip)]
+    pub edges: Vec<PinEvent>,
+    #[serde(skip)]
+    pub drive: Vec<DriveEvent>,
+    #[serde(skip)]
+    pub uart: Vec<(u64, u8, u8)>,
 }
 
 /// Run `test` from a fresh reset.
@@ -195,6 +206,9 @@ pub fn run_test_observed(
     let done_before = bench.read_u16(vars.done_count);
     let start_cycle = bench.cycle();
     bench.set_observer(observer);
+    if opts.record {
+        bench.start_recording();
+    }
     bench.send(1, &[test.command_byte()]);
     let (legs, turns, _) = test.shape();
     // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
@@ -305,6 +319,9 @@ fn analyse(
         awake_fraction: bench.awake_fraction(),
         trace: core.trace.clone(),
         motions,
+        edges: core.recording.clone().unwrap_or_default(),
+        drive: core.drive_log.clone(),
+        uart: core.uart_log.clone(),
     }
 }
 

@@ -23,4 +23,5 @@ pub mod sim;
 pub mod time;
 pub mod timing;
 pub mod umbmark;
+pub mod vcd;
 pub mod wiring;

@@ -46,6 +46,13 @@ struct Common {
     /// so that two runs print byte-identical results.
     #[arg(long)]
     deterministic: bool,
+    /// Write a VCD trace (encoder lines, bridge inputs, UART bytes, plant
+    /// pose) for GTKWave or Surfer.
+    #[arg(long, value_name = "FILE")]
+    vcd: Option<PathBuf>,
+    /// In the VCD, write the 31 kHz PWM waveforms edge by edge (large).
+    #[arg(long)]
+    vcd_pwm: bool,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq)]
@@ -205,6 +212,25 @@ fn parse_length(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+fn write_vcd(
+    path: &std::path::Path,
+    run: &hil::experiment::TestRun,
+    pwm_edges: bool,
+) -> Result<()> {
+    let text = hil::vcd::render(&hil::vcd::VcdInput {
+        clock_hz: BenchOptions::default().clock.hz(),
+        edges: &run.edges,
+        drive: &run.drive,
+        uart: &run.uart,
+        samples: &run.trace,
+        pwm_edges,
+    });
+    hil::output::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))?;
+    eprintln!("wrote {}", path.display());
+    Ok(())
+}
+
 fn progress_bar(runs: usize, leg_mm: f64) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(runs as u64);
     bar.set_style(
@@ -333,6 +359,7 @@ fn run(cli: Cli) -> Result<()> {
                     ..Default::default()
                 },
                 limit_s: None,
+                record: false,
             };
             let (run, observer) =
                 run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
@@ -513,9 +540,13 @@ fn run(cli: Cli) -> Result<()> {
                     ..Default::default()
                 },
                 limit_s: None,
+                record: common.vcd.is_some(),
             };
             let wall = Instant::now();
             let run = run_test(firmware, &robot, test, &opts)?;
+            if let Some(path) = &common.vcd {
+                write_vcd(path, &run, common.vcd_pwm)?;
+            }
             let wall_s = wall.elapsed().as_secs_f64();
             if common.json {
                 let mut v = serde_json::to_value(&run)?;

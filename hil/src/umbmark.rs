@@ -182,6 +182,7 @@ pub fn execute(
                     ..bench
                 },
                 limit_s: None,
+                record: false,
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
