@@ -67,14 +67,7 @@ pub struct Pins {
 impl Pins {
     /// Hands out the pins; the port peripherals are taken by value so that no
     /// other code can create them again.
-    pub fn new(
-        _portb: PORTB,
-        _portd: PORTD,
-        _porte: PORTE,
-        _portf: PORTF,
-        _portg: PORTG,
-        _porth: PORTH,
-    ) -> Self {
+    pub fn new(_portb: PORTB, _portd: PORTD, _porte: PORTE, _portf: PORTF, _portg: PORTG, _porth: PORTH) -> Self {
         // SAFETY: the ports are consumed here, so each pin is created exactly
         // once for the life of the program.
         unsafe {
@@ -123,8 +116,5 @@ pub fn drive_motors<M6, M7, M8, M9>(
         d8_left_reverse.into_output_low(),
     );
     let oc2b = pwm::timer2(tc2, d9_left_forward.into_output_low());
-    Motors {
-        right: HBridge::new(t4.b, t4.a),
-        left: HBridge::new(oc2b, t4.c),
-    }
+    Motors { right: HBridge::new(t4.b, t4.a), left: HBridge::new(oc2b, t4.c) }
 }

@@ -2,19 +2,25 @@
 //!
 //! Layers, bottom up:
 //! - [`hal`]: a thin layer over `avr-device` registers (pins, external
-//!   interrupts, PWM, tick and one-shot timers, USARTs, sleep);
+//!   interrupts, PWM, the tick timer, ADC, watchdog, USARTs, sleep);
 //! - [`board`]: the clock and every pin of the robot, named once;
-//! - drivers: [`encoder`], [`motors`], and the [`ticks`] counter;
-//! - the control law: [`pid`] and [`odometry`], with the robot's numbers in
-//!   [`robot`];
+//! - drivers: [`encoder`] (with the segment-end trips), [`motors`],
+//!   [`battery`], and [`time`] (the robust build's clock);
+//! - [`arduino`]: the pieces of the Arduino core the thesis build needs
+//!   (`millis`/`micros`/`delay` on timer 0, `Serial.print`);
+//! - the control law and the tests: [`pid`], [`odometry`], [`plan`], with the
+//!   robot's numbers in [`robot`] and the run-time parameters in [`settings`];
 //! - [`bench`]: the variables the hardware-in-the-loop bench reads by symbol.
 //!
-//! The binaries in `src/bin/` build the applications from these parts.
+//! The binaries in `src/bin/` build the applications from these parts and
+//! bind the interrupt vectors they use (the library defines no vector, so a
+//! build links only its own).
 
 #![no_std]
-#![feature(abi_avr_interrupt)]
 #![feature(asm_experimental_arch)]
 
+pub mod arduino;
+pub mod battery;
 pub mod bench;
 pub mod board;
 pub mod encoder;
@@ -22,8 +28,10 @@ pub mod hal;
 pub mod motors;
 pub mod odometry;
 pub mod pid;
+pub mod plan;
 pub mod robot;
-pub mod ticks;
+pub mod settings;
+pub mod time;
 
 /// Errors of this crate.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]

@@ -48,10 +48,7 @@ pub const fn arduino_map(x: i32, in_min: i32, in_max: i32, out_min: i32, out_max
     if den == 0 {
         return out_min;
     }
-    x.wrapping_sub(in_min)
-        .wrapping_mul(out_max.wrapping_sub(out_min))
-        .wrapping_div(den)
-        .wrapping_add(out_min)
+    x.wrapping_sub(in_min).wrapping_mul(out_max.wrapping_sub(out_min)).wrapping_div(den).wrapping_add(out_min)
 }
 
 /// Largest |U| passed to `map` unchanged. Beyond it the thesis' 32-bit map
@@ -201,4 +198,212 @@ const _: () = {
     assert!(close(u2, 45.66 * 14.47 * 0.015 - 0.0411 * 14.47 / 0.015, 1.0e-2));
     pid.reset();
     assert!(close(pid.update(0.0, 0.015), 89.206, 1.0e-2));
+};
+
+// ---- the robust build's form of the same law ----
+
+/// The thesis PID with its constant factors folded once (when the gains or
+/// the period change) so that a period costs three multiplications and four
+/// additions in `f32`, no division:
+/// `E = Set - RPM`, `U = (Kp + Kd/T) E - (Kd/T) E_prev + Iterm`, then
+/// `Iterm += (Ki T) E`.
+/// Mathematically the thesis' `Kp E + Ki I + Kd D` with `I += E T`,
+/// `D = (E - E_prev) / T`; the `f32` results differ from the thesis' operation
+/// order only by rounding.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct FastPid {
+    /// `Kp + Kd / T`.
+    a: f32,
+    /// `Kd / T`.
+    b: f32,
+    /// `Ki T`.
+    ki_t: f32,
+    setpoint: f32,
+    /// `Ki` times the integral of E up to the previous period.
+    iterm: f32,
+    prev_error: f32,
+}
+
+impl FastPid {
+    /// A PID at rest for the period `period_s`.
+    pub const fn new(gains: Gains, setpoint: f32, period_s: f32) -> Self {
+        let b = gains.kd / period_s;
+        FastPid { a: gains.kp + b, b, ki_t: gains.ki * period_s, setpoint, iterm: 0.0, prev_error: 0.0 }
+    }
+
+    /// New gains (keeps the state).
+    pub fn set_gains(&mut self, gains: Gains, period_s: f32) {
+        self.b = gains.kd / period_s;
+        self.a = gains.kp + self.b;
+        self.ki_t = gains.ki * period_s;
+    }
+
+    /// New set-point.
+    pub fn set_setpoint(&mut self, setpoint: f32) {
+        self.setpoint = setpoint;
+    }
+
+    /// Clears the integral and the previous error.
+    pub fn reset(&mut self) {
+        self.iterm = 0.0;
+        self.prev_error = 0.0;
+    }
+
+    /// One period: the control value U for the measured speed.
+    #[inline]
+    pub fn update(&mut self, measured: f32) -> f32 {
+        let error = self.setpoint - measured;
+        self.iterm += self.ki_t * error;
+        let u = self.a * error - self.b * self.prev_error + self.iterm;
+        self.prev_error = error;
+        u
+    }
+}
+
+/// [`FastPid`] with its products looked up: at a segment start, for every
+/// count `c` a wheel can make in one period (`0..N`), the error
+/// `E(c) = Set - rpm(c)` and the three products `(Kp + Kd/T) E(c)`,
+/// `(Kd/T) E(c)` and `(Ki T) E(c)` are tabulated, so a period costs three
+/// `f32` additions and no multiplication. The tables hold exactly the values
+/// `FastPid::update` would compute, so the results are the same bit for bit.
+/// A count outside the tables (or a period that spans several ticks) takes
+/// the multiplying path.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct TablePid<const N: usize> {
+    pid: FastPid,
+    a_e: [f32; N],
+    b_e: [f32; N],
+    ki_e: [f32; N],
+    /// `(Kd/T) E` of the previous period.
+    b_prev: f32,
+}
+
+impl<const N: usize> TablePid<N> {
+    /// A controller at rest with empty tables (call [`TablePid::prepare`]).
+    pub const fn new(gains: Gains, setpoint: f32, period_s: f32) -> Self {
+        TablePid {
+            pid: FastPid::new(gains, setpoint, period_s),
+            a_e: [0.0; N],
+            b_e: [0.0; N],
+            ki_e: [0.0; N],
+            b_prev: 0.0,
+        }
+    }
+
+    /// New gains and set-point, the tables for the speeds `rpm[c]`, and the
+    /// state reset.
+    pub fn prepare(&mut self, gains: Gains, setpoint: f32, period_s: f32, rpm: &[f32; N]) {
+        self.pid.set_gains(gains, period_s);
+        self.pid.set_setpoint(setpoint);
+        self.pid.reset();
+        self.b_prev = 0.0;
+        for (i, &r) in rpm.iter().enumerate() {
+            let e = self.pid.setpoint - r;
+            if let (Some(a), Some(b), Some(k)) = (self.a_e.get_mut(i), self.b_e.get_mut(i), self.ki_e.get_mut(i)) {
+                *a = self.pid.a * e;
+                *b = self.pid.b * e;
+                *k = self.pid.ki_t * e;
+            }
+        }
+    }
+
+    /// One period in which the wheel made `counts` counts (speed `rpm`):
+    /// the control value U.
+    #[inline]
+    pub fn update(&mut self, counts: u32, rpm: f32, one_period: bool) -> f32 {
+        let idx = counts as usize;
+        match (self.a_e.get(idx), self.b_e.get(idx), self.ki_e.get(idx)) {
+            (Some(&a_e), Some(&b_e), Some(&ki_e)) if one_period => {
+                self.pid.iterm += ki_e;
+                let u = a_e - self.b_prev + self.pid.iterm;
+                self.b_prev = b_e;
+                u
+            }
+            _ => self.update_slow(rpm),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn update_slow(&mut self, rpm: f32) -> f32 {
+        let e = self.pid.setpoint - rpm;
+        self.pid.iterm += self.pid.ki_t * e;
+        let u = self.pid.a * e - self.b_prev + self.pid.iterm;
+        self.b_prev = self.pid.b * e;
+        u
+    }
+}
+
+/// [`output_to_duty`] without floating-point compares or the 32-bit `map`,
+/// from the bits of U: NaN or U <= -24 gives 0, U >= 24 gives 255; in
+/// between `(long)U` is -23..=23 (the magnitude's integer part, taken from
+/// the exponent and the top mantissa bits) and
+/// `255 - (24 - x) * 255 / 48` (all positive, truncating) is exactly
+/// Arduino's `map(x, 24, -24, 255, 0)`. Checked against [`output_to_duty`]
+/// at compile time.
+#[inline(always)]
+pub const fn duty_from_output(u: f32) -> u8 {
+    let bits = u.to_bits();
+    let magnitude = bits & 0x7FFF_FFFF;
+    let negative = bits >> 31 != 0;
+    if magnitude > 0x7F80_0000 {
+        return 0; // NaN
+    }
+    if magnitude >= 0x41C0_0000 {
+        // |U| >= 24.0
+        return if negative { 0 } else { 255 };
+    }
+    // |U| < 24 < 2^5: biased exponent <= 131; below 127 the integer part is 0.
+    let exponent = (magnitude >> 23) as u8;
+    let int_part = if exponent < 127 {
+        0
+    } else {
+        // 1.xxxxxxx (implicit one and the 7 top mantissa bits) * 2^(e - 127)
+        let significand = ((magnitude >> 16) as u8 & 0x7F) | 0x80;
+        significand >> (7 - (exponent - 127))
+    };
+    let x = if negative { -(int_part as i8) } else { int_part as i8 };
+    let k = (24 - x) as u16;
+    255 - (k * 255 / 48) as u8
+}
+
+/// Thesis speed of `counts` counts in one period of `period_s`, for the
+/// counts a wheel can make in one period (table below; the control tick
+/// looks values up instead of converting and multiplying).
+pub const fn rpm_table<const N: usize>(period_s: f32) -> [f32; N] {
+    let mut t = [0.0; N];
+    let mut i = 0;
+    while i < N {
+        t[i] = i as f32 * thesis_rpm(1, period_s);
+        i += 1;
+    }
+    t
+}
+
+const _: () = {
+    let mut i: i32 = -6000;
+    while i <= 6000 {
+        let u = i as f32 / 100.0;
+        assert!(duty_from_output(u) == output_to_duty(u));
+        assert!(duty_from_output(u + 0.004) == output_to_duty(u + 0.004));
+        i += 1;
+    }
+    assert!(duty_from_output(f32::NAN) == output_to_duty(f32::NAN));
+    assert!(duty_from_output(f32::INFINITY) == 255 && duty_from_output(f32::NEG_INFINITY) == 0);
+    assert!(duty_from_output(-23.999) == output_to_duty(-23.999));
+    assert!(duty_from_output(23.999) == output_to_duty(23.999));
+};
+
+// The folded PID gives the thesis PID's first two outputs (to rounding).
+const _: () = {
+    let g = Gains { kp: 2.74, ki: 45.66, kd: 0.0411 };
+    let mut a = Pid::new(g, 14.47);
+    let b = FastPid::new(g, 14.47, 0.015);
+    let ua = a.update(0.0, 0.015);
+    let e = b.setpoint - 0.0;
+    let ub = b.a * e - b.b * 0.0 + b.ki_t * e;
+    assert!(close(ua, ub, 1.0e-3));
+    let ua2 = a.update(14.47, 0.015);
+    let ub2 = b.a * 0.0 - b.b * e + b.ki_t * e;
+    assert!(close(ua2, ub2, 1.0e-3));
 };

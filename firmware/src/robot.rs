@@ -29,3 +29,16 @@ pub const START_DUTY: u8 = 50;
 
 /// Default leg length for the straight-line test, millimetres.
 pub const DEFAULT_LEG_MM: f32 = 2000.0;
+
+/// Default wheelbase for the spin-turn targets, millimetres (thesis `b`).
+pub const DEFAULT_WHEELBASE_MM: f32 = 130.0;
+/// Default UMBmark turn, degrees.
+pub const DEFAULT_TURN_UMBMARK_DEG: f32 = 90.0;
+/// Default triangle turn, degrees.
+pub const DEFAULT_TURN_TRIANGLE_DEG: f32 = 120.0;
+/// Default wheel correction factors (Borenstein's c_L, c_R).
+pub const DEFAULT_CORRECTION: f32 = 1.0;
+/// Default stall time-out, milliseconds.
+pub const DEFAULT_STALL_TIMEOUT_MS: u16 = 200;
+/// Default duty at or above which a wheel without counts is stalling.
+pub const DEFAULT_STALL_DUTY: u8 = 200;

@@ -1,5 +1,8 @@
 //! A thin hardware layer over `avr-device` for the ATmega2560.
 //!
+//! Interrupt handlers are plain functions here; each binary binds the ones
+//! it needs to its vectors, so a build links only the vectors it uses.
+//!
 //! Each module owns the peripheral it drives (taken by value from
 //! `avr_device::atmega2560::Peripherals`), so two drivers cannot program the
 //! same registers. Nothing here knows the robot: pin roles and clock values
@@ -13,13 +16,14 @@
 //! - Timers 2 and 4 (PWM) are only ever written, never read, and none of their
 //!   interrupts is enabled: the bench emulates those two timers itself.
 
+pub mod adc;
 pub mod clock;
 pub mod exint;
 pub mod gpio;
-pub mod oneshot;
 pub mod pwm;
 pub mod reg;
 pub mod ring;
 pub mod sleep;
 pub mod tick;
 pub mod usart;
+pub mod wdt;

@@ -56,12 +56,7 @@ pub struct Timer4Channels {
 
 /// Starts timer 4 in 8-bit phase-correct PWM at clock/1 with all three
 /// channels disconnected and their pins driven low.
-pub fn timer4(
-    tc4: TC4,
-    ph3: Pin<PH3, Output>,
-    ph4: Pin<PH4, Output>,
-    ph5: Pin<PH5, Output>,
-) -> Timer4Channels {
+pub fn timer4(tc4: TC4, ph3: Pin<PH3, Output>, ph4: Pin<PH4, Output>, ph5: Pin<PH5, Output>) -> Timer4Channels {
     interrupt::free(|cs| {
         TCCR4A_SHADOW.borrow(cs).set(WGM_PHASE_CORRECT_8BIT);
         // SAFETY: mode 1 with COM bits 0 and clock/1 are valid settings; the
@@ -74,11 +69,7 @@ pub fn timer4(
     // The PAC handle is dropped on purpose: from here on only the channels
     // touch timer 4, each its own COM bits and OCR.
     let _ = tc4;
-    Timer4Channels {
-        a: Oc4a { _pin: ph3 },
-        b: Oc4b { _pin: ph4 },
-        c: Oc4c { _pin: ph5 },
-    }
+    Timer4Channels { a: Oc4a { _pin: ph3 }, b: Oc4b { _pin: ph4 }, c: Oc4c { _pin: ph5 } }
 }
 
 /// Starts timer 2 in 8-bit phase-correct PWM at clock/1; only OC2B is used.

@@ -25,3 +25,21 @@ pub unsafe fn write_u16(reg: *mut u16, value: u16) {
         write_volatile(low, lo);
     }
 }
+
+/// Reads a 16-bit timer register of the ATmega2560 in the order the chip
+/// requires: the low byte first (this latches the high byte in TEMP), then
+/// the high byte.
+///
+/// # Safety
+/// As [`write_u16`]: `reg` must be a 16-bit register of this chip, and no
+/// interrupt handler may use the same timer's TEMP latch between the reads.
+#[inline(always)]
+pub unsafe fn read_u16(reg: *const u16) -> u16 {
+    let low = reg as *const u8;
+    // SAFETY: the caller guarantees `reg` is a 16-bit register.
+    unsafe {
+        let lo = core::ptr::read_volatile(low);
+        let hi = core::ptr::read_volatile(low.add(1));
+        u16::from_le_bytes([lo, hi])
+    }
+}

@@ -21,11 +21,7 @@ impl<const N: usize> Ring<N> {
     /// An empty buffer (usable in a `static`).
     pub const fn new() -> Self {
         let () = Self::CHECK;
-        Ring {
-            buf: [const { Cell::new(0) }; N],
-            head: Cell::new(0),
-            len: Cell::new(0),
-        }
+        Ring { buf: [const { Cell::new(0) }; N], head: Cell::new(0), len: Cell::new(0) }
     }
 
     /// Appends `byte`; returns false (and drops it) when the buffer is full.

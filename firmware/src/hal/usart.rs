@@ -2,18 +2,26 @@
 //! filled by the RX-complete handler and a transmit ring drained by the
 //! data-register-empty handler.
 //!
-//! Nothing here waits on the hardware: [`Serial::write`] queues what fits and
-//! reports what did not, [`Serial::read`] returns `None` when nothing came.
+//! Both rings hold at most [`BUFFER_CAP`] = 63 bytes, like Arduino's
+//! `HardwareSerial` (a 64-byte ring that keeps one slot free): a byte that
+//! arrives while 63 wait is dropped, and [`Serial::write_blocking`] waits, as
+//! Arduino's `Serial.write`, while 63 bytes wait to be sent.
+//! [`Serial::write`] and [`Serial::read`] never wait.
+//!
+//! The handlers are plain functions ([`on_rx`], [`on_udre`]): each binary
+//! binds them to its vectors, so a build links only the vectors it uses.
 
 use avr_device::interrupt::{self, Mutex};
 
 use super::ring::Ring;
 use crate::Error;
 
-/// Receive buffer size per USART.
-pub const RX_LEN: usize = 32;
-/// Transmit buffer size per USART.
+/// Receive ring size per USART.
+pub const RX_LEN: usize = 64;
+/// Transmit ring size per USART.
 pub const TX_LEN: usize = 64;
+/// Bytes a ring holds at most (Arduino's `SERIAL_RX/TX_BUFFER_SIZE` - 1).
+pub const BUFFER_CAP: usize = 63;
 
 /// A USART peripheral this module can drive.
 pub trait Instance {
@@ -74,7 +82,7 @@ impl<U: Instance> Serial<U> {
             let tx = U::tx_ring().borrow(cs);
             let mut n = 0;
             for &b in bytes {
-                if !tx.push(b) {
+                if tx.len() >= BUFFER_CAP || !tx.push(b) {
                     break;
                 }
                 n += 1;
@@ -87,9 +95,24 @@ impl<U: Instance> Serial<U> {
         queued
     }
 
+    /// Queues `byte`, first waiting (interrupts enabled, the UDRE handler
+    /// draining the ring) while [`BUFFER_CAP`] bytes wait: Arduino's
+    /// `HardwareSerial::write`. Unbounded by design; only the thesis build
+    /// uses it. Must be called with interrupts enabled.
+    pub fn write_blocking(&mut self, byte: u8) {
+        while interrupt::free(|cs| U::tx_ring().borrow(cs).len()) >= BUFFER_CAP {}
+        interrupt::free(|cs| U::tx_ring().borrow(cs).push(byte));
+        self.usart.start_tx();
+    }
+
+    /// Number of received bytes waiting (Arduino's `available()`).
+    pub fn available(&self) -> usize {
+        interrupt::free(|cs| U::rx_ring().borrow(cs).len())
+    }
+
     /// Queues all of `bytes` or nothing.
     pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), Error> {
-        let fits = interrupt::free(|cs| U::tx_ring().borrow(cs).free() >= bytes.len());
+        let fits = interrupt::free(|cs| BUFFER_CAP - U::tx_ring().borrow(cs).len() >= bytes.len());
         if !fits {
             return Err(Error::TxFull);
         }
@@ -119,6 +142,43 @@ impl<U: Instance> ufmt::uWrite for Serial<U> {
     }
 }
 
+/// The interrupt handler bodies of one USART (see [`on_rx`], [`on_udre`]).
+pub trait Handlers {
+    /// Receive complete.
+    ///
+    /// # Safety
+    /// Call only from this USART's RX-complete vector.
+    unsafe fn rx();
+    /// Data register empty.
+    ///
+    /// # Safety
+    /// Call only from this USART's data-register-empty vector.
+    unsafe fn udre();
+}
+
+/// Body of the `USARTn_RX` vector: stores the received byte in the receive
+/// ring (dropped when [`BUFFER_CAP`] bytes wait) and wakes the main loop.
+///
+/// # Safety
+/// Call only from the RX-complete vector of `U`, e.g.
+/// `#[avr_device::interrupt(atmega2560)] fn USART1_RX() { unsafe { on_rx::<USART1>() } }`.
+#[inline(always)]
+pub unsafe fn on_rx<U: Handlers>() {
+    // SAFETY: forwarded from the caller.
+    unsafe { U::rx() }
+}
+
+/// Body of the `USARTn_UDRE` vector: sends the next queued byte, or turns
+/// this interrupt off when the transmit ring is empty.
+///
+/// # Safety
+/// Call only from the data-register-empty vector of `U`.
+#[inline(always)]
+pub unsafe fn on_udre<U: Handlers>() {
+    // SAFETY: forwarded from the caller.
+    unsafe { U::udre() }
+}
+
 // UCSRnA / UCSRnB / UCSRnC bits (same positions on every USART).
 const U2X: u8 = 1 << 1;
 const RXCIE: u8 = 1 << 7;
@@ -129,8 +189,7 @@ const TXEN: u8 = 1 << 3;
 const FRAME_8N1: u8 = 0b0000_0110;
 
 macro_rules! usart_instance {
-    ($module:ident, $periph:ident, $rx_vec:ident, $udre_vec:ident, $ucsra:ident, $ucsrb:ident,
-     $ucsrc:ident, $ubrr:ident, $udr:ident) => {
+    ($module:ident, $periph:ident, $ucsra:ident, $ucsrb:ident, $ucsrc:ident, $ubrr:ident, $udr:ident) => {
         mod $module {
             use super::*;
             use avr_device::atmega2560::$periph;
@@ -175,41 +234,40 @@ macro_rules! usart_instance {
                 }
             }
 
-            // Receive complete: store the byte (dropped if the ring is full)
-            // and wake the main loop.
-            #[avr_device::interrupt(atmega2560)]
-            fn $rx_vec() {
-                // SAFETY: the handler reads only UDRn, which clears RXCn; the
-                // main code never reads UDRn.
-                let usart = unsafe { $periph::steal() };
-                let byte = usart.$udr().read().bits();
-                interrupt::free(|cs| {
-                    RX.borrow(cs).push(byte);
-                });
-                crate::hal::sleep::wake();
-            }
+            impl Handlers for $periph {
+                unsafe fn rx() {
+                    // SAFETY: the handler reads only UDRn, which clears RXCn;
+                    // the main code never reads UDRn.
+                    let usart = unsafe { $periph::steal() };
+                    let byte = usart.$udr().read().bits();
+                    interrupt::free(|cs| {
+                        let rx = RX.borrow(cs);
+                        if rx.len() < BUFFER_CAP {
+                            rx.push(byte);
+                        }
+                    });
+                    crate::hal::sleep::wake();
+                }
 
-            // Data register empty: send the next byte, or turn this
-            // interrupt off when the ring is empty.
-            #[avr_device::interrupt(atmega2560)]
-            fn $udre_vec() {
-                // SAFETY: the handler writes UDRn and clears UDRIE; the main
-                // code only sets UDRIE, with interrupts off.
-                let usart = unsafe { $periph::steal() };
-                interrupt::free(|cs| match TX.borrow(cs).pop() {
-                    Some(b) => {
-                        // SAFETY: any byte is a valid UDRn value.
-                        usart.$udr().write(|w| unsafe { w.bits(b) });
-                    }
-                    None => {
-                        // SAFETY: clears one enable bit.
-                        usart.$ucsrb().modify(|r, w| unsafe { w.bits(r.bits() & !UDRIE) });
-                    }
-                });
+                unsafe fn udre() {
+                    // SAFETY: the handler writes UDRn and clears UDRIE; the
+                    // main code only sets UDRIE, with interrupts off.
+                    let usart = unsafe { $periph::steal() };
+                    interrupt::free(|cs| match TX.borrow(cs).pop() {
+                        Some(b) => {
+                            // SAFETY: any byte is a valid UDRn value.
+                            usart.$udr().write(|w| unsafe { w.bits(b) });
+                        }
+                        None => {
+                            // SAFETY: clears one enable bit.
+                            usart.$ucsrb().modify(|r, w| unsafe { w.bits(r.bits() & !UDRIE) });
+                        }
+                    });
+                }
             }
         }
     };
 }
 
-usart_instance!(usart0_impl, USART0, USART0_RX, USART0_UDRE, ucsr0a, ucsr0b, ucsr0c, ubrr0, udr0);
-usart_instance!(usart1_impl, USART1, USART1_RX, USART1_UDRE, ucsr1a, ucsr1b, ucsr1c, ubrr1, udr1);
+usart_instance!(usart0_impl, USART0, ucsr0a, ucsr0b, ucsr0c, ubrr0, udr0);
+usart_instance!(usart1_impl, USART1, ucsr1a, ucsr1b, ucsr1c, ubrr1, udr1);

@@ -1,0 +1,121 @@
+//! The robust build's run-time parameters, read and written through the
+//! protocol's `SET_PARAM` / `GET_PARAM` (ids, units and ranges:
+//! `henrytwo_protocol::Param`). The leg length is the bench variable
+//! `HT_LEG_LENGTH_MM` itself, so a bench write and a protocol write are the
+//! same thing.
+
+use henrytwo_protocol::Param;
+
+use crate::bench;
+use crate::pid::Gains;
+use crate::robot;
+
+/// Per-wheel values, left and right.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct PerWheel<T> {
+    /// Left wheel.
+    pub left: T,
+    /// Right wheel.
+    pub right: T,
+}
+
+/// Every run-time parameter except the leg length (in `HT_LEG_LENGTH_MM`).
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct Settings {
+    /// Borenstein's distance-per-count correction factors c_L, c_R.
+    pub correction: PerWheel<f32>,
+    /// Wheelbase b, millimetres.
+    pub wheelbase_mm: f32,
+    /// UMBmark spin-turn angle, degrees.
+    pub turn_umbmark_deg: f32,
+    /// Triangle spin-turn angle, degrees.
+    pub turn_triangle_deg: f32,
+    /// Speed set-points, thesis "RPM".
+    pub setpoint: PerWheel<f32>,
+    /// PID gains.
+    pub gains: PerWheel<Gains>,
+    /// Stall watchdog time, milliseconds.
+    pub stall_timeout_ms: u16,
+    /// Stall watchdog duty threshold.
+    pub stall_duty: u8,
+}
+
+impl Settings {
+    /// The thesis robot's values.
+    pub const DEFAULT: Settings = Settings {
+        correction: PerWheel { left: robot::DEFAULT_CORRECTION, right: robot::DEFAULT_CORRECTION },
+        wheelbase_mm: robot::DEFAULT_WHEELBASE_MM,
+        turn_umbmark_deg: robot::DEFAULT_TURN_UMBMARK_DEG,
+        turn_triangle_deg: robot::DEFAULT_TURN_TRIANGLE_DEG,
+        setpoint: PerWheel { left: robot::SETPOINT_LEFT, right: robot::SETPOINT_RIGHT },
+        gains: PerWheel { left: robot::GAINS_LEFT, right: robot::GAINS_RIGHT },
+        stall_timeout_ms: robot::DEFAULT_STALL_TIMEOUT_MS,
+        stall_duty: robot::DEFAULT_STALL_DUTY,
+    };
+
+    /// The value of `p` (the leg length from `HT_LEG_LENGTH_MM`).
+    pub fn get(&self, p: Param) -> f32 {
+        match p {
+            Param::CorrLeft => self.correction.left,
+            Param::CorrRight => self.correction.right,
+            Param::WheelbaseMm => self.wheelbase_mm,
+            Param::LegLengthMm => bench::leg_length_mm(),
+            Param::TurnUmbmarkDeg => self.turn_umbmark_deg,
+            Param::TurnTriangleDeg => self.turn_triangle_deg,
+            Param::SetpointLeft => self.setpoint.left,
+            Param::SetpointRight => self.setpoint.right,
+            Param::KpLeft => self.gains.left.kp,
+            Param::KiLeft => self.gains.left.ki,
+            Param::KdLeft => self.gains.left.kd,
+            Param::KpRight => self.gains.right.kp,
+            Param::KiRight => self.gains.right.ki,
+            Param::KdRight => self.gains.right.kd,
+            Param::StallTimeoutMs => self.stall_timeout_ms as f32,
+            Param::StallDuty => self.stall_duty as f32,
+        }
+    }
+
+    /// Sets `p` to `v`, which the caller has checked with `p.check(v)` (the
+    /// protocol decoder does); the whole-number ones are converted exactly.
+    pub fn set(&mut self, p: Param, v: f32) {
+        match p {
+            Param::CorrLeft => self.correction.left = v,
+            Param::CorrRight => self.correction.right = v,
+            Param::WheelbaseMm => self.wheelbase_mm = v,
+            Param::LegLengthMm => bench::set_leg_length_mm(v),
+            Param::TurnUmbmarkDeg => self.turn_umbmark_deg = v,
+            Param::TurnTriangleDeg => self.turn_triangle_deg = v,
+            Param::SetpointLeft => self.setpoint.left = v,
+            Param::SetpointRight => self.setpoint.right = v,
+            Param::KpLeft => self.gains.left.kp = v,
+            Param::KiLeft => self.gains.left.ki = v,
+            Param::KdLeft => self.gains.left.kd = v,
+            Param::KpRight => self.gains.right.kp = v,
+            Param::KiRight => self.gains.right.ki = v,
+            Param::KdRight => self.gains.right.kd = v,
+            Param::StallTimeoutMs => self.stall_timeout_ms = v as u16,
+            Param::StallDuty => self.stall_duty = v as u8,
+        }
+    }
+}
+
+// Every default is inside the range the protocol accepts.
+const _: () = {
+    let d = Settings::DEFAULT;
+    assert!(Param::CorrLeft.check(d.correction.left).is_ok());
+    assert!(Param::CorrRight.check(d.correction.right).is_ok());
+    assert!(Param::WheelbaseMm.check(d.wheelbase_mm).is_ok());
+    assert!(Param::LegLengthMm.check(robot::DEFAULT_LEG_MM).is_ok());
+    assert!(Param::TurnUmbmarkDeg.check(d.turn_umbmark_deg).is_ok());
+    assert!(Param::TurnTriangleDeg.check(d.turn_triangle_deg).is_ok());
+    assert!(Param::SetpointLeft.check(d.setpoint.left).is_ok());
+    assert!(Param::SetpointRight.check(d.setpoint.right).is_ok());
+    assert!(Param::KpLeft.check(d.gains.left.kp).is_ok());
+    assert!(Param::KiLeft.check(d.gains.left.ki).is_ok());
+    assert!(Param::KdLeft.check(d.gains.left.kd).is_ok());
+    assert!(Param::KpRight.check(d.gains.right.kp).is_ok());
+    assert!(Param::KiRight.check(d.gains.right.ki).is_ok());
+    assert!(Param::KdRight.check(d.gains.right.kd).is_ok());
+    assert!(Param::StallTimeoutMs.check(d.stall_timeout_ms as f32).is_ok());
+    assert!(Param::StallDuty.check(d.stall_duty as f32).is_ok());
+};
