@@ -30,12 +30,16 @@
 //! fit_voltage_v = 7.4
 //! # coast_tau_s = 0.055      # optional, default tau_s
 //! # brake_tau_s = 0.0183     # optional, default tau_s / 3
+//!
+//! [effects.wheel_diameter_ratio]  # optional tables, one per effect: see crate::effects
+//! right_over_left_ratio = 1.036
 //! ```
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::effects::Effects;
 use crate::motor::{FirstOrderMotor, MotorModel};
 use crate::side::{PerSide, Side};
 use crate::Error;
@@ -52,6 +56,10 @@ pub struct RobotConfig {
     pub battery: BatteryConfig,
     /// One motor model per side (`[motor.left]`, `[motor.right]`).
     pub motor: PerSide<MotorModel>,
+    /// The effects switched on (`[effects.<name>]` tables; none in the ideal robot). See
+    /// [`crate::effects`].
+    #[serde(default, skip_serializing_if = "Effects::is_empty")]
+    pub effects: Effects,
 }
 
 /// Wheel sizes and wheelbase.
@@ -120,6 +128,7 @@ impl Default for RobotConfig {
                 left: MotorModel::FirstOrder(FirstOrderMotor::henrytwo_left()),
                 right: MotorModel::FirstOrder(FirstOrderMotor::henrytwo_right()),
             },
+            effects: Effects::default(),
         }
     }
 }
@@ -180,6 +189,36 @@ impl RobotConfig {
                 .get(side)
                 .validate(&format!("motor.{}", side.name()))?;
         }
+        self.effects.validate()?;
+        self.validate_effects_against_base()
+    }
+
+    /// The checks that need both an effect and the base config.
+    fn validate_effects_against_base(&self) -> Result<(), Error> {
+        if self.effects.coast.is_some() {
+            for side in Side::BOTH {
+                let MotorModel::FirstOrder(motor) = self.motor.get(side);
+                if motor.coast_tau_s.is_some() {
+                    return Err(Error::Conflict {
+                        key: format!("motor.{}.coast_tau_s", side.name()),
+                        other: format!("effects.coast.{}_tau_s", side.name()),
+                        why: "both set the coast time constant; keep one (the effect when \
+                              the coast is a departure from the nominal robot)",
+                    });
+                }
+            }
+        }
+        if let Some(glitches) = &self.effects.encoder_glitches {
+            let state_deg = 360.0 / (2.0 * f64::from(self.encoder.a_edges_per_motor_rev));
+            check_between(
+                "effects.encoder_glitches.width_motor_deg",
+                glitches.width_motor_deg,
+                (0.0, 0.5 * state_deg - 1e-9),
+                "a glitch must be shorter than half a quadrature state (15 degrees of the \
+                 motor shaft with 6 A edges per turn)",
+                "width of a glitch, degrees of motor-shaft angle",
+            )?;
+        }
         Ok(())
     }
 
@@ -217,6 +256,65 @@ pub(crate) fn check_duty(key: &str, value: f64) -> Result<(), Error> {
             value,
         })
     }
+}
+
+/// `value` must be finite and in `[low, high]` (`allowed` says so in words).
+pub(crate) fn check_between(
+    key: &str,
+    value: f64,
+    (low, high): (f64, f64),
+    allowed: &'static str,
+    meaning: &'static str,
+) -> Result<(), Error> {
+    check_finite(key, value)?;
+    if (low..=high).contains(&value) {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange {
+            key: key.to_owned(),
+            value,
+            allowed,
+            meaning,
+        })
+    }
+}
+
+/// `value` must be finite and not negative.
+pub(crate) fn check_non_negative(
+    key: &str,
+    value: f64,
+    meaning: &'static str,
+) -> Result<(), Error> {
+    check_between(
+        key,
+        value,
+        (0.0, f64::MAX),
+        "it must not be negative",
+        meaning,
+    )
+}
+
+/// `value` must be a fraction in `[0, 1)`.
+pub(crate) fn check_fraction(key: &str, value: f64, meaning: &'static str) -> Result<(), Error> {
+    check_between(
+        key,
+        value,
+        (0.0, 1.0 - f64::EPSILON),
+        "a fraction must lie in [0, 1)",
+        meaning,
+    )
+}
+
+/// `value` must be a ratio in `[0.5, 2]`: a factor near 1 (a few percent off at most on a
+/// real robot); anything outside is a typo such as a percentage.
+pub(crate) fn check_ratio(key: &str, value: f64, meaning: &'static str) -> Result<(), Error> {
+    check_between(
+        key,
+        value,
+        (0.5, 2.0),
+        "a ratio must lie in [0.5, 2] (write 1.02 for 2 % more, not 2 or 102)",
+        meaning,
+    )
 }
 
 fn check_finite(key: &str, value: f64) -> Result<(), Error> {

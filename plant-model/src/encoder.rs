@@ -19,16 +19,57 @@
 //!
 //! A `reversed` encoder sees the negated wheel angle (for fault injection: a swapped A/B
 //! pair).
+//!
+//! # Imperfections ([`Imperfections`]: the `encoder_missed_counts` and `encoder_glitches`
+//! effects)
+//!
+//! Both are functions of the shaft angle, not of time, so the levels stay a function of the
+//! wheel angle and [`crate::Robot::next_encoder_transition`] stays exact. Work in the
+//! *position* `s = angle / dq + 0.5` (in the encoder's sense), so that `q = floor(s)` and
+//! the boundary between states `n - 1` and `n` is at `s = n`. At boundary `n` channel A
+//! changes if `n mod 4` is 0 (rising, forward) or 2 (falling), B if it is 1 or 3.
+//!
+//! - **Missed pulse**: A pulse `m` (A high over states `4m` and `4m + 1`) is missing with
+//!   probability `p_miss`, drawn once per pulse from the robot's seed: A stays low, both its
+//!   edges are gone (two counts lost; B keeps toggling, so the direction stays decodable). A
+//!   boundary with no level change is *silent*: no transition is reported there.
+//! - **Glitch**: after a boundary `n` whose edge is real, with probability `p_glitch`, the
+//!   channel that changed falls back to its old level over `s` in `[n + w, n + 2w)`: three
+//!   edges where there was one (`w` the glitch width in states). Its duration in time is
+//!   `w` states at the wheel's speed: 0.5 motor degrees (`w` = 1/60) last 9.5 us at the thesis'
+//!   set-point speed. A decoder that sees all three edges counts the same net total.
+//!
+//! The bench has its own injection point between the plant and the pins
+//! (`hil::inject::EncoderFault`: dropouts, stuck lines, swapped lines, missed pairs at high
+//! rates). These effects are the plant's: a flaw of the encoder itself, present in every
+//! run of the robot that has it, at the same shaft positions for a given seed.
 
 use std::f64::consts::PI;
 
+use crate::rng::{hash_unit, stream};
 use crate::units::Radians;
 
-/// One wheel's encoder: state size and direction.
+/// Flaws of one encoder (see the module docs); the default has none.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Imperfections {
+    /// The robot's seed.
+    pub seed: u64,
+    /// Index of the side (0 left, 1 right), so the two encoders draw differently.
+    pub side_index: u64,
+    /// Probability that an A pulse is missing.
+    pub missed_pulse_fraction: f64,
+    /// Probability that a real edge is followed by a glitch.
+    pub glitch_fraction: f64,
+    /// Glitch width `w`, in quadrature states (one state is 30 motor degrees here).
+    pub glitch_width_states: f64,
+}
+
+/// One wheel's encoder: state size, direction and flaws.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Encoder {
     state_angle: f64,
     reversed: bool,
+    flaws: Imperfections,
 }
 
 impl Encoder {
@@ -38,6 +79,165 @@ impl Encoder {
         Encoder {
             state_angle: 2.0 * PI / (2.0 * f64::from(a_edges_per_motor_rev) * gear_ratio),
             reversed,
+            flaws: Imperfections::default(),
+        }
+    }
+
+    /// The same encoder with `flaws`.
+    pub fn with_imperfections(mut self, flaws: Imperfections) -> Self {
+        self.flaws = flaws;
+        self
+    }
+
+    /// Whether the encoder has any flaw (missed pulses or glitches).
+    pub fn is_flawed(&self) -> bool {
+        self.flaws.missed_pulse_fraction > 0.0 || self.flaws.glitch_fraction > 0.0
+    }
+
+    /// The position `s = angle / dq + 0.5` in the encoder's sense (module docs).
+    pub fn position(&self, angle: Radians) -> f64 {
+        let seen = if self.reversed { -angle.0 } else { angle.0 };
+        seen / self.state_angle + 0.5
+    }
+
+    /// Whether A pulse `m` is missing.
+    fn missed(&self, pulse: i64) -> bool {
+        let p = self.flaws.missed_pulse_fraction;
+        p > 0.0
+            && hash_unit(
+                self.flaws.seed,
+                stream::MISSED_COUNTS + self.flaws.side_index,
+                pulse,
+            ) < p
+    }
+
+    /// Whether a level changes at boundary `n` (`n - 1` to `n`), ignoring glitches, and
+    /// whether that channel is A.
+    fn edge_at(&self, n: i64) -> (bool, bool) {
+        let is_a = n.rem_euclid(2) == 0;
+        let real = !is_a || !self.missed(n.div_euclid(4));
+        (real, is_a)
+    }
+
+    /// Whether a glitch follows the boundary `n`.
+    fn glitch_at(&self, n: i64) -> bool {
+        let p = self.flaws.glitch_fraction;
+        p > 0.0
+            && self.edge_at(n).0
+            && hash_unit(self.flaws.seed, stream::GLITCHES + self.flaws.side_index, n) < p
+    }
+
+    /// Levels `(A, B)` in state `q`, with missed pulses but without glitches.
+    fn state_levels(&self, q: i64) -> (bool, bool) {
+        let (a, b) = levels(q);
+        (a && !self.missed(q.div_euclid(4)), b)
+    }
+
+    /// Levels `(A, B)` at position `s`, flaws included.
+    pub fn levels_at(&self, s: f64) -> (bool, bool) {
+        let floor = s.floor();
+        let n = floor as i64;
+        let (mut a, mut b) = self.state_levels(n);
+        if self.glitch_at(n) {
+            let w = self.flaws.glitch_width_states;
+            if s >= floor + w && s < floor + 2.0 * w {
+                if n.rem_euclid(2) == 0 {
+                    a = !a;
+                } else {
+                    b = !b;
+                }
+            }
+        }
+        (a, b)
+    }
+
+    /// The boundaries (positions where a level may change) within state `n`, ascending:
+    /// `n` itself and, after a glitching edge, `n + w` and `n + 2w`.
+    fn boundaries_of(&self, n: i64) -> impl Iterator<Item = f64> {
+        let floor = n as f64;
+        let w = self.flaws.glitch_width_states;
+        let glitch = self.glitch_at(n);
+        [
+            Some(floor),
+            glitch.then_some(floor + w),
+            glitch.then_some(floor + 2.0 * w),
+        ]
+        .into_iter()
+        .flatten()
+    }
+
+    /// The first boundary crossed from position `s` moving up (`upward`) or down at which
+    /// the levels become different from `from`: moving up, the levels change when the
+    /// position reaches it (`s' >= boundary`); moving down, when it falls below it
+    /// (`s' < boundary`). Silent boundaries are skipped.
+    pub fn next_level_change(&self, s: f64, upward: bool, from: (bool, bool)) -> f64 {
+        let n0 = s.floor() as i64;
+        if upward {
+            for n in n0.. {
+                for b in self.boundaries_of(n) {
+                    if b > s && self.levels_at(b) != from {
+                        return b;
+                    }
+                }
+            }
+        } else {
+            for n in (i64::MIN..=n0).rev() {
+                let bounds: Vec<f64> = self.boundaries_of(n).collect();
+                for (i, &b) in bounds.iter().enumerate().rev() {
+                    if b > s {
+                        continue;
+                    }
+                    // The region below `b`: from the boundary before it.
+                    let below = match i {
+                        0 => self.region_start_below(n),
+                        _ => bounds[i - 1],
+                    };
+                    if self.levels_at(below) != from {
+                        return b;
+                    }
+                }
+            }
+        }
+        unreachable!("the searches above return within a few states")
+    }
+
+    /// The start of the last region of state `n - 1`.
+    fn region_start_below(&self, n: i64) -> f64 {
+        self.boundaries_of(n - 1).last().unwrap_or((n - 1) as f64)
+    }
+
+    /// Net signed A edges counted by the thesis' decoder over the boundaries crossed going
+    /// from state `from` to state `to` (glitches excluded: a glitch once passed nets zero).
+    pub fn decoded_between(&self, from: i64, to: i64) -> i64 {
+        let mut count = 0;
+        if to > from {
+            for n in (from + 1)..=to {
+                let (real, is_a) = self.edge_at(n);
+                if real && is_a {
+                    count += 1;
+                }
+            }
+        } else {
+            for n in (to + 1)..=from {
+                let (real, is_a) = self.edge_at(n);
+                if real && is_a {
+                    count -= 1;
+                }
+            }
+        }
+        count
+    }
+
+    /// The decoder's count at position `s` relative to its count at the start of state
+    /// `floor(s)`: -1 inside the glitch after a rising-going A boundary, else 0.
+    pub fn glitch_count_offset(&self, s: f64) -> i64 {
+        let floor = s.floor();
+        let n = floor as i64;
+        let w = self.flaws.glitch_width_states;
+        if n.rem_euclid(2) == 0 && self.glitch_at(n) && s >= floor + w && s < floor + 2.0 * w {
+            -1
+        } else {
+            0
         }
     }
 
@@ -53,9 +253,8 @@ impl Encoder {
 
     /// The quadrature state index `q` at wheel angle `angle`.
     pub fn quadrature_index(&self, angle: Radians) -> i64 {
-        let seen = if self.reversed { -angle.0 } else { angle.0 };
         // Saturating conversion; 2^63 states are ~10^16 wheel turns.
-        (seen / self.state_angle + 0.5).floor() as i64
+        self.position(angle).floor() as i64
     }
 }
 

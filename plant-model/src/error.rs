@@ -80,6 +80,42 @@ pub enum Error {
         reference: f64,
     },
 
+    /// A value is outside the range its key allows (a fraction above 1, a negative
+    /// length, a ratio far from 1, an empty battery above a full one...).
+    #[error("robot config `{key}` = {value}: {allowed} ({meaning})")]
+    OutOfRange {
+        /// The key, as `section.key`.
+        key: String,
+        /// The value read.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+        /// What the key is, to help choose a value.
+        meaning: &'static str,
+    },
+
+    /// Two keys set the same thing.
+    #[error("robot config sets both `{key}` and `{other}`: {why}")]
+    Conflict {
+        /// One key, as `section.key`.
+        key: String,
+        /// The other key.
+        other: String,
+        /// Which one to keep.
+        why: &'static str,
+    },
+
+    /// A fault or override given at run time has a value that makes no sense.
+    #[error("{what} = {value}: {allowed}")]
+    InvalidFault {
+        /// The fault parameter.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+
     /// A duty given at run time is outside `[0, 1]` or not finite.
     #[error("duty {value} is outside [0, 1]: scale the PWM compare value to its period first")]
     InvalidDuty {

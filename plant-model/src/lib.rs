@@ -43,20 +43,26 @@
 
 pub mod bridge;
 pub mod config;
+pub mod effects;
 pub mod encoder;
 mod error;
+pub mod fault;
+mod ground;
 pub mod identify;
 pub mod motor;
 pub mod pose;
+mod rng;
 pub mod robot;
 pub mod side;
 pub mod units;
 
 pub use bridge::{Decay, DriveState};
 pub use config::RobotConfig;
+pub use effects::Effects;
 pub use encoder::Encoder;
 pub use error::Error;
-pub use motor::{FirstOrderMotor, MotorModel, Relaxation, Segment};
+pub use fault::MotorFault;
+pub use motor::{FirstOrderMotor, Modifiers, MotorModel, Relaxation, Segment};
 pub use pose::{Frame, Pose, World};
 pub use robot::{Robot, MAX_POSE_STEP, TRANSITION_HORIZON, TRANSITION_RESOLUTION};
 pub use side::{PerSide, Side};

@@ -65,6 +65,26 @@
 //! omega(t) = w_ss + (w0 - w_ss) e^(-t/tau)
 //! angle(t) = a0 + w_ss t + (w0 - w_ss) tau (1 - e^(-t/tau))
 //! ```
+//!
+//! # What effects and faults change ([`Modifiers`])
+//!
+//! The effects library ([`crate::effects`]) and the faults ([`crate::MotorFault`]) act on the
+//! motor through three numbers, each neutral by default:
+//!
+//! - a gain ratio `g` (`motor_gain_asymmetry`) multiplies `omega_ss`;
+//! - a friction duty `f` (`dead_band`, `castor_drag`, a `LoadStep` fault): a load torque
+//!   expressed as the duty that would balance it, i.e. as a fraction of the stall torque at
+//!   full duty. In steady state a load torque and a dead band are the same thing (a DC motor's
+//!   `w_ss = (d V kt / R - tau_load) / (kt ke / R)` is a line in `d` offset by
+//!   `tau_load R / (kt V)`), so while driven it widens the dead band:
+//!   `omega_ss = sign(d) g K max(0, |d| - d0 - f) / (d_ref - d0) V / V_fit`. While not driven
+//!   it is a Coulomb deceleration `c = g K f / (d_ref - d0) V / V_fit / tau` (the same offset
+//!   over the same time constant), so the wheel stops in finite time,
+//!   `t_stop = tau_d ln(1 + |w0| / (c tau_d))`, and stays stopped (first order with an offset,
+//!   still closed form; [`Relaxation::stops_at_zero`]);
+//! - a coast time constant (`coast`): replaces `coast_tau_s` while coasting.
+//!
+//! With all three neutral the motion is bit for bit the base model's.
 
 use serde::{Deserialize, Serialize};
 
@@ -90,11 +110,60 @@ impl MotorModel {
         }
     }
 
+    /// The speed target and time constant while the bridge is in `drive`, the battery is at
+    /// `battery`, the effects and faults in `modifiers` apply and the wheel turns at `speed`
+    /// (the sign of the speed says which way friction acts).
+    pub fn relaxation_with(
+        &self,
+        drive: DriveState,
+        battery: Volts,
+        modifiers: &Modifiers,
+        speed: RadPerSec,
+    ) -> Relaxation {
+        match self {
+            MotorModel::FirstOrder(motor) => {
+                motor.relaxation_with(drive, battery, modifiers, speed)
+            }
+        }
+    }
+
+    /// Back-EMF constant at the wheel, volts per wheel rad/s, for a motor whose gain is scaled
+    /// by `gain_ratio`: the voltage the motor generates when its wheel turns at 1 rad/s.
+    pub fn back_emf_v_per_rad_s(&self, gain_ratio: f64) -> f64 {
+        match self {
+            MotorModel::FirstOrder(motor) => motor.back_emf_v_per_rad_s(gain_ratio),
+        }
+    }
+
     /// Checks the parameters; `prefix` is the config section (e.g. `motor.left`), used to name
     /// keys in errors.
     pub fn validate(&self, prefix: &str) -> Result<(), Error> {
         match self {
             MotorModel::FirstOrder(motor) => motor.validate(prefix),
+        }
+    }
+}
+
+/// What the effects and faults change in a motor's response (see the module docs); the
+/// default changes nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Modifiers {
+    /// Multiplies the steady speed (`motor_gain_asymmetry`).
+    pub gain_ratio: f64,
+    /// Load torque as a duty, i.e. as a fraction of the stall torque at full duty
+    /// (`dead_band`, `castor_drag`, a `LoadStep` fault); widens the dead band while driven,
+    /// decelerates by Coulomb friction while not.
+    pub friction_duty: f64,
+    /// Time constant while coasting, replacing the motor's own (`coast`).
+    pub coast_tau: Option<Seconds>,
+}
+
+impl Default for Modifiers {
+    fn default() -> Self {
+        Modifiers {
+            gain_ratio: 1.0,
+            friction_duty: 0.0,
+            coast_tau: None,
         }
     }
 }
@@ -180,18 +249,66 @@ impl FirstOrderMotor {
 
     /// Target and time constant for one bridge state (see the module docs).
     pub fn relaxation(&self, drive: DriveState, battery: Volts) -> Relaxation {
-        let target = self.steady_speed(drive.drive(), battery);
-        if target != RadPerSec::ZERO {
+        self.relaxation_with(drive, battery, &Modifiers::default(), RadPerSec::ZERO)
+    }
+
+    /// Steady wheel speed per unit of duty beyond the dead band at the fit voltage, rad/s:
+    /// `K / (d_ref - d0)`.
+    pub fn slope_rad_s_per_duty(&self) -> f64 {
+        RadPerSec::from(ThesisRpm(self.gain_thesis_rpm)).0
+            / (self.reference_duty - self.dead_band_duty)
+    }
+
+    /// Back-EMF constant at the wheel, V per wheel rad/s: the steady line rises by
+    /// `g K / (d_ref - d0)` per unit of duty at `V_fit`, and a DC motor's rises by
+    /// `V / ke`, so `ke = V_fit (d_ref - d0) / (g K)` (0.149 V s/rad for the right motor:
+    /// `plant_model::identify`'s physical fit gives `kt` = 1.487e-3 V s/rad at the motor shaft,
+    /// 0.149 at the wheel).
+    pub fn back_emf_v_per_rad_s(&self, gain_ratio: f64) -> f64 {
+        self.fit_voltage_v / (gain_ratio * self.slope_rad_s_per_duty())
+    }
+
+    /// Target and time constant for one bridge state under `modifiers`, the wheel turning at
+    /// `speed` (see the module docs).
+    pub fn relaxation_with(
+        &self,
+        drive: DriveState,
+        battery: Volts,
+        modifiers: &Modifiers,
+        speed: RadPerSec,
+    ) -> Relaxation {
+        let d = drive.drive();
+        let excess = (d.abs() - self.dead_band_duty - modifiers.friction_duty).max(0.0);
+        if excess > 0.0 {
+            let rpm = d.signum() * modifiers.gain_ratio * self.gain_thesis_rpm * excess
+                / (self.reference_duty - self.dead_band_duty)
+                * (battery.0 / self.fit_voltage_v);
             return Relaxation {
-                target,
+                target: ThesisRpm(rpm).into(),
                 tau: Seconds(self.tau_s),
+                stops_at_zero: false,
             };
         }
         let brake = drive.brake_fraction();
-        let rate = brake / self.brake_tau().0 + (1.0 - brake) / self.coast_tau().0;
+        let coast = modifiers.coast_tau.unwrap_or(self.coast_tau());
+        let rate = brake / self.brake_tau().0 + (1.0 - brake) / coast.0;
+        let tau = 1.0 / rate;
+        if modifiers.friction_duty > 0.0 && speed.0 != 0.0 {
+            let decel = modifiers.gain_ratio
+                * self.slope_rad_s_per_duty()
+                * modifiers.friction_duty
+                * (battery.0 / self.fit_voltage_v)
+                / self.tau_s;
+            return Relaxation {
+                target: RadPerSec(-speed.0.signum() * decel * tau),
+                tau: Seconds(tau),
+                stops_at_zero: true,
+            };
+        }
         Relaxation {
             target: RadPerSec::ZERO,
-            tau: Seconds(1.0 / rate),
+            tau: Seconds(tau),
+            stops_at_zero: false,
         }
     }
 
@@ -235,6 +352,21 @@ pub struct Relaxation {
     pub target: RadPerSec,
     /// The time constant of the approach.
     pub tau: Seconds,
+    /// The target is a Coulomb friction offset, not a drive: the wheel stops where the speed
+    /// reaches 0 and stays there instead of turning round.
+    pub stops_at_zero: bool,
+}
+
+impl Relaxation {
+    /// Relaxation towards `target` with time constant `tau`, turning round if the target has
+    /// the other sign.
+    pub fn towards(target: RadPerSec, tau: Seconds) -> Self {
+        Relaxation {
+            target,
+            tau,
+            stops_at_zero: false,
+        }
+    }
 }
 
 /// The wheel's motion over an interval of constant input, in closed form (module docs).
@@ -242,6 +374,9 @@ pub struct Relaxation {
 /// Evaluated at absolute plant times `t >= start`. Evaluating the same segment at the same
 /// time always gives the same bits, which is what makes encoder transition times found on a
 /// segment consistent with the states reached by advancing to them.
+///
+/// A relaxation that [stops at zero](Relaxation::stops_at_zero) holds the angle it reached
+/// from the stop time on ([`Segment::stop_time`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Segment {
     start: Seconds,
@@ -249,18 +384,48 @@ pub struct Segment {
     speed0: f64,
     target: f64,
     tau: f64,
+    /// Time at which the wheel stops for good (infinite if it does not).
+    stop: f64,
+    /// The angle from `stop` on.
+    angle_stop: f64,
 }
 
 impl Segment {
     /// Motion from `angle`, `speed` at time `start` under `relaxation`.
     pub fn new(start: Seconds, angle: Radians, speed: RadPerSec, relaxation: Relaxation) -> Self {
-        Segment {
+        let mut segment = Segment {
             start,
             angle0: angle.0,
             speed0: speed.0,
             target: relaxation.target.0,
             tau: relaxation.tau.0,
+            stop: f64::INFINITY,
+            angle_stop: angle.0,
+        };
+        if relaxation.stops_at_zero {
+            if segment.speed0 == 0.0 {
+                segment.target = 0.0;
+            } else if let Some(tz) = segment.zero_crossing() {
+                segment.angle_stop = segment.angle_at(tz).0;
+                segment.stop = tz.0;
+            }
         }
+        segment
+    }
+
+    /// A wheel held still at `angle` from `start` on (a stalled wheel).
+    pub fn held(start: Seconds, angle: Radians) -> Self {
+        Segment::new(
+            start,
+            angle,
+            RadPerSec::ZERO,
+            Relaxation::towards(RadPerSec::ZERO, Seconds(1.0)),
+        )
+    }
+
+    /// The time at which the wheel stops for good under Coulomb friction, if it does.
+    pub fn stop_time(&self) -> Option<Seconds> {
+        self.stop.is_finite().then_some(Seconds(self.stop))
     }
 
     /// Time at which the segment starts.
@@ -273,6 +438,7 @@ impl Segment {
         Relaxation {
             target: RadPerSec(self.target),
             tau: Seconds(self.tau),
+            stops_at_zero: self.stop.is_finite(),
         }
     }
 
@@ -281,8 +447,16 @@ impl Segment {
         self.speed0 == 0.0 && self.target == 0.0
     }
 
+    /// True when the wheel is still at `t` and will stay so.
+    pub fn is_at_rest_from(&self, t: Seconds) -> bool {
+        self.is_at_rest() || t.0 >= self.stop
+    }
+
     /// Wheel angle at time `t` (`t >= start`).
     pub fn angle_at(&self, t: Seconds) -> Radians {
+        if t.0 >= self.stop {
+            return Radians(self.angle_stop);
+        }
         let dt = t.0 - self.start.0;
         // 1 - e^(-dt/tau), accurate for small dt too.
         let settled = -(-dt / self.tau).exp_m1();
@@ -291,14 +465,26 @@ impl Segment {
 
     /// Wheel speed at time `t` (`t >= start`).
     pub fn speed_at(&self, t: Seconds) -> RadPerSec {
+        if t.0 >= self.stop {
+            return RadPerSec::ZERO;
+        }
         let dt = t.0 - self.start.0;
         RadPerSec(self.target + (self.speed0 - self.target) * (-dt / self.tau).exp())
     }
 
     /// The time after `start` at which the speed passes through zero, if it does: only when
     /// the wheel turns one way and is driven the other. The angle is monotone on each side of
-    /// this time.
+    /// this time. (A wheel slowed by Coulomb friction stops there instead:
+    /// [`Segment::stop_time`].)
     pub fn speed_reversal(&self) -> Option<Seconds> {
+        if self.stop.is_finite() {
+            None
+        } else {
+            self.zero_crossing()
+        }
+    }
+
+    fn zero_crossing(&self) -> Option<Seconds> {
         if self.speed0 != 0.0 && self.target != 0.0 && self.speed0.signum() != self.target.signum()
         {
             // w_ss + (w0 - w_ss) e^(-t/tau) = 0  =>  t = tau ln(1 - w0 / w_ss)
@@ -308,6 +494,15 @@ impl Segment {
         } else {
             None
         }
+    }
+
+    /// The times in `(from, to)` at which the direction of motion changes or the motion ends
+    /// (speed reversal, Coulomb stop): the angle is monotone between them.
+    pub fn turning_points(&self, from: Seconds, to: Seconds) -> impl Iterator<Item = Seconds> {
+        [self.speed_reversal(), self.stop_time()]
+            .into_iter()
+            .flatten()
+            .filter(move |&t| t > from && t < to)
     }
 }
 

@@ -87,6 +87,23 @@ impl<F: Frame> Pose<F> {
     }
 }
 
+impl<F: Frame> Pose<F> {
+    /// Like [`Pose::move_along_arc`], plus a sideways shift `lateral` (to the left of the mean
+    /// heading): a robot that crabs while it rolls.
+    pub(crate) fn move_with_crab(
+        &mut self,
+        ds: Millimetres,
+        lateral: Millimetres,
+        dtheta: Radians,
+    ) {
+        let half = 0.5 * dtheta.0;
+        let chord = ds.0 * sinc(half);
+        let mean_heading = UnitComplex::new(self.theta_rad + half);
+        self.position_mm += mean_heading * Vector2::new(chord, lateral.0);
+        self.theta_rad += dtheta.0;
+    }
+}
+
 impl<F: Frame> fmt::Display for Pose<F> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(

@@ -1,32 +1,52 @@
-//! The whole plant: two bridges, two motors, two wheels with encoders, the battery, the pose.
+//! The whole plant: two bridges, two motors, two wheels with encoders, the battery, the
+//! floor, the pose; the effects of the robot's config and the faults the bench sets.
 //!
 //! # How the bench drives it
 //!
 //! ```text
 //! loop {
-//!     t = min(next_encoder_transition(Left), next_encoder_transition(Right), next firmware event)
+//!     t = min(next_encoder_transition(Left), next_encoder_transition(Right),
+//!             next_internal_change(), next firmware event)
 //!     advance_to(t rounded up to an emulated cycle)
-//!     raise the encoder levels that changed; on a PWM register write: set_bridge(...)
+//!     raise the encoder levels that changed; on a PWM register write: set_bridge(...);
+//!     at a scheduled fault: set_motor_fault(...), set_slip_burst(...), ...
+//!     re-plan a wheel after its transition; both after an input change, a fault or an
+//!     internal change
 //! }
 //! ```
 //!
 //! Time is the plant's own: it starts at 0 and moves only through [`Robot::advance_to`]; no
-//! host clock is read and no randomness is used yet (the seed is kept for the noise models to
-//! come), so the same calls give the same results bit for bit.
+//! host clock is read, and the random effects draw from seeded streams per stretch of floor
+//! or per encoder pulse (a SplitMix64 stream per effect), so the same calls give the same results bit for bit
+//! and the same seed the same floor however the plant is stepped.
+//!
+//! # Two halves
+//!
+//! - **Dynamics** (what the encoders see): per wheel, the motor's motion since its last
+//!   change, one closed-form [`Segment`]; the battery voltage; the faults. It changes only at
+//!   input changes, at faults, and at the internal changes [`Robot::next_internal_change`]
+//!   announces (the battery's piecewise-constant voltage under `battery_sag`).
+//! - **Ground** (what the floor sees): from the shaft angles to the pose,
+//!   through backlash, wheel sizes, slip, toe and floor noise. Nothing here feeds back into
+//!   the dynamics, so no ground effect can move an encoder edge.
 //!
 //! # Exactness
 //!
-//! Each wheel's motion since its last input change is one closed-form [`Segment`]; its angle
-//! at any time is that segment evaluated at that time, never a sum of small steps, so
-//! [`Robot::next_encoder_transition`] and [`Robot::advance_to`] see the same angle function.
-//! The pose is integrated from the wheel-angle increments by exact arcs over steps of at most
+//! A wheel's angle at any time is its segment evaluated at that time, never a sum of small
+//! steps, so [`Robot::next_encoder_transition`] and [`Robot::advance_to`] see the same angle
+//! function; the encoder's levels are a function of that angle ([`crate::encoder`]). The pose
+//! is integrated from the wheel-angle increments by exact arcs over steps of at most
 //! [`MAX_POSE_STEP`] (the arc is exact while the ratio of the wheel speeds is constant; over
-//! 1 ms with 55-69 ms time constants the error is far below a micrometre).
+//! 1 ms with 55-69 ms time constants the error is far below a micrometre), split at internal
+//! changes and, with backlash, at every reversal of a wheel.
 
 use crate::bridge::DriveState;
 use crate::config::RobotConfig;
-use crate::encoder::{self, Encoder};
-use crate::motor::{MotorModel, Segment};
+use crate::effects::battery_sag::{MotorLoad, SagState};
+use crate::encoder::{self, Encoder, Imperfections};
+use crate::fault::MotorFault;
+use crate::ground::{effective_radius_mm, Ground};
+use crate::motor::{Modifiers, MotorModel, Segment};
 use crate::pose::{Pose, World};
 use crate::side::{PerSide, Side};
 use crate::units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, Volts};
@@ -50,66 +70,180 @@ pub const TRANSITION_RESOLUTION: Seconds = Seconds(1e-12);
 pub struct Robot {
     config: RobotConfig,
     seed: u64,
+    dynamics: Dynamics,
+    ground: Ground,
+    /// The thesis decoder's count per side, kept for flawed encoders.
+    decoded: PerSide<Decoded>,
+}
+
+/// The decoder's net A-edge count at quadrature state `q`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Decoded {
+    q: i64,
+    count: i64,
+}
+
+/// Everything that sets the encoders' timing.
+#[derive(Debug, Clone)]
+struct Dynamics {
     now: Seconds,
-    battery: Volts,
-    wheelbase_mm: f64,
     wheels: PerSide<Wheel>,
-    pose: Pose<World>,
+    battery: Battery,
+}
+
+/// The battery: a constant voltage, or the `battery_sag` model; and the bench's override.
+#[derive(Debug, Clone)]
+struct Battery {
+    /// The model's voltage (constant, or the sag model's at its last update).
+    modelled: Volts,
+    sag: Option<SagState>,
+    override_v: Option<Volts>,
 }
 
 /// One side: bridge inputs, motor, wheel, encoder.
 #[derive(Debug, Clone)]
 struct Wheel {
     motor: MotorModel,
+    /// What the config's effects change in the motor.
+    modifiers: Modifiers,
+    /// Back-EMF constant, V per wheel rad/s (for the battery's load).
+    back_emf: f64,
+    fault: MotorFault,
     encoder: Encoder,
-    radius_mm: f64,
     in1: Duty,
     in2: Duty,
-    /// Motion since the last input change.
+    /// Motion since the last change of input, fault or battery voltage.
     segment: Segment,
-    /// `segment.angle_at(now)`, kept for the pose increments.
-    angle: Radians,
 }
 
 impl Wheel {
-    fn quadrature_index(&self) -> i64 {
-        self.encoder.quadrature_index(self.angle)
+    /// What the motor sees of the bridge: its averaged state, or coasting if disconnected.
+    fn drive_state(&self) -> DriveState {
+        if self.fault == MotorFault::Disconnected {
+            DriveState::COAST
+        } else {
+            DriveState::from_inputs(self.in1, self.in2)
+        }
     }
 
-    /// Earliest time after `now` at which the encoder state differs from its state at `now`.
-    fn next_transition(&self, now: Seconds) -> Option<Seconds> {
-        let segment = &self.segment;
-        if segment.is_at_rest() {
+    /// The effects' modifiers plus a load-step fault.
+    fn modifiers(&self) -> Modifiers {
+        let mut modifiers = self.modifiers;
+        let load = self.fault.load_duty();
+        if load != 0.0 {
+            modifiers.friction_duty += load;
+        }
+        modifiers
+    }
+
+    /// A new segment from `now` on: inputs, fault or voltage changed.
+    fn replan(&mut self, now: Seconds, battery: Volts) {
+        let angle = self.segment.angle_at(now);
+        if self.fault == MotorFault::Stall {
+            self.segment = Segment::held(now, angle);
+            return;
+        }
+        let speed = self.segment.speed_at(now);
+        let relaxation =
+            self.motor
+                .relaxation_with(self.drive_state(), battery, &self.modifiers(), speed);
+        self.segment = Segment::new(now, angle, speed, relaxation);
+    }
+
+    /// Whether the wheel is still at `now` and no voltage change can start it (stalled, or
+    /// not driven beyond its dead band).
+    fn rests_whatever_the_voltage(&self, now: Seconds) -> bool {
+        self.segment.is_at_rest_from(now)
+            && (self.fault == MotorFault::Stall
+                || self
+                    .motor
+                    .relaxation_with(
+                        self.drive_state(),
+                        Volts(1.0),
+                        &self.modifiers(),
+                        RadPerSec::ZERO,
+                    )
+                    .target
+                    == RadPerSec::ZERO)
+    }
+
+    /// The load on the battery at `at`, with the angle travelled since `since`.
+    fn load(&self, at: Seconds, since: Seconds) -> MotorLoad {
+        MotorLoad {
+            drive: self.drive_state().drive(),
+            back_emf: self.back_emf,
+            speed: self.segment.speed_at(at).0,
+            angle_change: self.segment.angle_at(at).0 - self.segment.angle_at(since).0,
+        }
+    }
+
+    /// Encoder position `s` at `t` (see [`crate::encoder`]).
+    fn position(&self, t: Seconds) -> f64 {
+        self.encoder.position(self.segment.angle_at(t))
+    }
+
+    fn levels(&self, t: Seconds) -> (bool, bool) {
+        self.encoder.levels_at(self.position(t))
+    }
+
+    /// Earliest time in `(now, until]` at which the encoder levels differ from `from` (the
+    /// levels at `now`), under this segment.
+    fn next_transition(&self, now: Seconds, until: Seconds, from: (bool, bool)) -> Option<Seconds> {
+        if self.segment.is_at_rest_from(now) {
             return None;
         }
-        let q0 = self.quadrature_index();
-        let changed = |t: Seconds| self.encoder.quadrature_index(segment.angle_at(t)) != q0;
-        let end = now + TRANSITION_HORIZON;
-        // The angle is monotone before and after the speed's zero crossing, so the encoder
-        // state is too: on each piece, it changes if and only if it differs at the end.
-        let split = segment.speed_reversal().filter(|&tz| tz > now && tz < end);
-        let pieces = match split {
-            Some(tz) => [(now, tz), (tz, end)],
-            None => [(now, end), (end, end)],
-        };
-        for (a, b) in pieces {
-            if b > a && changed(b) {
-                return Some(self.refine(a, b, q0, &changed));
+        // The angle is monotone between the speed's zero crossing (a wheel driven against
+        // its motion turns round) and the Coulomb stop, so the levels change on each piece
+        // if and only if the next level boundary in its direction is reached by its end.
+        let mut cuts: Vec<Seconds> = self.segment.turning_points(now, until).collect();
+        cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        cuts.push(until);
+        let mut a = now;
+        for b in cuts {
+            if b > a {
+                if let Some(t) = self.transition_on(a, b, from) {
+                    return Some(t);
+                }
             }
+            a = b;
         }
         None
     }
 
-    /// The transition time on a monotone piece `[a, b]` where the state is `q0` at `a` and
-    /// differs at `b`: Newton's method on the continuous angle (safeguarded by bisection)
-    /// finds the boundary crossing, then bisection on the state itself pins the first time at
-    /// which the state differs, so the answer agrees exactly with evaluating the segment.
+    /// The transition on the monotone piece `[a, b]`, if the levels change on it.
+    fn transition_on(&self, a: Seconds, b: Seconds, from: (bool, bool)) -> Option<Seconds> {
+        let (sa, sb) = (self.position(a), self.position(b));
+        if sa == sb {
+            return None;
+        }
+        let upward = sb > sa;
+        let boundary = self.encoder.next_level_change(sa, upward, from);
+        let crossed = |t: Seconds| {
+            let s = self.position(t);
+            if upward {
+                s >= boundary
+            } else {
+                s < boundary
+            }
+        };
+        if !crossed(b) {
+            return None;
+        }
+        Some(self.refine(a, b, upward, boundary, &crossed))
+    }
+
+    /// The transition time on a monotone piece `[a, b]` where the levels are unchanged at
+    /// `a` and changed at `b` (`crossed`): Newton's method on the continuous angle
+    /// (safeguarded by bisection) finds the boundary crossing, then bisection on `crossed`
+    /// itself pins the first time at which the levels differ, so the answer agrees exactly
+    /// with evaluating the segment.
     fn refine(
         &self,
         a: Seconds,
         b: Seconds,
-        q0: i64,
-        changed: &impl Fn(Seconds) -> bool,
+        upward: bool,
+        boundary: f64,
+        crossed: &impl Fn(Seconds) -> bool,
     ) -> Seconds {
         let segment = &self.segment;
         let dq = self.encoder.state_angle().0;
@@ -119,11 +253,10 @@ impl Wheel {
         } else {
             1.0
         };
-        let rising = sense * (segment.angle_at(b).0 - segment.angle_at(a).0) > 0.0;
-        let dir = if rising { 1.0 } else { -1.0 };
-        let boundary = (q0 as f64 + 0.5 * dir) * dq;
+        let dir = if upward { 1.0 } else { -1.0 };
+        let boundary_angle = (boundary - 0.5) * dq;
         // g(t) >= 0 once the boundary is passed; g is increasing on the piece.
-        let g = |t: Seconds| dir * (sense * segment.angle_at(t).0 - boundary);
+        let g = |t: Seconds| dir * (sense * segment.angle_at(t).0 - boundary_angle);
         let dg = |t: Seconds| dir * sense * segment.speed_at(t).0;
 
         let (mut lo, mut hi) = (a, b);
@@ -162,7 +295,7 @@ impl Wheel {
         let mut eps = TRANSITION_RESOLUTION.0;
         loop {
             let above = Seconds((guess.0 + eps).min(b.0));
-            if changed(above) {
+            if crossed(above) {
                 hi = above;
                 break;
             }
@@ -172,7 +305,7 @@ impl Wheel {
         let mut eps = TRANSITION_RESOLUTION.0;
         loop {
             let below = Seconds((guess.0 - eps).max(lo.0));
-            if !changed(below) {
+            if !crossed(below) {
                 lo = below;
                 break;
             }
@@ -184,7 +317,7 @@ impl Wheel {
             if mid <= lo || mid >= hi {
                 break;
             }
-            if changed(mid) {
+            if crossed(mid) {
                 hi = mid;
             } else {
                 lo = mid;
@@ -194,47 +327,172 @@ impl Wheel {
     }
 }
 
+impl Battery {
+    fn voltage(&self) -> Volts {
+        self.override_v.unwrap_or(self.modelled)
+    }
+}
+
+impl Dynamics {
+    fn voltage(&self) -> Volts {
+        self.battery.voltage()
+    }
+
+    /// Both motors' loads at `at`, with the angles travelled since `since`.
+    fn loads(&self, at: Seconds, since: Seconds) -> [MotorLoad; 2] {
+        [
+            self.wheels.left.load(at, since),
+            self.wheels.right.load(at, since),
+        ]
+    }
+
+    /// Brings the battery's charge up to `now` (before any segment or voltage changes).
+    fn account(&mut self) {
+        let volts = self.voltage().0;
+        let now = self.now;
+        if let Some(since) = self.battery.sag.as_ref().map(|s| Seconds(s.accounted_to())) {
+            let loads = self.loads(now, since);
+            if let Some(sag) = &mut self.battery.sag {
+                sag.account(now.0, volts, &loads);
+            }
+        }
+    }
+
+    /// The sag model's terminal voltage under the load now.
+    fn sag_voltage(&self) -> Option<Volts> {
+        let sag = self.battery.sag.as_ref()?;
+        Some(Volts(sag.terminal_voltage(&self.loads(self.now, self.now))))
+    }
+
+    fn replan_all(&mut self) {
+        let (now, volts) = (self.now, self.voltage());
+        for side in Side::BOTH {
+            self.wheels.get_mut(side).replan(now, volts);
+        }
+    }
+
+    fn next_internal_change(&self) -> Option<Seconds> {
+        if self.battery.override_v.is_some() {
+            return None;
+        }
+        self.battery.sag.as_ref().map(|s| Seconds(s.next_update()))
+    }
+
+    /// The internal change due at `self.now`: a new battery voltage.
+    fn apply_internal_change(&mut self) {
+        self.account();
+        if let Some(sag) = &mut self.battery.sag {
+            sag.count_update();
+        }
+        if let Some(volts) = self.sag_voltage() {
+            self.battery.modelled = volts;
+        }
+        self.replan_all();
+    }
+
+    /// Moves to `t`, applying the internal changes on the way (no pose).
+    fn advance_to(&mut self, t: Seconds) {
+        while let Some(change) = self.next_internal_change().filter(|&c| c <= t) {
+            self.now = change;
+            self.apply_internal_change();
+        }
+        self.now = t;
+    }
+}
+
 impl Robot {
     /// The robot of `config` at rest at the origin of [`World`], bridges coasting, time 0.
-    /// `seed` is kept for the noise models to come; nothing is random yet.
+    /// `seed` seeds the random effects (`floor_noise`, `encoder_missed_counts`,
+    /// `encoder_glitches`); without them nothing is random.
     pub fn new(config: &RobotConfig, seed: u64) -> Result<Robot, Error> {
         config.validate()?;
-        let battery = Volts(config.battery.voltage_v);
-        let make_wheel = |side: Side| {
+        let effects = &config.effects;
+        let ground = Ground::new(config, seed);
+        let battery = match &effects.battery_sag {
+            Some(sag) => {
+                let state = SagState::new(sag.clone());
+                let idle = state.terminal_voltage(&[]);
+                Battery {
+                    modelled: Volts(idle),
+                    sag: Some(state),
+                    override_v: None,
+                }
+            }
+            None => Battery {
+                modelled: Volts(config.battery.voltage_v),
+                sag: None,
+                override_v: None,
+            },
+        };
+        let make_wheel = |side: Side, index: u64| {
+            let flaws = Imperfections {
+                seed,
+                side_index: index,
+                missed_pulse_fraction: effects
+                    .encoder_missed_counts
+                    .as_ref()
+                    .map_or(0.0, |e| e.fraction(side)),
+                glitch_fraction: effects
+                    .encoder_glitches
+                    .as_ref()
+                    .map_or(0.0, |e| e.fraction(side)),
+                glitch_width_states: effects.encoder_glitches.as_ref().map_or(0.0, |e| {
+                    e.width_states(config.encoder.a_edges_per_motor_rev)
+                }),
+            };
             let encoder = Encoder::new(
                 config.encoder.gear_ratio,
                 config.encoder.a_edges_per_motor_rev,
                 config.encoder.reversed(side),
-            );
+            )
+            .with_imperfections(flaws);
+            let mut friction_duty = effects.dead_band.as_ref().map_or(0.0, |e| e.extra(side));
+            if let Some(castor) = &effects.castor_drag {
+                let wheelbase = config.geometry.wheelbase_mm
+                    * effects
+                        .wheelbase_ratio
+                        .as_ref()
+                        .map_or(1.0, |e| e.actual_over_nominal_ratio);
+                friction_duty +=
+                    castor.friction_duty(side, wheelbase, effective_radius_mm(config, side));
+            }
+            let gain_ratio = effects
+                .motor_gain_asymmetry
+                .as_ref()
+                .map_or(1.0, |e| e.ratio(side));
+            let modifiers = Modifiers {
+                gain_ratio,
+                friction_duty,
+                coast_tau: effects.coast.as_ref().map(|c| c.tau(side)),
+            };
             let motor = config.motor.get(side).clone();
-            let segment = Segment::new(
-                Seconds::ZERO,
-                Radians::ZERO,
-                RadPerSec::ZERO,
-                motor.relaxation(DriveState::COAST, battery),
-            );
-            Wheel {
+            let mut wheel = Wheel {
+                back_emf: motor.back_emf_v_per_rad_s(gain_ratio),
                 motor,
+                modifiers,
+                fault: MotorFault::None,
                 encoder,
-                radius_mm: 0.5 * config.wheel_diameter_mm(side),
                 in1: Duty::OFF,
                 in2: Duty::OFF,
-                segment,
-                angle: Radians::ZERO,
-            }
+                segment: Segment::held(Seconds::ZERO, Radians::ZERO),
+            };
+            wheel.replan(Seconds::ZERO, battery.voltage());
+            wheel
         };
         let wheels = PerSide {
-            left: make_wheel(Side::Left),
-            right: make_wheel(Side::Right),
+            left: make_wheel(Side::Left, 0),
+            right: make_wheel(Side::Right, 1),
         };
         Ok(Robot {
             config: config.clone(),
             seed,
-            now: Seconds::ZERO,
-            battery,
-            wheelbase_mm: config.geometry.wheelbase_mm,
-            wheels,
-            pose: Pose::origin(),
+            dynamics: Dynamics {
+                now: Seconds::ZERO,
+                wheels,
+                battery,
+            },
+            ground,
+            decoded: PerSide::default(),
         })
     }
 
@@ -250,59 +508,202 @@ impl Robot {
 
     /// Plant time.
     pub fn now(&self) -> Seconds {
-        self.now
+        self.dynamics.now
     }
 
-    /// Battery voltage (constant for now).
+    /// Battery voltage the motors see now: the override if set, else the constant
+    /// `battery.voltage_v`, or the `battery_sag` model's voltage at its last update.
     pub fn battery_voltage(&self) -> Volts {
-        self.battery
+        self.dynamics.voltage()
+    }
+
+    /// State of charge under `battery_sag` (as of the last input change or update), in
+    /// `[0, 1]`; `None` without the effect.
+    pub fn battery_charge_fraction(&self) -> Option<f64> {
+        self.dynamics
+            .battery
+            .sag
+            .as_ref()
+            .map(SagState::charge_fraction)
     }
 
     /// Sets the H-bridge inputs of `side` from now on (advance to the time of the change
     /// first). Both inputs are duties of PWM signals assumed to start their high time
     /// together; `in1` high alone drives the wheel forward (see [`crate::bridge`]). Setting the
-    /// inputs a bridge already has changes nothing.
+    /// inputs a bridge already has changes nothing. Only this wheel's motion changes (the
+    /// battery's voltage follows the load at its next update, not at once).
     pub fn set_bridge(&mut self, side: Side, in1: Duty, in2: Duty) {
-        let now = self.now;
-        let battery = self.battery;
-        let wheel = self.wheels.get_mut(side);
+        let wheel = self.dynamics.wheels.get(side);
         if (wheel.in1, wheel.in2) == (in1, in2) {
             return;
         }
-        let speed = wheel.segment.speed_at(now);
-        let relaxation = wheel
-            .motor
-            .relaxation(DriveState::from_inputs(in1, in2), battery);
+        self.dynamics.account();
+        let (now, volts) = (self.dynamics.now, self.dynamics.voltage());
+        let wheel = self.dynamics.wheels.get_mut(side);
         wheel.in1 = in1;
         wheel.in2 = in2;
-        wheel.segment = Segment::new(now, wheel.angle, speed, relaxation);
+        wheel.replan(now, volts);
     }
 
     /// The bridge inputs `(in1, in2)` of `side`.
     pub fn bridge_inputs(&self, side: Side) -> (Duty, Duty) {
-        let wheel = self.wheels.get(side);
+        let wheel = self.dynamics.wheels.get(side);
         (wheel.in1, wheel.in2)
     }
 
-    /// The averaged bridge state of `side`.
+    /// The averaged bridge state of `side` (from its inputs, whatever the motor's fault).
     pub fn drive_state(&self, side: Side) -> DriveState {
         let (in1, in2) = self.bridge_inputs(side);
         DriveState::from_inputs(in1, in2)
     }
 
+    /// Sets a fault of `side`'s motor from now on (advance to its time first); re-plan both
+    /// wheels' transitions afterwards. See [`MotorFault`] for what each does to the encoder
+    /// and the pose. An invalid fault (a load outside `[0, 1]`) is refused and changes
+    /// nothing.
+    pub fn set_motor_fault(&mut self, side: Side, fault: MotorFault) -> Result<(), Error> {
+        fault.validate()?;
+        if self.dynamics.wheels.get(side).fault == fault {
+            return Ok(());
+        }
+        self.dynamics.account();
+        let (now, volts) = (self.dynamics.now, self.dynamics.voltage());
+        let wheel = self.dynamics.wheels.get_mut(side);
+        wheel.fault = fault;
+        wheel.replan(now, volts);
+        Ok(())
+    }
+
+    /// The motor fault of `side`.
+    pub fn motor_fault(&self, side: Side) -> MotorFault {
+        self.dynamics.wheels.get(side).fault
+    }
+
+    /// From now on the ground sees `1 - slip_fraction` of `side`'s wheel travel (a patch of
+    /// oil, a wheel lifted over a bump): the encoder is unaffected (the wheel turns as
+    /// before), the pose curves towards the slipping side. `0` ends the burst; `1` is a wheel
+    /// spinning in place. A fraction outside `[0, 1]` is refused.
+    pub fn set_slip_burst(&mut self, side: Side, slip_fraction: f64) -> Result<(), Error> {
+        if !(slip_fraction.is_finite() && (0.0..=1.0).contains(&slip_fraction)) {
+            return Err(Error::InvalidFault {
+                what: "slip_fraction",
+                value: slip_fraction,
+                allowed: "a slip fraction must lie in [0, 1]",
+            });
+        }
+        self.ground.set_burst(side, slip_fraction);
+        Ok(())
+    }
+
+    /// The slip burst of `side` (0 when none).
+    pub fn slip_burst(&self, side: Side) -> f64 {
+        self.ground.burst(side)
+    }
+
+    /// Forces the battery voltage the motors see (a brown-out scenario) from now on, or
+    /// gives it back to the model with `None`; re-plan both wheels afterwards. Every driven
+    /// wheel's steady speed scales with the voltage ([`crate::motor`]); the encoders follow.
+    /// While an override is set the `battery_sag` model keeps counting the charge but does
+    /// not change the voltage, and [`Robot::next_internal_change`] is `None`. A negative or
+    /// non-finite voltage is refused.
+    pub fn set_battery_voltage_override(&mut self, volts: Option<Volts>) -> Result<(), Error> {
+        if let Some(v) = volts {
+            if !(v.0.is_finite() && v.0 >= 0.0) {
+                return Err(Error::InvalidFault {
+                    what: "battery voltage override (V)",
+                    value: v.0,
+                    allowed: "a voltage must be finite and not negative",
+                });
+            }
+        }
+        if self.dynamics.battery.override_v == volts {
+            return Ok(());
+        }
+        self.dynamics.account();
+        self.dynamics.battery.override_v = volts;
+        if volts.is_none() {
+            let now = self.dynamics.now.0;
+            if let Some(sag) = &mut self.dynamics.battery.sag {
+                sag.skip_updates_to(now);
+            }
+            if let Some(v) = self.dynamics.sag_voltage() {
+                self.dynamics.battery.modelled = v;
+            }
+        }
+        self.dynamics.replan_all();
+        Ok(())
+    }
+
+    /// The battery voltage override, if set.
+    pub fn battery_voltage_override(&self) -> Option<Volts> {
+        self.dynamics.battery.override_v
+    }
+
+    /// The next time after [`Robot::now`] at which the plant's own dynamics change without
+    /// an input change: under `battery_sag`, the next voltage update (every
+    /// `update_interval_s`); otherwise (or while the voltage is overridden) `None`.
+    ///
+    /// The bench schedules it as an event: `advance_to` it, then re-plan both wheels.
+    /// `advance_to` applies the change at exactly this time even when asked to go past it,
+    /// and [`Robot::next_encoder_transition`] already looks across it, so a transition
+    /// planned before it stays right; re-planning after it is cheap and keeps the plan
+    /// simple.
+    pub fn next_internal_change(&self) -> Option<Seconds> {
+        self.dynamics.next_internal_change()
+    }
+
     /// Moves the plant to time `t` under the current inputs: wheel angles and speeds in closed
-    /// form, the pose by arcs of at most [`MAX_POSE_STEP`].
+    /// form, internal changes at their exact times, the pose by arcs of at most
+    /// [`MAX_POSE_STEP`].
     ///
     /// `t == now` does nothing. `t < now` (or a `t` that is not finite) is an error,
     /// [`Error::TimeWentBackwards`], and leaves the plant unchanged.
     pub fn advance_to(&mut self, t: Seconds) -> Result<(), Error> {
-        if !t.0.is_finite() || t < self.now {
+        if !t.0.is_finite() || t < self.dynamics.now {
             return Err(Error::TimeWentBackwards {
-                now: self.now,
+                now: self.dynamics.now,
                 requested: t,
             });
         }
-        let start = self.now;
+        loop {
+            let change = self.dynamics.next_internal_change().filter(|&c| c <= t);
+            self.integrate_to(change.unwrap_or(t));
+            match change {
+                Some(_) => self.dynamics.apply_internal_change(),
+                None => break,
+            }
+        }
+        self.sync_decoded();
+        Ok(())
+    }
+
+    /// Pose steps from now to `t` under the current segments.
+    fn integrate_to(&mut self, t: Seconds) {
+        let start = self.dynamics.now;
+        let mut cuts: Vec<Seconds> = Vec::new();
+        if self.ground.needs_turning_points() {
+            for side in Side::BOTH {
+                cuts.extend(
+                    self.dynamics
+                        .wheels
+                        .get(side)
+                        .segment
+                        .turning_points(start, t),
+                );
+            }
+            cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            cuts.dedup();
+        }
+        cuts.push(t);
+        let mut from = start;
+        for to in cuts {
+            self.pose_steps(from, to);
+            from = to;
+        }
+        self.dynamics.now = t;
+    }
+
+    fn pose_steps(&mut self, start: Seconds, t: Seconds) {
         let span = t.0 - start.0;
         let steps = (span / MAX_POSE_STEP.0).ceil().max(1.0) as u64;
         for k in 1..=steps {
@@ -311,76 +712,118 @@ impl Robot {
             } else {
                 Seconds(start.0 + span * (k as f64 / steps as f64))
             };
-            self.step_pose_to(tk);
-        }
-        self.now = t;
-        Ok(())
-    }
-
-    fn step_pose_to(&mut self, t: Seconds) {
-        let mut arc = [0.0; 2];
-        for (i, side) in Side::BOTH.into_iter().enumerate() {
-            let wheel = self.wheels.get_mut(side);
-            let angle = wheel.segment.angle_at(t);
-            arc[i] = wheel.radius_mm * (angle.0 - wheel.angle.0);
-            wheel.angle = angle;
-        }
-        let [left, right] = arc;
-        if left != 0.0 || right != 0.0 {
-            self.pose.move_along_arc(
-                Millimetres(0.5 * (right + left)),
-                Radians((right - left) / self.wheelbase_mm),
-            );
+            let wheels = &self.dynamics.wheels;
+            self.ground.step(PerSide {
+                left: wheels.left.segment.angle_at(tk).0,
+                right: wheels.right.segment.angle_at(tk).0,
+            });
         }
     }
 
-    /// The earliest time after [`Robot::now`] at which the encoder state of `side` changes
-    /// under the current inputs, or `None` if it does not change within
+    /// Brings the decoder counts of flawed encoders to the current states.
+    fn sync_decoded(&mut self) {
+        for side in Side::BOTH {
+            let wheel = self.dynamics.wheels.get(side);
+            if !wheel.encoder.is_flawed() {
+                continue;
+            }
+            let q = wheel
+                .encoder
+                .quadrature_index(wheel.segment.angle_at(self.dynamics.now));
+            let decoded = self.decoded.get_mut(side);
+            decoded.count += wheel.encoder.decoded_between(decoded.q, q);
+            decoded.q = q;
+        }
+    }
+
+    /// The earliest time after [`Robot::now`] at which the encoder levels of `side` change
+    /// under the current inputs, or `None` if they do not change within
     /// [`TRANSITION_HORIZON`] (ask again after the next input change, or after advancing).
+    ///
+    /// The answer takes the announced internal changes ([`Robot::next_internal_change`])
+    /// into account: the search continues past each on a copy of the dynamics advanced to it.
     ///
     /// # Guarantee
     ///
-    /// With `t_next` the answer and no input change before it:
+    /// With `t_next` the answer and no input change or fault before it:
     /// - `advance_to(t)` for any `t` from `t_next` up to the following transition (one state
-    ///   is about 210 us at the top speed of the nominal robot, 24.5 rad/s) leaves
-    ///   [`Robot::quadrature_index`] changed by exactly one. So the bench may round `t_next`
-    ///   up to its next emulated cycle (62.5 ns).
+    ///   is about 210 us at the top speed of the nominal robot, 24.5 rad/s; a glitch of the
+    ///   `encoder_glitches` effect is as short as its width at the wheel's speed) leaves
+    ///   [`Robot::encoder_levels`] changed in exactly one channel, and without encoder
+    ///   effects [`Robot::quadrature_index`] changed by exactly one. So the bench may round
+    ///   `t_next` up to its next emulated cycle (62.5 ns).
     /// - There is a time `t_lo` with `t_next - t_lo <= max(1e-12 s, one f64 step of t_next)`
-    ///   at which the state has not changed yet: `advance_to(t_next - 1e-9)` leaves it
+    ///   at which the levels have not changed yet: `advance_to(t_next - 1e-9)` leaves them
     ///   unchanged.
     ///
     /// Both hold bit for bit because the answer is found by bisection on the very function
-    /// `advance_to` evaluates (the wheel's closed-form angle), after Newton's method has
-    /// located the boundary crossing. The angle is split at the speed's zero crossing (a wheel
-    /// driven against its motion turns round), so a boundary reached only after turning back
-    /// is found too.
+    /// `advance_to` evaluates (the wheel's closed-form angle, through the encoder's level
+    /// function), after Newton's method has located the boundary crossing. The angle is split
+    /// at the speed's zero crossing (a wheel driven against its motion turns round) and at a
+    /// Coulomb stop, so a boundary reached only after turning back is found too; boundaries
+    /// where no level changes (a missed pulse) are skipped.
     pub fn next_encoder_transition(&self, side: Side) -> Option<Seconds> {
-        self.wheels.get(side).next_transition(self.now)
+        let from = self.encoder_levels(side);
+        let end = self.dynamics.now + TRANSITION_HORIZON;
+        let mut probe: Option<Dynamics> = None;
+        loop {
+            let dynamics = probe.as_ref().unwrap_or(&self.dynamics);
+            let change = dynamics.next_internal_change().filter(|&c| c < end);
+            let until = change.unwrap_or(end);
+            let wheel = dynamics.wheels.get(side);
+            if let Some(t) = wheel.next_transition(dynamics.now, until, from) {
+                return Some(t);
+            }
+            let change = change?;
+            if wheel.rests_whatever_the_voltage(dynamics.now) {
+                return None;
+            }
+            let mut next = dynamics.clone();
+            next.advance_to(change);
+            probe = Some(next);
+        }
     }
 
-    /// Encoder levels `(A, B)` of `side` now.
+    /// Encoder levels `(A, B)` of `side` now, with the encoder effects.
     pub fn encoder_levels(&self, side: Side) -> (bool, bool) {
-        encoder::levels(self.quadrature_index(side))
+        self.dynamics.wheels.get(side).levels(self.dynamics.now)
     }
 
-    /// Quadrature state index `q` of `side` now (see [`crate::encoder`]).
+    /// Quadrature state index `q` of `side` now (see [`crate::encoder`]): the shaft's
+    /// position, whatever the encoder effects make of it.
     pub fn quadrature_index(&self, side: Side) -> i64 {
-        self.wheels.get(side).quadrature_index()
+        let wheel = self.dynamics.wheels.get(side);
+        wheel
+            .encoder
+            .quadrature_index(wheel.segment.angle_at(self.dynamics.now))
     }
 
-    /// Net signed channel-A edges of `side` since time 0: what the thesis firmware counts.
+    /// Net signed channel-A edges of `side` since time 0 as the thesis' decoder counts the
+    /// levels (on every A change: `+1` if A differs from B, else `-1`), encoder effects
+    /// included (missed pulses count nothing; a glitch counts `-1` while it lasts).
     pub fn a_edges(&self, side: Side) -> i64 {
-        encoder::net_a_edges(self.quadrature_index(side))
+        let wheel = self.dynamics.wheels.get(side);
+        if wheel.encoder.is_flawed() {
+            let s = wheel.position(self.dynamics.now);
+            self.decoded.get(side).count + wheel.encoder.glitch_count_offset(s)
+        } else {
+            encoder::net_a_edges(self.quadrature_index(side))
+        }
     }
 
     /// The encoder of `side`.
     pub fn encoder(&self, side: Side) -> &Encoder {
-        &self.wheels.get(side).encoder
+        &self.dynamics.wheels.get(side).encoder
     }
 
-    /// Wheel speed of `side` now, positive rolling forward.
+    /// Wheel speed of `side` now, positive rolling forward (the shaft's, before backlash and
+    /// slip).
     pub fn wheel_speed(&self, side: Side) -> RadPerSec {
-        self.wheels.get(side).segment.speed_at(self.now)
+        self.dynamics
+            .wheels
+            .get(side)
+            .segment
+            .speed_at(self.dynamics.now)
     }
 
     /// Wheel speed of `side` now in the thesis' "RPM" (true RPM / 6).
@@ -388,19 +831,25 @@ impl Robot {
         self.wheel_speed(side).to_thesis_rpm()
     }
 
-    /// Wheel angle of `side` since time 0, positive rolling forward.
+    /// Wheel angle of `side` since time 0, positive rolling forward: the angle the encoder
+    /// measures (the motor shaft's over the gear ratio).
     pub fn wheel_angle(&self, side: Side) -> Radians {
-        self.wheels.get(side).angle
+        self.dynamics
+            .wheels
+            .get(side)
+            .segment
+            .angle_at(self.dynamics.now)
     }
 
-    /// Signed arc rolled by the wheel of `side` since time 0 (angle times radius).
+    /// Signed arc rolled by the wheel of `side` since time 0: [`Robot::wheel_angle`] times the
+    /// wheel's effective radius (with `wheel_diameter_ratio` and `distance_scale`), before
+    /// backlash and slip.
     pub fn distance_travelled(&self, side: Side) -> Millimetres {
-        let wheel = self.wheels.get(side);
-        Millimetres(wheel.radius_mm * wheel.angle.0)
+        Millimetres(self.ground.radius_mm(side) * self.wheel_angle(side).0)
     }
 
     /// The robot's pose in the [`World`] frame (origin and axes at the start pose).
     pub fn pose(&self) -> Pose<World> {
-        self.pose
+        self.ground.pose()
     }
 }
