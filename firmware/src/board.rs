@@ -54,13 +54,13 @@ pub struct Pins {
     pub bluetooth_rx: Pin<PD2, Input>,
     /// D18 (PD3, TXD1): MCU transmit -> HC-05 RX; taken over by USART1.
     pub bluetooth_tx: Pin<PD3, Input>,
-    /// A0 (PF0, ADC0): battery voltage through a divider (not used yet).
+    /// A0 (PF0, ADC0): battery voltage through a divider (analog input).
     pub battery_sense: Pin<PF0, Input>,
-    /// D10 (PB4): green battery LED (not driven yet).
+    /// D10 (PB4, OC2A, used as a plain output): green battery LED.
     pub led_green: Pin<PB4, Input>,
-    /// D11 (PB5): blue battery LED (not driven yet).
+    /// D11 (PB5, OC1A, used as a plain output): blue battery LED.
     pub led_blue: Pin<PB5, Input>,
-    /// D12 (PB6): red battery LED (not driven yet).
+    /// D12 (PB6, OC1B, used as a plain output): red battery LED.
     pub led_red: Pin<PB6, Input>,
 }
 
