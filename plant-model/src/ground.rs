@@ -49,8 +49,8 @@ pub(crate) struct Ground {
     radius_mm: PerSide<f64>,
     wheelbase_mm: f64,
     slip: Option<Slip>,
-    /// `1 - burst` per side while a slip burst is set.
-    burst_keep: PerSide<f64>,
+    /// Slip burst per side (0: none).
+    burst: PerSide<f64>,
     /// Rolling directions `(forward, left)` if `toe` is on.
     toe: Option<PerSide<(f64, f64)>>,
     floor: Option<FloorState>,
@@ -102,10 +102,7 @@ impl Ground {
             radius_mm,
             wheelbase_mm,
             slip,
-            burst_keep: PerSide {
-                left: 1.0,
-                right: 1.0,
-            },
+            burst: PerSide::default(),
             toe: effects.toe.as_ref().map(|t| PerSide {
                 left: t.rolling_direction(Side::Left),
                 right: t.rolling_direction(Side::Right),
@@ -133,12 +130,12 @@ impl Ground {
 
     /// Sets the share of `side`'s travel the ground loses (a slip burst), from now on.
     pub(crate) fn set_burst(&mut self, side: Side, slip: f64) {
-        *self.burst_keep.get_mut(side) = 1.0 - slip;
+        *self.burst.get_mut(side) = slip;
     }
 
     /// The slip burst of `side`.
     pub(crate) fn burst(&self, side: Side) -> f64 {
-        1.0 - self.burst_keep.get(side)
+        *self.burst.get(side)
     }
 
     /// One pose step: the shafts are now at `shaft` (wheel radians).
@@ -165,11 +162,11 @@ impl Ground {
             left = slip.straight_keep.left * v - slip.turn_keep * u;
             right = slip.straight_keep.right * v + slip.turn_keep * u;
         }
-        if self.burst_keep.left != 1.0 {
-            left *= self.burst_keep.left;
+        if self.burst.left != 0.0 {
+            left *= 1.0 - self.burst.left;
         }
-        if self.burst_keep.right != 1.0 {
-            right *= self.burst_keep.right;
+        if self.burst.right != 0.0 {
+            right *= 1.0 - self.burst.right;
         }
         let (forward, mut dtheta, mut lateral) = match &self.toe {
             None => (

@@ -39,6 +39,8 @@ enum Expect {
     NotPositive,
     DutyOutOfRange,
     DeadBand,
+    OutOfRange,
+    Conflict,
 }
 
 #[rstest]
@@ -140,6 +142,105 @@ fn bad_config_is_refused_naming_the_key(
         Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
         Expect::DutyOutOfRange => matches!(err, Error::DutyOutOfRange { .. }),
         Expect::DeadBand => matches!(err, Error::DeadBandNotBelowReference { .. }),
+        _ => false,
+    };
+    assert!(matches, "expected {expect:?}, got {err:?}");
+    let message = err.to_string();
+    assert!(message.contains(key), "message names `{key}`: {message}");
+}
+
+/// Every effect table parses, validates and round-trips through TOML; an empty `effects`
+/// serialises to nothing, so the ideal robot's file has no `[effects]` at all.
+#[test]
+fn every_effect_round_trips() {
+    let text = format!("{}\n{}", fixture_text(), common::ALL_EFFECTS);
+    let config = RobotConfig::from_toml_str(&text).unwrap();
+    assert_eq!(
+        config.effects.enabled(),
+        plant_model::Effects::NAMES.to_vec()
+    );
+    let again = RobotConfig::from_toml_str(&toml::to_string(&config).unwrap()).unwrap();
+    assert_eq!(again, config);
+    assert!(!toml::to_string(&RobotConfig::default())
+        .unwrap()
+        .contains("effects"));
+}
+
+/// Mistakes in effect tables are refused with an error that names the key.
+#[rstest]
+#[case::unknown_effect(
+    "[effects.turn_slip]\nfraction = 0.02",
+    "[effects.turn_slipp]\nfraction = 0.02",
+    Expect::Parse,
+    "turn_slipp"
+)]
+#[case::key_without_unit("left_tau_s = 0.12", "left_tau = 0.12", Expect::Parse, "left_tau")]
+#[case::missing_key("right_tau_s = 0.15\n", "", Expect::Parse, "right_tau_s")]
+#[case::negative_length(
+    "stretch_mm = 25.0",
+    "stretch_mm = -25.0",
+    Expect::NotPositive,
+    "effects.floor_noise.stretch_mm"
+)]
+#[case::negative_sigma(
+    "heading_deg_per_sqrt_m = 0.5",
+    "heading_deg_per_sqrt_m = -0.5",
+    Expect::OutOfRange,
+    "effects.floor_noise.heading_deg_per_sqrt_m"
+)]
+#[case::percentage_for_ratio(
+    "right_over_left_ratio = 1.02",
+    "right_over_left_ratio = 102.0",
+    Expect::OutOfRange,
+    "effects.wheel_diameter_ratio.right_over_left_ratio"
+)]
+#[case::fraction_above_one(
+    "fraction = 0.02",
+    "fraction = 1.5",
+    Expect::OutOfRange,
+    "effects.turn_slip.fraction"
+)]
+#[case::empty_above_full(
+    "open_circuit_empty_v = 6.6",
+    "open_circuit_empty_v = 9.0",
+    Expect::OutOfRange,
+    "effects.battery_sag.open_circuit_empty_v"
+)]
+#[case::nan_toe(
+    "left_deg = 1.0",
+    "left_deg = nan",
+    Expect::NotFinite,
+    "effects.toe.left_deg"
+)]
+#[case::glitch_wider_than_half_a_state(
+    "width_motor_deg = 0.5",
+    "width_motor_deg = 20.0",
+    Expect::OutOfRange,
+    "effects.encoder_glitches.width_motor_deg"
+)]
+#[case::coast_set_twice(
+    "# coast_tau_s = 0.055",
+    "coast_tau_s = 0.055",
+    Expect::Conflict,
+    "effects.coast.left_tau_s"
+)]
+fn bad_effect_is_refused_naming_the_key(
+    #[case] find: &str,
+    #[case] replace: &str,
+    #[case] expect: Expect,
+    #[case] key: &str,
+) {
+    let original = format!("{}\n{}", fixture_text(), common::ALL_EFFECTS);
+    assert!(original.contains(find), "config has `{find}`");
+    let text = original.replacen(find, replace, 1);
+    let err = RobotConfig::from_toml_str(&text).unwrap_err();
+    let matches = match expect {
+        Expect::Parse => matches!(err, Error::ParseConfig(_)),
+        Expect::NotFinite => matches!(err, Error::NotFinite { .. }),
+        Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
+        Expect::OutOfRange => matches!(err, Error::OutOfRange { .. }),
+        Expect::Conflict => matches!(err, Error::Conflict { .. }),
+        _ => false,
     };
     assert!(matches, "expected {expect:?}, got {err:?}");
     let message = err.to_string();
