@@ -20,6 +20,9 @@ fn report() -> &'static TimingReport {
             bench: BenchOptions::default(),
             limit_s: None,
             record: false,
+            faults: Vec::new(),
+            framed: false,
+            params: Vec::new(),
         };
         let (run, obs) = run_test_observed(
             fw.clone(),

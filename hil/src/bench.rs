@@ -261,6 +261,27 @@ pub enum Trigger {
     LegStart { n: u32 },
 }
 
+/// A fault to inject: when, what, and what undoes it how long after (s).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ScheduledFault {
+    pub trigger: Trigger,
+    pub action: Action,
+    pub undo: Option<(f64, Action)>,
+}
+
+impl ScheduledFault {
+    pub fn new(trigger: Trigger, action: Action) -> Self {
+        Self {
+            trigger,
+            action,
+            undo: None,
+        }
+    }
+}
+
+/// An action waiting for its trigger, and its undo after so many cycles.
+type Armed = (Trigger, Action, Option<(u64, Action)>);
+
 const TAG_PORT_REG: u32 = 1;
 const TAG_PORT_DDR: u32 = 2;
 const TAG_UART_OUT: u32 = 16; // + USART number
@@ -320,7 +341,7 @@ pub struct BenchCore {
     actions: Vec<(u64, Action)>,
     /// Actions waiting for an event, with an optional duration in cycles
     /// after which `undo` runs.
-    triggered: Vec<(Trigger, Action, Option<(u64, Action)>)>,
+    triggered: Vec<Armed>,
     turns_started: u32,
     legs_started: u32,
     /// Set by a Reset action; the run loop resets the MCU after the step.
@@ -611,6 +632,17 @@ impl BenchCore {
                 self.attention = true;
             }
         }
+    }
+
+    /// Bring the bench's own peripheral models to their reset state.
+    pub fn after_reset(&mut self, core: &Core) {
+        let cycle = core.cycle();
+        self.timer2 = PwmTimer::timer2();
+        self.timer4 = PwmTimer::timer4();
+        self.pending_top = [NEVER; 2];
+        self.port_value = 0;
+        self.port_ddr = 0;
+        self.refresh_bridge(core, cycle);
     }
 
     /// Queue bytes from the host for USART `n`.
@@ -1171,6 +1203,10 @@ impl Bench {
     /// bench's is scheduled again.
     pub fn reset_mcu(&mut self) {
         self.avr.reset();
+        // The MCU's registers are back at their reset values, the bench's
+        // emulated timers and its view of port H too: all pins inputs, the
+        // bridge sees low (its inputs have pull-downs).
+        self.avr.with_core(|core, c| core.after_reset(c));
         let next = self.avr.handler().next_event();
         self.avr.schedule(next);
     }

@@ -10,8 +10,8 @@
 use plant_model::RobotConfig;
 
 use crate::bench::{
-    Bench, BenchError, BenchOptions, DriveEvent, Motion, MotionEvent, Observer, PinEvent, Sample,
-    SideName, Snapshot,
+    Action, Bench, BenchError, BenchOptions, DriveEvent, Motion, MotionEvent, Observer, PinEvent,
+    Sample, ScheduledFault, SideName, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::wait_ready;
@@ -92,6 +92,13 @@ pub struct TestOptions {
     pub limit_s: Option<f64>,
     /// Record pin-level detail (encoder edges, drive events, UART bytes) for traces.
     pub record: bool,
+    /// Faults to inject: when, what, and what undoes it how much later (s).
+    pub faults: Vec<ScheduledFault>,
+    /// Start the test with a framed command (the robust build's protocol)
+    /// instead of the thesis' raw selector byte.
+    pub framed: bool,
+    /// Parameters to set over the protocol before the start (implies framed).
+    pub params: Vec<(crate::link::Param, f32)>,
 }
 
 impl Default for TestOptions {
@@ -101,6 +108,9 @@ impl Default for TestOptions {
             bench: BenchOptions::default(),
             limit_s: None,
             record: false,
+            faults: Vec::new(),
+            framed: false,
+            params: Vec::new(),
         }
     }
 }
@@ -111,6 +121,8 @@ pub struct Leg {
     /// Straight-line distance the robot's axle centre moved, from the leg's
     /// start to rest (coasting included), by the plant.
     pub plant_distance_mm: f64,
+    /// Mean of the two wheels' arcs from the leg's start to rest, by the plant.
+    pub plant_arc_mm: f64,
     /// Heading change during the leg (curvature), degrees.
     pub plant_heading_change_deg: f64,
     /// Firmware counts over the leg, at the motors' cut-off.
@@ -166,6 +178,12 @@ pub struct TestRun {
     pub trace: Vec<Sample>,
     #[serde(skip)]
     pub motions: Vec<MotionEvent>,
+    /// Fault actions applied: (cycle, action).
+    pub applied: Vec<(u64, Action)>,
+    /// The firmware's fault code at the end (`HT_FAULT`), when it has one.
+    pub fault_code: Option<u8>,
+    /// The bytes the firmware sent on the Bluetooth UART.
+    pub bluetooth_out: Vec<u8>,
     /// Pin-level detail, when recorded (see [`TestOptions::record`]).
     #[serde(skip)]
     pub edges: Vec<PinEvent>,
@@ -206,10 +224,21 @@ pub fn run_test_observed(
     let done_before = bench.read_u16(vars.done_count);
     let start_cycle = bench.cycle();
     bench.set_observer(observer);
+    for f in &opts.faults {
+        bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
+    }
     if opts.record {
         bench.start_recording();
     }
-    bench.send(1, &[test.command_byte()]);
+    if opts.framed || !opts.params.is_empty() {
+        use crate::link::{frame, proto_test, Command};
+        for (p, v) in &opts.params {
+            bench.send(1, &frame(&Command::SetParam(*p, *v)));
+        }
+        bench.send(1, &frame(&Command::StartTest(proto_test(test))));
+    } else {
+        bench.send(1, &[test.command_byte()]);
+    }
     let (legs, turns, _) = test.shape();
     // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
     // braking and waits per segment: generous, so a slow robot is not a hang.
@@ -268,6 +297,8 @@ fn analyse(
         match motions[seg.start].motion {
             Motion::Forward => legs.push(Leg {
                 plant_distance_mm: (rest.x_mm - start.x_mm).hypot(rest.y_mm - start.y_mm),
+                plant_arc_mm: ((rest.left_mm - start.left_mm) + (rest.right_mm - start.right_mm))
+                    / 2.0,
                 plant_heading_change_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
                 firmware_count_left: stop.left_count - start.left_count,
                 firmware_count_right: stop.right_count - start.right_count,
@@ -275,12 +306,15 @@ fn analyse(
                 cutoff_cycle: stop.cycle,
             }),
             Motion::SpinCw | Motion::SpinCcw => {
+                // A motor's cut-off may come after the other's braking pulse
+                // has begun: look until the next segment starts.
+                let until = segments
+                    .get(k + 1)
+                    .map_or(u64::MAX, |n| motions[n.start].at.cycle);
                 let cutoff = |side: SideName| {
                     core.cutoffs
                         .iter()
-                        .find(|c| {
-                            c.side == side && c.at.cycle >= start.cycle && c.at.cycle <= stop.cycle
-                        })
+                        .find(|c| c.side == side && c.at.cycle >= start.cycle && c.at.cycle < until)
                         .map(|c| c.at)
                 };
                 let left = cutoff(SideName::Left);
@@ -319,6 +353,13 @@ fn analyse(
         awake_fraction: bench.awake_fraction(),
         trace: core.trace.clone(),
         motions,
+        applied: core.applied.clone(),
+        fault_code: bench
+            .firmware()
+            .variable("HT_FAULT", 1)
+            .ok()
+            .map(|a| bench.read_u8(a)),
+        bluetooth_out: bench.uart_output(1).to_vec(),
         edges: core.recording.clone().unwrap_or_default(),
         drive: core.drive_log.clone(),
         uart: core.uart_log.clone(),

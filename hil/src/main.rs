@@ -13,6 +13,7 @@ use hil::line::{run_line, LineOptions};
 use hil::timing::{Budgets, TimingProbe};
 use hil::umbmark::{execute, Partial, Plan, Shard};
 use plant_model::RobotConfig;
+use rayon::prelude::*;
 
 #[derive(Parser)]
 #[command(
@@ -162,6 +163,21 @@ enum Command {
         /// Leg length in millimetres.
         #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
         leg_mm: f64,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Inject each fault of the library into the robust and the thesis
+    /// builds; check the robust build's reaction against the expectation.
+    Faults {
+        /// Run every fault of the library.
+        #[arg(long)]
+        all: bool,
+        /// Run only these faults (names as listed by `hil faults --list`).
+        #[arg(long = "fault", value_name = "NAME")]
+        only: Vec<String>,
+        /// List the faults and their expected reactions.
+        #[arg(long)]
+        list: bool,
         #[command(flatten)]
         common: Common,
     },
@@ -360,6 +376,9 @@ fn run(cli: Cli) -> Result<()> {
                 },
                 limit_s: None,
                 record: false,
+                faults: Vec::new(),
+                framed: false,
+                params: Vec::new(),
             };
             let (run, observer) =
                 run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
@@ -501,6 +520,52 @@ fn run(cli: Cli) -> Result<()> {
                 print!("{}", report.render());
             }
         }
+        Command::Faults {
+            all,
+            only,
+            list,
+            common,
+        } => {
+            let library = hil::faults::library();
+            if list {
+                for f in &library {
+                    println!(
+                        "{:<20} {}\n{:<20} expected: {}",
+                        f.name, f.what, "", f.expected
+                    );
+                }
+                return Ok(());
+            }
+            let selected: Vec<_> = library
+                .into_iter()
+                .filter(|f| all || only.iter().any(|o| o == f.name))
+                .collect();
+            if selected.is_empty() {
+                anyhow::bail!("no fault selected: give --all, --fault NAME or --list");
+            }
+            let robot = load_robot(common.robot.as_ref())?;
+            let robust = load_firmware(&common)?;
+            let thesis_path = hil::paths::firmware_elf("thesis");
+            let thesis = thesis_path
+                .exists()
+                .then(|| Firmware::load(&thesis_path))
+                .transpose()?;
+            let rows = selected
+                .par_iter()
+                .map(|case| {
+                    hil::faults::run_fault(case, &robust, thesis.as_ref(), &robot, common.seed)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            let failed = rows.iter().filter(|r| !r.pass).count();
+            if common.json {
+                println!("{}", serde_json::to_string_pretty(&rows)?);
+            } else {
+                print!("{}", hil::faults::render(&rows));
+            }
+            if failed > 0 {
+                anyhow::bail!("{failed} fault reaction(s) not as expected");
+            }
+        }
         Command::Merge {
             parts,
             firmware_wheelbase_mm,
@@ -541,6 +606,9 @@ fn run(cli: Cli) -> Result<()> {
                 },
                 limit_s: None,
                 record: common.vcd.is_some(),
+                faults: Vec::new(),
+                framed: false,
+                params: Vec::new(),
             };
             let wall = Instant::now();
             let run = run_test(firmware, &robot, test, &opts)?;

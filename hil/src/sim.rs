@@ -116,8 +116,10 @@ impl Core {
         unsafe { ffi::avr_raise_irq(irq.0.as_ptr(), value) }
     }
 
-    /// (Re)schedule the bench's cycle timer at absolute cycle `at`.
-    /// Must not be called from [`Handler::timer`] (return the cycle instead).
+    /// (Re)schedule the bench's cycle timer at absolute cycle `at` (a cycle
+    /// already past fires at the next instruction boundary; `u64::MAX`
+    /// cancels). Must not be called from [`Handler::timer`] (return the cycle
+    /// instead).
     pub fn schedule(&mut self, at: u64) {
         schedule_timer(self.avr, at)
     }
@@ -249,7 +251,7 @@ fn schedule_timer_raw<H: Handler>(avr: NonNull<ffi::avr_t>, shared: *mut Shared<
     // replaces any timer registered with the same (callback, param).
     unsafe {
         let now = (*avr.as_ptr()).cycle;
-        if at == 0 {
+        if at == u64::MAX {
             ffi::avr_cycle_timer_cancel(
                 avr.as_ptr(),
                 Some(timer_trampoline::<H>),
@@ -546,17 +548,27 @@ impl<H: Handler> Avr<H> {
         unsafe { ffi::avr_raise_irq(irq.0.as_ptr(), value) }
     }
 
-    /// (Re)schedule the bench's cycle timer at absolute cycle `at` (0 cancels).
+    /// (Re)schedule the bench's cycle timer at absolute cycle `at` (a cycle
+    /// already past fires at the next instruction boundary; `u64::MAX` cancels).
     pub fn schedule(&mut self, at: u64) {
         let shared = &mut *self.shared as *mut Shared<H>;
         schedule_timer_raw::<H>(self.avr, shared, at)
     }
 
     /// Reset the MCU as the RESET pin would. simavr drops all cycle timers on
-    /// reset, so the caller must schedule its timer again.
+    /// reset, so the caller must schedule its timer again. Time goes on: simavr
+    /// sets the cycle counter back to 0, the bench puts it back, since the
+    /// robot's clock does not stop when its MCU resets.
     pub fn reset(&mut self) {
-        // SAFETY: resetting a live, loaded MCU.
-        unsafe { ffi::avr_reset(self.avr.as_ptr()) }
+        // SAFETY: resetting a live, loaded MCU; restoring the cycle counter
+        // right after is sound because the reset dropped every cycle timer
+        // (none refers to the old time base) and peripherals are stopped.
+        unsafe {
+            let a = self.avr.as_ptr();
+            let cycle = (*a).cycle;
+            ffi::avr_reset(a);
+            (*a).cycle = cycle;
+        }
     }
 }
 

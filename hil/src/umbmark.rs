@@ -183,6 +183,9 @@ pub fn execute(
                 },
                 limit_s: None,
                 record: false,
+                faults: Vec::new(),
+                framed: false,
+                params: Vec::new(),
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;

@@ -1,0 +1,40 @@
+//! The left encoder's cable comes off in the middle of a leg: both lines hold
+//! their level, the firmware sees the wheel stop while it drives it.
+
+use super::{FaultCase, Observed};
+use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use crate::experiment::Test;
+use crate::inject::EncoderFault;
+
+pub fn case() -> FaultCase {
+    FaultCase {
+        name: "encoder-dropout",
+        what: "left encoder lines frozen from 3 s into a 2 m line",
+        expected:
+            "stall/encoder-loss watchdog: motors off within 300 ms, fault code set, no runaway",
+        test: Test::Line,
+        leg_mm: 2000.0,
+        faults: vec![ScheduledFault::new(
+            Trigger::Time { s: 3.0 },
+            Action::Encoder {
+                side: SideName::Left,
+                fault: EncoderFault::Dropout,
+            },
+        )],
+        limit_s: 25.0,
+        framed: false,
+        check,
+    }
+}
+
+fn check(o: &Observed) -> Result<String, String> {
+    match (o.motors_off_after_s, o.fault_code) {
+        (Some(t), Some(c)) if t <= 0.3 && c != 0 => Ok(format!(
+            "motors off after {:.0} ms with fault code {c}",
+            t * 1e3
+        )),
+        (t, c) => Err(format!(
+            "expected motors off within 300 ms and a fault code; saw {t:?} s and code {c:?}"
+        )),
+    }
+}

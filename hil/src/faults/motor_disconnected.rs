@@ -1,0 +1,37 @@
+//! The right motor's wires come off during a leg: the bridge drives nothing,
+//! the wheel coasts to a stop while the firmware keeps asking for speed.
+
+use super::{FaultCase, Observed};
+use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use crate::experiment::Test;
+
+pub fn case() -> FaultCase {
+    FaultCase {
+        name: "motor-disconnected",
+        what: "right motor disconnected from 3 s into a 2 m line",
+        expected: "stall watchdog: motors off within 500 ms of the wheel stopping, fault code set, no endless spinning",
+        test: Test::Line,
+        leg_mm: 2000.0,
+        faults: vec![ScheduledFault::new(
+            Trigger::Time { s: 3.0 },
+            Action::MotorDisconnected {
+                side: SideName::Right,
+                disconnected: true,
+            },
+        )],
+        limit_s: 25.0,
+        framed: false,
+        check,
+    }
+}
+
+fn check(o: &Observed) -> Result<String, String> {
+    match (o.motors_off_after_s, o.fault_code) {
+        (Some(t), Some(c)) if t <= 0.8 && c != 0 => {
+            Ok(format!("motors off after {:.0} ms with fault code {c}", t * 1e3))
+        }
+        (t, c) => Err(format!(
+            "expected motors off within 800 ms of the disconnection and a fault code; saw {t:?} s and code {c:?}"
+        )),
+    }
+}

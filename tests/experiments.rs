@@ -1,0 +1,162 @@
+//! The firmware's tests on the emulated robot: every selector byte runs its
+//! test to the end, turns end at the counts the firmware intends, braking
+//! pulses have the thesis' shape, and a sharded UMBmark merges into exactly
+//! the single-machine result.
+
+#[path = "support/mod.rs"]
+mod support;
+
+use hil::bench::BenchOptions;
+use hil::experiment::{run_test, Test, TestOptions, TestRun};
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+const LEG_MM: f64 = 600.0;
+
+/// One run per (build, test), shared by the tests of this file.
+fn run(build: &str, test: Test) -> TestRun {
+    static RUNS: OnceLock<Mutex<HashMap<(String, Test), TestRun>>> = OnceLock::new();
+    let runs = RUNS.get_or_init(Default::default);
+    if let Some(r) = runs.lock().unwrap().get(&(build.to_string(), test)) {
+        return r.clone();
+    }
+    let opts = TestOptions {
+        leg_mm: LEG_MM,
+        bench: BenchOptions::default(),
+        limit_s: Some(120.0),
+        ..Default::default()
+    };
+    let r = run_test(
+        support::firmware(build),
+        &support::robot("henrytwo-ideal"),
+        test,
+        &opts,
+    )
+    .expect("the bench runs the test");
+    runs.lock()
+        .unwrap()
+        .insert((build.to_string(), test), r.clone());
+    r
+}
+
+/// The robust build: each selector byte runs its test to the end, with the
+/// legs and turns the thesis prescribes, each turn close to its angle.
+#[test]
+fn robust_runs_every_test_with_its_legs_and_turns() {
+    for test in Test::ALL {
+        let r = run("robust", test);
+        let (legs, turns, angle) = test.shape();
+        assert!(r.completed, "{}: {:?}", test.name(), r.finding);
+        assert_eq!(r.legs.len(), legs, "{}: legs", test.name());
+        assert_eq!(r.turns.len(), turns, "{}: turns", test.name());
+        for l in &r.legs {
+            assert!(
+                (l.plant_distance_mm - LEG_MM).abs() < 30.0,
+                "{}: leg {l:?}",
+                test.name()
+            );
+        }
+        for t in &r.turns {
+            // Coasting after the cut adds a few degrees on the ideal robot.
+            assert!(
+                (t.plant_angle_deg - angle).abs() < 10.0,
+                "{}: turn of {} deg, expected {angle}",
+                test.name(),
+                t.plant_angle_deg
+            );
+        }
+    }
+}
+
+/// Each robust turn cuts each motor when that wheel's own count reaches the
+/// target (612 counts for 90 degrees, 815.5 for 120 degrees: >= 816), read
+/// from SRAM at the cycle the bridge input went to zero.
+#[test]
+fn robust_turns_end_at_the_intended_counts() {
+    for (test, target) in [
+        (Test::UmbmarkCw, 612),
+        (Test::UmbmarkCcw, 612),
+        (Test::Triangle, 816),
+    ] {
+        let r = run("robust", test);
+        for t in &r.turns {
+            for c in [t.count_left_at_cutoff, t.count_right_at_cutoff] {
+                let c = c.expect("each motor is cut inside the turn").abs();
+                assert!(
+                    (target..target + 3).contains(&c),
+                    "{}: cut at {c}, target {target}",
+                    test.name()
+                );
+            }
+        }
+    }
+}
+
+/// After each leg the thesis brakes: 20 ms with every input off, then the
+/// reverse inputs (D6, D8) at full duty for 5 ms, then off again.
+#[test]
+fn braking_pulse_has_the_thesis_shape() {
+    let r = run("robust", Test::Line);
+    let cut = r.legs[0].cutoff_cycle;
+    let after: Vec<_> = r.drive.iter().filter(|e| e.cycle >= cut).collect();
+    let on: Vec<_> = after
+        .iter()
+        .filter(|e| (e.pin == 6 || e.pin == 8) && e.duty == 1.0)
+        .collect();
+    assert_eq!(on.len(), 2, "both reverse inputs pulse: {after:?}");
+    let off = after
+        .iter()
+        .find(|e| (e.pin == 6 || e.pin == 8) && e.duty == 0.0 && e.cycle > on[0].cycle)
+        .expect("the pulse ends");
+    let ms = |c: u64| c as f64 / 16_000.0;
+    let gap = ms(on[0].cycle - cut);
+    let width = ms(off.cycle - on[0].cycle);
+    assert!((gap - 20.0).abs() < 0.1, "{gap} ms off before the pulse");
+    assert!((width - 5.0).abs() < 0.1, "{width} ms pulse");
+}
+
+/// The per-leg and per-turn counts of the robust build's UMBmark CW.
+#[test]
+fn robust_umbmark_cw_snapshot() {
+    let r = run("robust", Test::UmbmarkCw);
+    let legs: Vec<_> = r
+        .legs
+        .iter()
+        .map(|l| {
+            (
+                l.firmware_count_left,
+                l.firmware_count_right,
+                l.plant_distance_mm.round(),
+            )
+        })
+        .collect();
+    let turns: Vec<_> = r
+        .turns
+        .iter()
+        .map(|t| {
+            (
+                t.count_left_at_cutoff,
+                t.count_right_at_cutoff,
+                (t.plant_angle_deg * 10.0).round() / 10.0,
+            )
+        })
+        .collect();
+    insta::assert_debug_snapshot!("robust_umbmark_cw", (legs, turns));
+}
+
+/// The thesis build: every selector byte starts its test; what the printed
+/// turn logic does is recorded as it is (it may hang), never as a crash.
+#[test]
+fn thesis_build_runs_each_selector_byte() {
+    for test in Test::ALL {
+        let r = run("thesis", test);
+        assert!(!r.legs.is_empty(), "{}: no leg driven", test.name());
+        if test == Test::Line {
+            assert!(r.completed, "the thesis line completes: {:?}", r.finding);
+        }
+        if !r.completed {
+            let f = r.finding.as_deref().unwrap_or("");
+            assert!(f.contains("PC 0x"), "a hang is reported with the PC: {f}");
+        }
+    }
+}
