@@ -455,3 +455,102 @@ pub fn plot_triangle(
     };
     render(&fig, path_svg.as_ref(), path_png.as_ref())
 }
+
+/// One path to draw in [`plot_trajectories`]: a label and points in cm.
+pub struct Path2d<'a> {
+    pub label: &'a str,
+    pub points: &'a [(f64, f64)],
+    /// Index into a small palette: runs of one direction share a colour.
+    pub group: usize,
+}
+
+fn draw_paths<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    paths: &[Path2d],
+) -> Result<(), String> {
+    const PALETTE: [RGBColor; 4] = [
+        RGBColor(200, 30, 30),
+        RGBColor(30, 80, 200),
+        RGBColor(20, 140, 60),
+        RGBColor(150, 90, 10),
+    ];
+    root.fill(&WHITE).msg()?;
+    let all: Vec<Endpoint> = paths
+        .iter()
+        .flat_map(|p| p.points.iter().map(|&(x, y)| Endpoint::new(x, y)))
+        .chain([Endpoint::new(0.0, 0.0)])
+        .collect();
+    let (xr, yr) = ranges(&all, SIZE);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 24))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d(xr, yr)
+        .msg()?;
+    chart
+        .configure_mesh()
+        .x_desc("x (cm), along the first leg")
+        .y_desc("y (cm), to the left")
+        .label_style((FONT, 15))
+        .draw()
+        .msg()?;
+    let mut labelled = [false; 4];
+    for p in paths {
+        let color = PALETTE[p.group % PALETTE.len()];
+        let series = chart
+            .draw_series(LineSeries::new(
+                p.points.iter().copied(),
+                color.stroke_width(2),
+            ))
+            .msg()?;
+        if !labelled[p.group % 4] {
+            labelled[p.group % 4] = true;
+            series.label(p.label).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        }
+    }
+    chart
+        .draw_series([Cross::new((0.0, 0.0), 8, GREY.stroke_width(2))])
+        .msg()?
+        .label("start")
+        .legend(|(x, y)| Cross::new((x + 10, y), 5, GREY.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 15))
+        .draw()
+        .msg()?;
+    root.present().msg()?;
+    Ok(())
+}
+
+/// Plot robot paths (cm, start at the origin) to an SVG and a PNG file; the
+/// first path of each group names the group in the legend.
+pub fn plot_trajectories(
+    title: &str,
+    paths: &[Path2d],
+    path_svg: impl AsRef<Path>,
+    path_png: impl AsRef<Path>,
+) -> Result<(), Error> {
+    register_fonts();
+    let (svg, png) = (path_svg.as_ref(), path_png.as_ref());
+    draw_paths(SVGBackend::new(svg, SIZE).into_drawing_area(), title, paths).map_err(
+        |message| Error::Plot {
+            path: svg.to_path_buf(),
+            message,
+        },
+    )?;
+    draw_paths(
+        BitMapBackend::new(png, SIZE).into_drawing_area(),
+        title,
+        paths,
+    )
+    .map_err(|message| Error::Plot {
+        path: png.to_path_buf(),
+        message,
+    })
+}

@@ -34,7 +34,8 @@ struct Common {
     /// Firmware ELF to run instead of the build in firmware/target.
     #[arg(long, value_name = "FILE")]
     elf: Option<PathBuf>,
-    /// Robot config TOML (default: fixtures/robots/henrytwo-ideal.toml).
+    /// Robot config TOML (default: fixtures/robots/henrytwo.toml, the best
+    /// estimate of the thesis robot).
     #[arg(long, value_name = "FILE")]
     robot: Option<PathBuf>,
     /// Seed of the plant's random effects.
@@ -260,9 +261,14 @@ fn progress_bar(runs: usize, leg_mm: f64) -> indicatif::ProgressBar {
 }
 
 fn load_robot(path: Option<&PathBuf>) -> Result<RobotConfig> {
-    let path = path
-        .cloned()
-        .unwrap_or_else(|| hil::paths::robot_config("henrytwo-ideal"));
+    let path = path.cloned().unwrap_or_else(|| {
+        let best = hil::paths::robot_config("henrytwo");
+        if best.exists() {
+            best
+        } else {
+            hil::paths::robot_config("henrytwo-ideal")
+        }
+    });
     RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
 }
 
@@ -333,6 +339,11 @@ fn run(cli: Cli) -> Result<()> {
                 return Ok(());
             }
             let report = hil::umbmark::report(&partial, firmware_wheelbase_mm, None)?;
+            if let Some(dir) = &out {
+                for f in hil::umbmark::write_outputs(dir, &partial, &report)? {
+                    eprintln!("wrote {}", f.display());
+                }
+            }
             let robot_s = report.robot_time_s;
             if common.json {
                 let mut v = serde_json::to_value(&report)?;

@@ -137,6 +137,9 @@ pub struct IndexedRun {
     pub awake_fraction: f64,
     /// Per-leg and per-turn detail.
     pub detail: serde_json::Value,
+    /// The path of the robot's centre (x, y in cm), from the plant's trace.
+    #[serde(default)]
+    pub path_cm: Vec<(f64, f64)>,
 }
 
 impl IndexedRun {
@@ -156,6 +159,12 @@ impl IndexedRun {
             robot_time_s: run.robot_time_s,
             awake_fraction: run.awake_fraction,
             detail,
+            path_cm: run
+                .trace
+                .iter()
+                .step_by(5)
+                .map(|s| (s.x_mm / 10.0, s.y_mm / 10.0))
+                .collect(),
         }
     }
 }
@@ -375,6 +384,102 @@ impl Report {
         }
         let _ = writeln!(s, "  robot time {:.1} s in all", self.robot_time_s);
         s
+    }
+}
+
+/// Write the report, its Markdown rendering and the plots into `dir`; each
+/// file appears whole or not at all.
+pub fn write_outputs(
+    dir: &std::path::Path,
+    full: &Partial,
+    report: &Report,
+) -> anyhow::Result<Vec<PathBuf>> {
+    use crate::output::write_atomic;
+    std::fs::create_dir_all(dir)?;
+    let tmp = dir.join(format!(".tmp-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp)?;
+    let n = full.plan.runs_per_direction;
+    let point = |r: &IndexedRun| Endpoint::new(r.x_cm, r.y_cm);
+    let runs = UmbmarkRuns::new(
+        full.runs
+            .iter()
+            .filter(|r| r.spec.index < n)
+            .map(point)
+            .collect(),
+        full.runs
+            .iter()
+            .filter(|r| r.spec.index >= n)
+            .map(point)
+            .collect(),
+    )?;
+    calib::plot_umbmark(
+        &report.result,
+        &runs,
+        tmp.join("umbmark.svg"),
+        tmp.join("umbmark.png"),
+    )?;
+    let labels: Vec<String> = full
+        .runs
+        .iter()
+        .map(|r| {
+            if r.spec.index < n {
+                "clockwise".into()
+            } else {
+                "counter-clockwise".into()
+            }
+        })
+        .collect();
+    let paths: Vec<calib::plot::Path2d> = full
+        .runs
+        .iter()
+        .zip(&labels)
+        .map(|(r, l)| calib::plot::Path2d {
+            label: l,
+            points: &r.path_cm,
+            group: usize::from(r.spec.index >= n),
+        })
+        .collect();
+    calib::plot::plot_trajectories(
+        &format!("UMBmark trajectories, L = {:.0} mm", full.plan.leg_mm),
+        &paths,
+        tmp.join("trajectories.svg"),
+        tmp.join("trajectories.png"),
+    )?;
+    let mut written = Vec::new();
+    for f in [
+        "umbmark.svg",
+        "umbmark.png",
+        "trajectories.svg",
+        "trajectories.png",
+    ] {
+        let to = dir.join(f);
+        std::fs::rename(tmp.join(f), &to)?;
+        written.push(to);
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+    let json = dir.join("report.json");
+    write_atomic(&json, serde_json::to_string_pretty(report)?.as_bytes())?;
+    written.push(json);
+    let md = dir.join("report.md");
+    write_atomic(&md, report.markdown().as_bytes())?;
+    written.push(md);
+    Ok(written)
+}
+
+impl Report {
+    /// The report as Markdown, with the plots next to it.
+    pub fn markdown(&self) -> String {
+        format!(
+            "# Reduced UMBmark on the emulated robot\n\n\
+             Firmware `{}` ({}), L = {:.0} mm, seeds from {}.\n\n\
+             ```text\n{}```\n\n\
+             ![end errors](umbmark.svg)\n\n![trajectories](trajectories.svg)\n",
+            self.plan.firmware,
+            self.plan.firmware_hash,
+            self.plan.leg_mm,
+            self.plan.seed,
+            self.render()
+        )
     }
 }
 
