@@ -151,9 +151,14 @@ enum Command {
         /// The wheelbase the robot's odometry used, mm.
         #[arg(long)]
         wheelbase_mm: Option<f64>,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
+        /// Correction rounds on the emulated robot (without --from-csv).
+        #[arg(long, default_value_t = 2)]
+        rounds: usize,
+        /// Side of the square for the rounds, mm.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        leg_mm: f64,
+        #[command(flatten)]
+        common: Common,
     },
     /// Measure the bench's speed: real-time factors of the bench, raw simavr
     /// on the same ELF, and the thesis build; the bench's overhead.
@@ -457,10 +462,52 @@ fn run(cli: Cli) -> Result<()> {
             frame,
             side_cm,
             wheelbase_mm,
-            json,
+            rounds,
+            leg_mm,
+            common,
         } => {
+            let json = common.json;
             let Some(path) = from_csv else {
-                anyhow::bail!("give --from-csv FILE (calibration rounds on the emulated robot need the robust firmware's protocol)");
+                if method.as_deref().is_some_and(|m| m != "umbmark") {
+                    anyhow::bail!("calibration rounds on the emulated robot use --method umbmark (the triangle rounds are not wired yet); give --from-csv FILE for measured end points");
+                }
+                let robot = load_robot(common.robot.as_ref())?;
+                let firmware = load_firmware(&common)?;
+                let plan = Plan::new(leg_mm, common.seed, &robot, &firmware);
+                let bar = progress_bar((rounds + 1) * 2 * plan.runs_per_direction, leg_mm);
+                let total = 2 * plan.runs_per_direction;
+                let results = hil::umbmark::calibrate(
+                    &firmware,
+                    &robot,
+                    &plan,
+                    wheelbase_mm.unwrap_or(130.0),
+                    rounds,
+                    &|round, n, _| {
+                        bar.set_position((round * total + n) as u64);
+                        bar.set_message(format!("round {round}"));
+                    },
+                )?;
+                bar.finish_and_clear();
+                let table = hil::umbmark::table10(&results);
+                if common.json {
+                    let v = serde_json::json!({ "rounds": results, "table10": table });
+                    println!("{}", serde_json::to_string_pretty(&v)?);
+                } else {
+                    for r in &results {
+                        println!(
+                            "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm -> r_cg CW {:.2} cm, CCW {:.2} cm, E_max {:.2} cm",
+                            r.round, r.c_left, r.c_right, r.wheelbase_mm,
+                            r.report.result.r_cg_cw_cm, r.report.result.r_cg_ccw_cm, r.report.result.e_max_cm
+                        );
+                    }
+                    let rows: Vec<(&str, calib::Round)> =
+                        table.iter().map(|(n, r)| (n.as_str(), r.clone())).collect();
+                    print!(
+                        "{}",
+                        calib::round::format_table10(&rows, calib::round::TableStyle::Rounded)
+                    );
+                }
+                return Ok(());
             };
             let method = match method.as_deref() {
                 None => hil::calibrate::detect(&path)?,

@@ -45,6 +45,10 @@ pub struct Plan {
     /// The firmware, by name and content hash.
     pub firmware: String,
     pub firmware_hash: String,
+    /// Firmware parameters set over the protocol before each run: (id, value)
+    /// (see protocol/README.md: 1 cL, 2 cR, 3 wheelbase mm, ...).
+    #[serde(default)]
+    pub params: Vec<(u8, f32)>,
 }
 
 /// One run of a plan: its index, direction and seed.
@@ -90,6 +94,7 @@ impl Plan {
             robot: toml::to_string(robot).unwrap_or_default(),
             firmware: name,
             firmware_hash: firmware.content_hash(),
+            params: Vec::new(),
         }
     }
 
@@ -194,7 +199,11 @@ pub fn execute(
                 record: false,
                 faults: Vec::new(),
                 framed: false,
-                params: Vec::new(),
+                params: plan
+                    .params
+                    .iter()
+                    .filter_map(|&(id, v)| crate::link::Param::from_u8(id).map(|p| (p, v)))
+                    .collect(),
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -481,6 +490,87 @@ impl Report {
             self.render()
         )
     }
+}
+
+/// One calibration round: the firmware's parameters, the UMBmark with them,
+/// and the correction it yields.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CalibrationRound {
+    pub round: usize,
+    pub c_left: f64,
+    pub c_right: f64,
+    pub wheelbase_mm: f64,
+    pub report: Report,
+}
+
+/// Calibrate the emulated robot: run the UMBmark, send the correction (cL,
+/// cR, wheelbase) over the protocol, run again, `rounds` corrections in all.
+/// The corrections compose: each round's Ed and Eb are measured against the
+/// parameters the firmware already used.
+pub fn calibrate(
+    firmware: &Firmware,
+    robot: &RobotConfig,
+    base: &Plan,
+    wheelbase_mm: f64,
+    rounds: usize,
+    progress: &(dyn Fn(usize, usize, f64) + Sync),
+) -> Result<Vec<CalibrationRound>, UmbmarkError> {
+    let (mut cl, mut cr, mut b) = (1.0f64, 1.0f64, wheelbase_mm);
+    let mut out = Vec::new();
+    for round in 0..=rounds {
+        let mut plan = base.clone();
+        if round > 0 {
+            plan.params = vec![(1, cl as f32), (2, cr as f32), (3, b as f32)];
+        }
+        let runs = execute(
+            firmware,
+            robot,
+            &plan,
+            &plan.runs(),
+            BenchOptions::default(),
+            &|n, t| progress(round, n, t),
+        )?;
+        let full = Partial {
+            kind: "umbmark".into(),
+            plan: plan.clone(),
+            shard: None,
+            runs,
+        };
+        let rep = report(&full, b, None)?;
+        let next = (
+            cl * rep.result.cl,
+            cr * rep.result.cr,
+            rep.result.wheelbase_mm,
+        );
+        out.push(CalibrationRound {
+            round,
+            c_left: cl,
+            c_right: cr,
+            wheelbase_mm: b,
+            report: rep,
+        });
+        (cl, cr, b) = next;
+    }
+    Ok(out)
+}
+
+/// The rounds in the thesis' Table 10 layout: each round against the first.
+pub fn table10(rounds: &[CalibrationRound]) -> Vec<(String, calib::Round)> {
+    let Some(first) = rounds.first() else {
+        return Vec::new();
+    };
+    rounds
+        .iter()
+        .skip(1)
+        .map(|r| {
+            let mut round = calib::improvement(&first.report.result, &r.report.result);
+            // The wheelbase "after" is the one the firmware used in that round.
+            round.wheelbase_after_mm = r.wheelbase_mm;
+            round.wheelbase_correction_pct =
+                (r.wheelbase_mm - first.wheelbase_mm) / first.wheelbase_mm * 100.0;
+            (format!("umbmark round {}", r.round), round)
+        })
+        .collect()
 }
 
 /// Where a plan's partial result goes by default.
