@@ -501,7 +501,7 @@ fn run(cli: Cli) -> Result<()> {
                         );
                     }
                     let rows: Vec<(&str, calib::Round)> =
-                        table.iter().map(|(n, r)| (n.as_str(), r.clone())).collect();
+                        table.iter().map(|(n, r)| (n.as_str(), *r)).collect();
                     print!(
                         "{}",
                         calib::round::format_table10(&rows, calib::round::TableStyle::Rounded)
