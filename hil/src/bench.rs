@@ -208,6 +208,15 @@ pub enum SideName {
     Right,
 }
 
+impl From<SideName> for Side {
+    fn from(s: SideName) -> Self {
+        match s {
+            SideName::Left => Side::Left,
+            SideName::Right => Side::Right,
+        }
+    }
+}
+
 impl From<Side> for SideName {
     fn from(s: Side) -> Self {
         match s {
@@ -247,6 +256,20 @@ pub enum Action {
     },
     /// Pull the MCU's reset line (the firmware restarts; the plant goes on).
     Reset,
+    /// A fault of a motor and its wheel, in the plant (stall, load step, ...).
+    Motor {
+        side: SideName,
+        fault: plant_model::MotorFault,
+    },
+    /// The ground sees only (1 - slip) of a wheel's travel.
+    SlipBurst {
+        side: SideName,
+        slip: f64,
+    },
+    /// The battery's terminal voltage forced (None: the battery model again).
+    BatteryVolts {
+        volts: Option<f64>,
+    },
 }
 
 /// When a scheduled action happens.
@@ -317,6 +340,8 @@ pub struct BenchCore {
     /// edge time; simavr raises it at the first instruction boundary after).
     pub last_a_edge: [u64; 2],
     next_edge: [u64; 2],
+    /// Next change of the plant's own dynamics.
+    next_internal: u64,
     next_step: u64,
     step_cycles: u64,
     trace_every: u32,
@@ -538,6 +563,16 @@ impl BenchCore {
         for side in SIDES {
             self.plan_edge(side, now);
         }
+        self.plan_internal(now);
+    }
+
+    /// When the plant's own dynamics change next (battery sag steps, ...):
+    /// both wheels' predictions must be redone then.
+    fn plan_internal(&mut self, now: u64) {
+        self.next_internal = match self.robot.next_internal_change() {
+            Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
+            None => NEVER,
+        };
     }
 
     fn plan_edge(&mut self, side: Side, now: u64) {
@@ -548,6 +583,7 @@ impl BenchCore {
     }
 
     fn next_event(&self) -> u64 {
+        let internal = self.next_internal;
         let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
         let action = self.actions.first().map_or(NEVER, |a| a.0);
         self.next_edge[0]
@@ -557,6 +593,7 @@ impl BenchCore {
             .min(self.pending_top[1])
             .min(uart)
             .min(action)
+            .min(internal)
     }
 
     /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
@@ -630,6 +667,19 @@ impl BenchCore {
             Action::Reset => {
                 self.reset_requested = true;
                 self.attention = true;
+            }
+            Action::Motor { side, fault } => {
+                let _ = self.robot.set_motor_fault(side.into(), fault);
+                self.plan_edges(cycle);
+            }
+            Action::SlipBurst { side, slip } => {
+                let _ = self.robot.set_slip_burst(side.into(), slip);
+            }
+            Action::BatteryVolts { volts } => {
+                let _ = self
+                    .robot
+                    .set_battery_voltage_override(volts.map(plant_model::Volts));
+                self.plan_edges(cycle);
             }
         }
     }
@@ -852,6 +902,10 @@ impl Handler for BenchCore {
             }
             self.next_step = when + self.step_cycles;
         }
+        if self.next_internal <= when {
+            // The plant changed its own dynamics: every prediction is stale.
+            self.plan_edges(when);
+        }
         // The other wheel's prediction stays valid: its input has not changed
         // (a change re-plans both in `refresh_bridge`).
         for side in SIDES {
@@ -957,6 +1011,7 @@ impl Bench {
             edges_raised: [0; 2],
             last_a_edge: [0; 2],
             next_edge: [NEVER; 2],
+            next_internal: NEVER,
             next_step: step_cycles,
             step_cycles,
             trace_every,

@@ -21,7 +21,9 @@ mod encoder_swapped;
 mod link_corruption;
 mod missed_counts;
 mod motor_disconnected;
+mod motor_stall;
 mod reset_mid_test;
+mod turn_slip_burst;
 
 /// One fault of the library.
 pub struct FaultCase {
@@ -49,6 +51,8 @@ pub fn library() -> Vec<FaultCase> {
         encoder_swapped::case(),
         missed_counts::case(),
         motor_disconnected::case(),
+        motor_stall::case(),
+        turn_slip_burst::case(),
         link_corruption::case(),
         reset_mid_test::case(),
     ]

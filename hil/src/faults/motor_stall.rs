@@ -1,0 +1,38 @@
+//! The left wheel is blocked (caught on a cable, against an obstacle) in the
+//! middle of a leg: the plant holds it still whatever the bridge does.
+
+use super::{FaultCase, Observed};
+use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use crate::experiment::Test;
+
+pub fn case() -> FaultCase {
+    FaultCase {
+        name: "motor-stall",
+        what: "left wheel blocked from 3 s into a 2 m line",
+        expected: "stall watchdog: motors off within 300 ms with a fault code; the counts stop (no phantom counts)",
+        test: Test::Line,
+        leg_mm: 2000.0,
+        faults: vec![ScheduledFault::new(
+            Trigger::Time { s: 3.0 },
+            Action::Motor {
+                side: SideName::Left,
+                fault: plant_model::MotorFault::Stall,
+            },
+        )],
+        limit_s: 25.0,
+        framed: false,
+        check,
+    }
+}
+
+fn check(o: &Observed) -> Result<String, String> {
+    match (o.motors_off_after_s, o.fault_code) {
+        (Some(t), Some(c)) if t <= 0.3 && c != 0 => Ok(format!(
+            "motors off after {:.0} ms with fault code {c}",
+            t * 1e3
+        )),
+        (t, c) => Err(format!(
+            "expected motors off within 300 ms and a fault code; saw {t:?} s and code {c:?}"
+        )),
+    }
+}
