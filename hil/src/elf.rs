@@ -142,6 +142,14 @@ impl Firmware {
         })
     }
 
+    /// The build's name: the ELF's file stem ("robust", "thesis").
+    pub fn name(&self) -> String {
+        self.path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    }
+
     pub fn symbol(&self, name: &str) -> Result<Symbol, ElfError> {
         self.symbols
             .get(name)

@@ -14,7 +14,7 @@ use crate::bench::{
     Sample, ScheduledFault, SideName, Snapshot,
 };
 use crate::elf::Firmware;
-use crate::line::wait_ready;
+use crate::line::ready_bench;
 
 /// The tests the firmware's selector knows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -212,17 +212,10 @@ pub fn run_test_observed(
     opts: &TestOptions,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
-    let name = firmware
-        .path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let mut bench = Bench::new(firmware, robot, opts.bench)?;
-    wait_ready(&mut bench)?;
+    let name = firmware.name();
+    let (mut bench, done_before, start_cycle) =
+        ready_bench(firmware, robot, opts.bench, opts.leg_mm)?;
     let vars = *bench.vars();
-    bench.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
-    let done_before = bench.read_u16(vars.done_count);
-    let start_cycle = bench.cycle();
     bench.set_observer(observer);
     for f in &opts.faults {
         bench.schedule(f.trigger, f.action.clone(), f.undo.clone());

@@ -109,22 +109,32 @@ pub fn wait_ready(bench: &mut Bench) -> Result<(), BenchError> {
     )
 }
 
+/// A bench with the firmware booted and the leg length set, ready for a
+/// command: (bench, HT_DONE_COUNT before the test, the cycle it was ready).
+pub fn ready_bench(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    options: BenchOptions,
+    leg_mm: f64,
+) -> Result<(Bench, u16, u64), BenchError> {
+    let mut bench = Bench::new(firmware, robot, options)?;
+    wait_ready(&mut bench)?;
+    let vars = *bench.vars();
+    bench.write_f32(vars.leg_length_mm, leg_mm as f32);
+    let done_before = bench.read_u16(vars.done_count);
+    let start_cycle = bench.cycle();
+    Ok((bench, done_before, start_cycle))
+}
+
 pub fn run_line(
     firmware: Firmware,
     robot: &RobotConfig,
     opts: &LineOptions,
 ) -> Result<LineRun, BenchError> {
-    let name = firmware
-        .path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let mut bench = Bench::new(firmware, robot, opts.bench)?;
-    wait_ready(&mut bench)?;
+    let name = firmware.name();
+    let (mut bench, done_before, start_cycle) =
+        ready_bench(firmware, robot, opts.bench, opts.length_mm)?;
     let vars = *bench.vars();
-    bench.write_f32(vars.leg_length_mm, opts.length_mm as f32);
-    let done_before = bench.read_u16(vars.done_count);
-    let start_cycle = bench.cycle();
     bench.send(1, &[CMD_LINE]);
     // Generous: a third of the nominal speed, plus braking and waits.
     let limit = opts.length_mm / 50.0 + 5.0;

@@ -57,6 +57,21 @@ struct Common {
     vcd_pwm: bool,
 }
 
+impl Common {
+    /// A test run as these options ask for it.
+    fn test_options(&self, leg_mm: f64) -> TestOptions {
+        TestOptions {
+            leg_mm,
+            bench: BenchOptions {
+                seed: self.seed,
+                ..Default::default()
+            },
+            record: self.vcd.is_some(),
+            ..Default::default()
+        }
+    }
+}
+
 #[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq)]
 enum Build {
     Robust,
@@ -384,18 +399,7 @@ fn run(cli: Cli) -> Result<()> {
             let clock = BenchOptions::default().clock;
             let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
             let probe = TimingProbe::new(&firmware, &function, period)?;
-            let opts = TestOptions {
-                leg_mm,
-                bench: BenchOptions {
-                    seed: common.seed,
-                    ..Default::default()
-                },
-                limit_s: None,
-                record: false,
-                faults: Vec::new(),
-                framed: false,
-                params: Vec::new(),
-            };
+            let opts = common.test_options(leg_mm);
             let (run, observer) =
                 run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
             let probe = observer
@@ -656,18 +660,7 @@ fn run(cli: Cli) -> Result<()> {
         } => {
             let robot = load_robot(common.robot.as_ref())?;
             let firmware = load_firmware(&common)?;
-            let opts = TestOptions {
-                leg_mm,
-                bench: BenchOptions {
-                    seed: common.seed,
-                    ..Default::default()
-                },
-                limit_s: None,
-                record: common.vcd.is_some(),
-                faults: Vec::new(),
-                framed: false,
-                params: Vec::new(),
-            };
+            let opts = common.test_options(leg_mm);
             let wall = Instant::now();
             let run = run_test(firmware, &robot, test, &opts)?;
             if let Some(path) = &common.vcd {

@@ -18,10 +18,10 @@ use std::time::Instant;
 use plant_model::RobotConfig;
 use serde::Serialize;
 
-use crate::bench::{Bench, BenchError, BenchOptions, PinEvent};
+use crate::bench::{BenchError, BenchOptions, PinEvent};
 use crate::elf::Firmware;
 use crate::experiment::Test;
-use crate::line::wait_ready;
+use crate::line::ready_bench;
 use crate::pwm::PwmTimer;
 use crate::sim::{Avr, Core, CpuState, Handler, IoClaim, Irq};
 use crate::wiring::HENRYTWO;
@@ -64,13 +64,10 @@ pub fn bench_run(
     leg_mm: f64,
 ) -> Result<Recorded, BenchError> {
     let wall = Instant::now();
-    let mut bench = Bench::new(fw.clone(), robot, BenchOptions::default())?;
-    wait_ready(&mut bench)?;
+    let (mut bench, before, command_cycle) =
+        ready_bench(fw.clone(), robot, BenchOptions::default(), leg_mm)?;
     let vars = *bench.vars();
-    bench.write_f32(vars.leg_length_mm, leg_mm as f32);
-    let before = bench.read_u16(vars.done_count);
     bench.start_recording();
-    let command_cycle = bench.cycle();
     bench.send(1, &[test.command_byte()]);
     let (legs, turns, _) = test.shape();
     let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0;

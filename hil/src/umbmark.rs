@@ -82,11 +82,7 @@ impl std::str::FromStr for Shard {
 
 impl Plan {
     pub fn new(leg_mm: f64, seed: u64, robot: &RobotConfig, firmware: &Firmware) -> Self {
-        let name = firmware
-            .path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name = firmware.name();
         Self {
             leg_mm,
             runs_per_direction: 5,

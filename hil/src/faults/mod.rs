@@ -58,6 +58,21 @@ pub fn library() -> Vec<FaultCase> {
     ]
 }
 
+/// The watchdog's expected reaction: all motors off within `max_s` of the
+/// fault, with a fault code reported.
+pub fn stopped_with_code(o: &Observed, max_s: f64) -> Result<String, String> {
+    match (o.motors_off_after_s, o.fault_code) {
+        (Some(t), Some(c)) if t <= max_s && c != 0 => Ok(format!(
+            "motors off after {:.0} ms with fault code {c}",
+            t * 1e3
+        )),
+        (t, c) => Err(format!(
+            "expected motors off within {:.0} ms and a fault code; saw {t:?} s and code {c:?}",
+            max_s * 1e3
+        )),
+    }
+}
+
 /// What a faulted run showed.
 #[derive(Debug, Clone, Serialize)]
 pub struct Observed {

@@ -1,7 +1,7 @@
 //! The left wheel is blocked (caught on a cable, against an obstacle) in the
 //! middle of a leg: the plant holds it still whatever the bridge does.
 
-use super::{FaultCase, Observed};
+use super::{stopped_with_code, FaultCase, Observed};
 use crate::bench::{Action, ScheduledFault, SideName, Trigger};
 use crate::experiment::Test;
 
@@ -26,13 +26,5 @@ pub fn case() -> FaultCase {
 }
 
 fn check(o: &Observed) -> Result<String, String> {
-    match (o.motors_off_after_s, o.fault_code) {
-        (Some(t), Some(c)) if t <= 0.3 && c != 0 => Ok(format!(
-            "motors off after {:.0} ms with fault code {c}",
-            t * 1e3
-        )),
-        (t, c) => Err(format!(
-            "expected motors off within 300 ms and a fault code; saw {t:?} s and code {c:?}"
-        )),
-    }
+    stopped_with_code(o, 0.3)
 }
