@@ -83,6 +83,10 @@ pub struct BenchOptions {
     /// Interval of trace samples (a multiple of the plant step).
     pub trace_interval_s: f64,
     pub seed: u64,
+    /// The battery divider on A0: volts at A0 per battery volt. 0.55 puts
+    /// the thesis' LED thresholds (ADC 942 and 901 of 1023 at 5 V) at a
+    /// battery of 8.37 V and 8.01 V: a 2S LiPo full, half, low.
+    pub battery_divider: f64,
 }
 
 impl Default for BenchOptions {
@@ -95,6 +99,7 @@ impl Default for BenchOptions {
             plant_step_s: 10e-3,
             trace_interval_s: 10e-3,
             seed: 0,
+            battery_divider: 0.55,
         }
     }
 }
@@ -362,6 +367,10 @@ pub struct BenchCore {
     uart_next: [u64; 4],
     uart_irq: [Option<Irq>; 4],
     uart_byte_cycles: u64,
+    /// A0, driven with the battery's voltage through the divider.
+    adc0: Option<Irq>,
+    adc_mv: u32,
+    battery_divider: f64,
     /// Scheduled actions, sorted by cycle (stable for equal cycles).
     actions: Vec<(u64, Action)>,
     /// Actions waiting for an event, with an optional duration in cycles
@@ -743,6 +752,19 @@ impl BenchCore {
         }
     }
 
+    /// Drive A0 with the battery's voltage when it changed.
+    fn update_adc(&mut self, core: &mut Core) {
+        let mv = (self.robot.battery_voltage().0 * self.battery_divider * 1000.0)
+            .round()
+            .clamp(0.0, 5000.0) as u32;
+        if mv != self.adc_mv {
+            if let Some(irq) = self.adc0 {
+                core.raise(irq, mv);
+            }
+            self.adc_mv = mv;
+        }
+    }
+
     fn sample(&mut self, cycle: u64) {
         let pose = self.robot.pose();
         self.trace.push(Sample {
@@ -896,6 +918,7 @@ impl Handler for BenchCore {
         }
         self.raise_encoders(core, when);
         if self.next_step <= when {
+            self.update_adc(core);
             self.steps += 1;
             if self.steps % self.trace_every == 0 {
                 self.sample(when);
@@ -1034,6 +1057,9 @@ impl Bench {
             uart_irq: [None; 4],
             // 10 bits per byte (8N1) at 9600 baud, as the HC-05 sends them.
             uart_byte_cycles: (clock.hz() as u64 * 10).div_ceil(9600),
+            adc0: None,
+            adc_mv: u32::MAX,
+            battery_divider: options.battery_divider,
             actions: Vec::new(),
             triggered: Vec::new(),
             turns_started: 0,
@@ -1069,6 +1095,8 @@ impl Bench {
         let ddr = avr.port_direction(port)?;
         avr.watch_irq(reg, TAG_PORT_REG);
         avr.watch_irq(ddr, TAG_PORT_DDR);
+        let adc0 = avr.adc_input(0)?;
+        avr.handler_mut().adc0 = Some(adc0);
         let mut enc_irq = [[None; 2]; 2];
         for side in SIDES {
             let e = wiring.encoder(side);
@@ -1084,6 +1112,7 @@ impl Bench {
         }
         avr.with_core(|core, c| {
             core.enc_irq = enc_irq;
+            core.update_adc(c);
             // Encoder lines start at the plant's levels.
             for side in SIDES {
                 let i = side_index(side);

@@ -324,6 +324,11 @@ impl<H: Handler> Avr<H> {
         unsafe {
             let a = avr.as_ptr();
             (*a).frequency = frequency_hz;
+            // The Arduino Mega runs at 5 V; AVCC and AREF on the same rail
+            // (millivolts, as simavr's ADC takes its inputs).
+            (*a).vcc = 5000;
+            (*a).avcc = 5000;
+            (*a).aref = 5000;
             (*a).sleep = Some(sleep_noop);
             (*a).set_log(1); // LOG_ERROR: simavr's errors only
             (*a).custom.data = Box::into_raw(scheduler) as *mut c_void;
@@ -498,6 +503,14 @@ impl<H: Handler> Avr<H> {
         // SAFETY: simavr looks the IRQ up in its port list, or returns null.
         let irq = unsafe { ffi::avr_io_getirq(self.avr.as_ptr(), ctl, index) };
         NonNull::new(irq).map(Irq).ok_or(SimError::NoSuchPort(port))
+    }
+
+    /// The ADC's analog input `channel` (raise it with millivolts).
+    pub fn adc_input(&mut self, channel: u8) -> Result<Irq, SimError> {
+        let ctl = ioctl_def(b'a', b'd', b'c', b'0');
+        // SAFETY: simavr looks the IRQ up in its peripheral list, or returns null.
+        let irq = unsafe { ffi::avr_io_getirq(self.avr.as_ptr(), ctl, channel as i32) };
+        NonNull::new(irq).map(Irq).ok_or(SimError::NoSuchPort('A'))
     }
 
     /// USART `n`'s (input, output) IRQs, with simavr's stdio echo and its
