@@ -202,6 +202,21 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// The Triangular Path test: 5 straight lines, 5 counter-clockwise
+    /// triangles, and the correction (Ed from the lines, Eb from the turns).
+    Triangle {
+        /// Length of the line and side of the triangle, mm.
+        #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+        leg_mm: f64,
+        /// The wheelbase the firmware's odometry uses, mm.
+        #[arg(long, default_value_t = 130.0)]
+        firmware_wheelbase_mm: f64,
+        /// Output folder for the report and the plot.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Combine the partial results of `hil umbmark --shard` into the full result.
     Merge {
         /// Partial result files (JSON).
@@ -626,6 +641,53 @@ fn run(cli: Cli) -> Result<()> {
             }
             if failed > 0 {
                 anyhow::bail!("{failed} fault reaction(s) not as expected");
+            }
+        }
+        Command::Triangle {
+            leg_mm,
+            firmware_wheelbase_mm,
+            out,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            let plan = Plan::new(leg_mm, common.seed, &robot, &firmware).triangle();
+            let specs = plan.runs();
+            let bar = progress_bar(specs.len(), leg_mm);
+            let wall = Instant::now();
+            let runs = execute(
+                &firmware,
+                &robot,
+                &plan,
+                &specs,
+                BenchOptions::default(),
+                &|n, robot_s| {
+                    bar.set_position(n as u64);
+                    bar.set_message(format!("{robot_s:.0} s of robot time"));
+                },
+            )?;
+            bar.finish_and_clear();
+            let wall_s = wall.elapsed().as_secs_f64();
+            let full = Partial {
+                kind: "triangle".into(),
+                plan,
+                shard: None,
+                runs,
+            };
+            let report = hil::umbmark::triangle_report(&full, firmware_wheelbase_mm)?;
+            if let Some(dir) = &out {
+                for f in hil::umbmark::write_triangle_outputs(dir, &full, &report)? {
+                    eprintln!("wrote {}", f.display());
+                }
+            }
+            if common.json {
+                let mut v = serde_json::to_value(&report)?;
+                if !common.deterministic {
+                    v["rtf"] = (report.robot_time_s / wall_s).into();
+                }
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                print!("{}", report.render());
             }
         }
         Command::Merge {

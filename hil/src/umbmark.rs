@@ -33,9 +33,22 @@ pub enum UmbmarkError {
     Calib(#[from] calib::Error),
 }
 
+/// Which experiment a plan runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Experiment {
+    /// UMBmark: CW squares, then CCW squares.
+    #[default]
+    Umbmark,
+    /// Triangular Path: straight lines, then counter-clockwise triangles.
+    Triangle,
+}
+
 /// What to run. Everything that changes a result is in here.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plan {
+    #[serde(default)]
+    pub experiment: Experiment,
     pub leg_mm: f64,
     pub runs_per_direction: usize,
     /// Run `i` uses seed `seed + i`.
@@ -84,6 +97,7 @@ impl Plan {
     pub fn new(leg_mm: f64, seed: u64, robot: &RobotConfig, firmware: &Firmware) -> Self {
         let name = firmware.name();
         Self {
+            experiment: Experiment::Umbmark,
             leg_mm,
             runs_per_direction: 5,
             seed,
@@ -94,17 +108,23 @@ impl Plan {
         }
     }
 
-    /// Every run: CW first, then CCW.
+    /// The same plan for the Triangular Path.
+    pub fn triangle(mut self) -> Self {
+        self.experiment = Experiment::Triangle;
+        self
+    }
+
+    /// Every run: the first group (CW, or the lines), then the second.
     pub fn runs(&self) -> Vec<RunSpec> {
         let n = self.runs_per_direction;
+        let (first, second) = match self.experiment {
+            Experiment::Umbmark => (Test::UmbmarkCw, Test::UmbmarkCcw),
+            Experiment::Triangle => (Test::Line, Test::Triangle),
+        };
         (0..2 * n)
             .map(|i| RunSpec {
                 index: i,
-                test: if i < n {
-                    Test::UmbmarkCw
-                } else {
-                    Test::UmbmarkCcw
-                },
+                test: if i < n { first } else { second },
                 seed: self.seed.wrapping_add(i as u64),
             })
             .collect()
@@ -486,6 +506,142 @@ impl Report {
             self.render()
         )
     }
+}
+
+/// The Triangular Path's result: the runs' end errors and the correction.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TriangleReport {
+    pub plan: Plan,
+    pub runs: Vec<RunRow>,
+    #[serde(flatten)]
+    pub result: calib::TriangleResult,
+    pub robot_time_s: f64,
+}
+
+fn triangle_runs(full: &Partial) -> Result<(calib::LineRuns, calib::TriangleRuns), UmbmarkError> {
+    let n = full.plan.runs_per_direction;
+    let point = |r: &IndexedRun| Endpoint::new(r.x_cm, r.y_cm);
+    let line = calib::LineRuns::new(
+        full.runs
+            .iter()
+            .filter(|r| r.spec.index < n)
+            .map(point)
+            .collect(),
+    )?;
+    let tri = calib::TriangleRuns::complete(
+        full.runs
+            .iter()
+            .filter(|r| r.spec.index >= n)
+            .map(point)
+            .collect(),
+    )?;
+    Ok((line, tri))
+}
+
+/// The Triangular Path correction from a complete set of runs.
+pub fn triangle_report(full: &Partial, wheelbase_mm: f64) -> Result<TriangleReport, UmbmarkError> {
+    let n = full.plan.runs_per_direction;
+    let (line, tri) = triangle_runs(full)?;
+    let params = calib::TriangleParams {
+        side_cm: full.plan.leg_mm / 10.0,
+        wheelbase_mm,
+        ..calib::TriangleParams::default()
+    };
+    let result = calib::triangle_correction(&line, &tri, &params);
+    Ok(TriangleReport {
+        plan: full.plan.clone(),
+        runs: full
+            .runs
+            .iter()
+            .map(|r| RunRow {
+                run: r.spec.index % n + 1,
+                direction: if r.spec.index < n { "line" } else { "triangle" },
+                seed: r.spec.seed,
+                completed: r.completed,
+                x_cm: r.x_cm,
+                y_cm: r.y_cm,
+            })
+            .collect(),
+        result,
+        robot_time_s: full.runs.iter().map(|r| r.robot_time_s).sum(),
+    })
+}
+
+impl TriangleReport {
+    pub fn render(&self) -> String {
+        use std::fmt::Write;
+        let r = &self.result;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "Triangular Path, L = {:.0} mm, {} lines and {} counter-clockwise triangles ({}, seeds {}..)",
+            self.plan.leg_mm, self.plan.runs_per_direction, self.plan.runs_per_direction, self.plan.firmware, self.plan.seed
+        );
+        let _ = writeln!(
+            s,
+            "  end errors (cm; x along the first leg, y to the left; the line's against its end):"
+        );
+        let _ = writeln!(s, "    run |   line x   line y |  trian x  trian y");
+        let n = self.plan.runs_per_direction;
+        for i in 0..n {
+            let (a, b) = (&self.runs[i], &self.runs[n + i]);
+            let _ = writeln!(
+                s,
+                "    {:>3} | {:8.2} {:8.2} | {:8.2} {:8.2}",
+                i + 1,
+                a.x_cm,
+                a.y_cm,
+                b.x_cm,
+                b.y_cm
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  line centroid ({:.2}, {:.2}) cm -> beta {:.4} deg, Ed {:.5}, cL {:.5}, cR {:.5}",
+            r.line_centroid.x_cm, r.line_centroid.y_cm, r.beta_deg, r.ed, r.cl, r.cr
+        );
+        let _ = writeln!(
+            s,
+            "  triangle centroid ({:.2}, {}) cm -> 120-degree turn error {:.4} deg, Eb {:.5}, wheelbase {:.2} mm",
+            r.triangle_centroid.x_cm,
+            r.triangle_centroid.y_cm.map_or("?".into(), |y| format!("{y:.2}")),
+            r.alpha_deg,
+            r.eb,
+            r.wheelbase_mm
+        );
+        let _ = writeln!(s, "  robot time {:.1} s in all", self.robot_time_s);
+        s
+    }
+}
+
+/// Write the triangle report and its plot into `dir`.
+pub fn write_triangle_outputs(
+    dir: &std::path::Path,
+    full: &Partial,
+    report: &TriangleReport,
+) -> anyhow::Result<Vec<PathBuf>> {
+    use crate::output::write_atomic;
+    std::fs::create_dir_all(dir)?;
+    let (line, tri) = triangle_runs(full)?;
+    let tmp = dir.join(format!(".tmp-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp)?;
+    calib::plot_triangle(
+        &report.result,
+        &line,
+        &tri,
+        tmp.join("triangle.svg"),
+        tmp.join("triangle.png"),
+    )?;
+    let mut written = Vec::new();
+    for f in ["triangle.svg", "triangle.png"] {
+        std::fs::rename(tmp.join(f), dir.join(f))?;
+        written.push(dir.join(f));
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+    let json = dir.join("triangle.json");
+    write_atomic(&json, serde_json::to_string_pretty(report)?.as_bytes())?;
+    written.push(json);
+    Ok(written)
 }
 
 /// One calibration round: the firmware's parameters, the UMBmark with them,
