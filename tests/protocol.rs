@@ -147,3 +147,24 @@ fn battery_leds_follow_a0() {
         }
     }
 }
+
+/// Seeded invalid frames at the link's real pace: the firmware answers each
+/// kind with an error or nothing, never resets or hangs, and its state is the
+/// same afterwards (`hil fuzz` runs 100 000 of them).
+#[test]
+fn fuzzed_invalid_frames_change_nothing() {
+    let report = hil::fuzz::fuzz(
+        support::firmware("robust"),
+        &support::robot("henrytwo-ideal"),
+        4000,
+        7,
+        &|_| {},
+    )
+    .unwrap();
+    assert!(
+        report.by_mutation.iter().all(|(_, n)| *n > 500),
+        "{report:?}"
+    );
+    assert!(report.error_replies > 2000, "{report:?}");
+    assert!(report.passed(), "{report:?}");
+}

@@ -12,6 +12,7 @@ pub mod calibrate;
 pub mod elf;
 pub mod experiment;
 pub mod faults;
+pub mod fuzz;
 pub mod fwvars;
 pub mod inject;
 pub mod line;

@@ -217,6 +217,15 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Fuzz the robust firmware's UART parser in the emulator with seeded
+    /// invalid frames: no hang, no reset, no state change allowed.
+    Fuzz {
+        /// Number of invalid frames.
+        #[arg(long, default_value_t = 100_000)]
+        frames: usize,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Combine the partial results of `hil umbmark --shard` into the full result.
     Merge {
         /// Partial result files (JSON).
@@ -688,6 +697,36 @@ fn run(cli: Cli) -> Result<()> {
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
                 print!("{}", report.render());
+            }
+        }
+        Command::Fuzz { frames, common } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            let bar = indicatif::ProgressBar::new(frames as u64);
+            let report = hil::fuzz::fuzz(firmware, &robot, frames, common.seed, &|n| {
+                bar.set_position(n as u64)
+            })?;
+            bar.finish_and_clear();
+            if common.json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                println!(
+                    "{} invalid frames (seed {}) over {:.0} s of robot time: {} error replies, {} ok replies, {} resets, {}, state {}",
+                    report.frames,
+                    report.seed,
+                    report.robot_time_s,
+                    report.error_replies,
+                    report.ok_replies,
+                    report.resets,
+                    if report.hung { "HUNG" } else { "still answering" },
+                    if report.state_changed { "CHANGED" } else { "unchanged" }
+                );
+                for (m, n) in &report.by_mutation {
+                    println!("  {m:?}: {n}");
+                }
+            }
+            if !report.passed() {
+                anyhow::bail!("the firmware did not survive the fuzzing unchanged");
             }
         }
         Command::Merge {
