@@ -1,0 +1,846 @@
+//! Fitting effect parameters to training groups: the residuals, Levenberg-Marquardt with
+//! bounds, the gap measures, and information criteria.
+//!
+//! # Residuals
+//!
+//! For every training group and every recorded axis (x, y):
+//!
+//! * the centroid residual `(x̄_real − x̄_model) / se`, `se² = s²/n + floor²`, and
+//! * the scatter residual `(s_real − c4(n)·s_model) / se_s`, `se_s² = s²/(2(n − 1)) + floor²`
+//!   (c4(n) = E[s]/σ for n Gaussian runs: 0.94 for five runs),
+//!
+//! where `s²` is the within-group variance pooled over the training groups of the same test
+//! kind (five runs give a poor variance each), `n` the group's runs and `floor` a small
+//! length (0.1 cm by default) so that noise-free data do not divide by zero. The model's
+//! centroid comes from one run of [`crate::Model::predict`] with the stochastic effects off
+//! (a stochastic effect is zero-mean by definition: its second-order pull on the centroid is
+//! neglected, and Monte Carlo noise cannot tie it to the centroids); its spread from
+//! [`FitOptions::prediction_runs`] runs with everything on (common random numbers: the same
+//! seed for every evaluation). Every candidate is
+//! scored on the same residuals, with the same weights, so their χ² compare.
+//!
+//! # Criteria
+//!
+//! With Gaussian errors of known spread, −2 ln L = χ² + const, so AIC = χ² + 2k and
+//! BIC = χ² + k ln N (N residuals, k parameters). The weights come from the data, so both
+//! are approximate; they rank candidates fitted to the same data.
+//!
+//! # Gap measures (cm, never weighted)
+//!
+//! Per group: the *systematic* gap `|c̄_real − c̄_model|` (centroid distance, over the
+//! recorded axes) and the *scatter* gap `√((s_x,real − c4·s_x,model)² + (s_y,real − c4·s_y,model)²)`.
+//! Over groups: the root mean square of each, and the *total* `√(systematic² + scatter²)`,
+//! which is the 2-Wasserstein distance between per-axis Gaussian fits of the two clouds
+//! of end points. Even a perfect model leaves some gap, because n runs only estimate a
+//! centroid to `s/√n` and a spread to `s/√(2(n−1))`; the *excess* gaps subtract these
+//! sampling variances (and the model's, for m predicted runs) before the root, and measure
+//! what the model itself misses.
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+use crate::data::{Group, Stats, TrainSet};
+use crate::effects::{EffectParams, ParamKind, ParamSpec};
+use crate::model::{Model, TestKind};
+use crate::rng::Rng;
+use crate::GapError;
+
+/// Options of the fits.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitOptions {
+    /// Runs predicted per group when a stochastic parameter is fitted.
+    pub prediction_runs: usize,
+    /// Seed of the model's predictions and of the bootstrap.
+    pub seed: u64,
+    /// Levenberg-Marquardt iterations at most.
+    pub max_iterations: usize,
+    /// Smallest standard error of a centroid or spread, cm.
+    pub floor_cm: f64,
+    /// Points of the bounded 1-D grid that starts each single-effect fit.
+    pub grid_points: usize,
+    /// Bootstrap resamples over runs for the uncertainty of the leading candidates.
+    pub bootstrap: usize,
+    /// Fit pairs of effects too.
+    pub pairs: bool,
+    /// Largest number of effects the winner may grow to by forward selection beyond the
+    /// best pair (each added effect must lower the BIC by more than 6 and stay determined).
+    pub max_effects: usize,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            prediction_runs: 512,
+            seed: 0x6A70_2024,
+            max_iterations: 100,
+            floor_cm: 0.1,
+            grid_points: 41,
+            bootstrap: 40,
+            pairs: true,
+            max_effects: 4,
+        }
+    }
+}
+
+/// A model's centroid and spread for one group.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Predicted {
+    /// Mean x, cm.
+    pub mean_x: f64,
+    /// Mean y, cm.
+    pub mean_y: f64,
+    /// Standard deviation of x between runs, cm.
+    pub sd_x: f64,
+    /// Standard deviation of y, cm.
+    pub sd_y: f64,
+    /// Mean heading error, degrees.
+    pub mean_theta_deg: f64,
+}
+
+/// The gap of one group.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GroupGap {
+    /// The group (`experiment/test`).
+    pub group: String,
+    /// What was measured.
+    pub observed: Stats,
+    /// What the model predicts.
+    pub predicted: Predicted,
+    /// Real − model centroid, x, cm.
+    pub residual_x_cm: f64,
+    /// Real − model centroid, y, cm (when y was recorded).
+    pub residual_y_cm: Option<f64>,
+    /// Centroid distance, cm.
+    pub systematic_cm: f64,
+    /// Spread mismatch, cm.
+    pub scatter_cm: f64,
+    /// Centroid distance beyond what the sampling error of the centroids explains,
+    /// `√max(0, |Δ|² − Σ_axes (s²_real/n + s²_model/m))`, cm.
+    pub systematic_excess_cm: f64,
+    /// Spread mismatch beyond the sampling error of the spreads,
+    /// `√max(0, Σ_axes ((s_real − s_model)² − s²_real/(2(n−1)) − s²_model/(2(m−1))))`, cm.
+    pub scatter_excess_cm: f64,
+}
+
+/// The gap over a set of groups.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Gap {
+    /// RMS over groups of the centroid distance, cm.
+    pub systematic_cm: f64,
+    /// RMS over groups of the spread mismatch, cm.
+    pub scatter_cm: f64,
+    /// √(systematic² + scatter²), cm.
+    pub total_cm: f64,
+    /// RMS over groups of the systematic gap beyond sampling error, cm.
+    pub systematic_excess_cm: f64,
+    /// RMS over groups of the scatter gap beyond sampling error, cm.
+    pub scatter_excess_cm: f64,
+    /// Per group.
+    pub groups: Vec<GroupGap>,
+}
+
+impl Gap {
+    /// The fraction of `before` this gap removed, on the total (1 − after/before).
+    pub fn reduction_from(&self, before: &Gap) -> f64 {
+        reduction(before.total_cm, self.total_cm)
+    }
+}
+
+pub(crate) fn reduction(before: f64, after: f64) -> f64 {
+    if before > 0.0 {
+        1.0 - after / before
+    } else {
+        0.0
+    }
+}
+
+/// Pooled within-group variances per test kind (x, y), cm².
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Weights {
+    pooled: Vec<(TestKind, f64, Option<f64>)>,
+    floor_cm: f64,
+}
+
+impl Weights {
+    /// Pooled over `groups`.
+    pub fn from_groups(groups: &[Group], floor_cm: f64) -> Weights {
+        let mut pooled = Vec::new();
+        for kind in TestKind::ALL {
+            let (mut sx, mut sy, mut dof, mut dof_y) = (0.0, 0.0, 0.0, 0.0);
+            for g in groups.iter().filter(|g| g.id.test == kind) {
+                let st = g.stats();
+                if st.n < 2 {
+                    continue;
+                }
+                let d = (st.n - 1) as f64;
+                sx += d * st.sd_x.powi(2);
+                dof += d;
+                if let Some(s) = st.sd_y {
+                    sy += d * s.powi(2);
+                    dof_y += d;
+                }
+            }
+            if dof > 0.0 {
+                pooled.push((kind, sx / dof, (dof_y > 0.0).then(|| sy / dof_y)));
+            }
+        }
+        Weights { pooled, floor_cm }
+    }
+
+    pub(crate) fn var(&self, kind: TestKind) -> (f64, f64) {
+        self.pooled
+            .iter()
+            .find(|p| p.0 == kind)
+            .map(|p| (p.1, p.2.unwrap_or(p.1)))
+            .unwrap_or((0.0, 0.0))
+    }
+}
+
+/// Computes predictions, residuals and gaps of a model on groups.
+pub(crate) struct Evaluator<'a> {
+    pub model: &'a dyn Model,
+    pub specs: Vec<ParamSpec>,
+    pub opts: FitOptions,
+    pub weights: Weights,
+}
+
+impl<'a> Evaluator<'a> {
+    pub fn new(model: &'a dyn Model, train: &TrainSet, opts: &FitOptions) -> Self {
+        Evaluator {
+            model,
+            specs: model.parameters(),
+            opts: opts.clone(),
+            weights: Weights::from_groups(train.groups(), opts.floor_cm),
+        }
+    }
+
+    pub fn spec(&self, name: &str) -> Option<&ParamSpec> {
+        self.specs.iter().find(|s| s.name == name)
+    }
+
+    fn stochastic(&self, params: &EffectParams) -> bool {
+        params.iter().any(|(n, v)| {
+            self.spec(n)
+                .is_some_and(|s| s.kind == ParamKind::Stochastic && v != s.neutral)
+        })
+    }
+
+    /// The model's centroid and spread for `group` under `params`.
+    pub fn predict(&self, params: &EffectParams, group: &Group) -> Result<Predicted, GapError> {
+        self.predict_experiment(params, &group.experiment, &group.id.to_string())
+    }
+
+    /// The model's centroid and spread for `experiment`; `tag` seeds its randomness.
+    pub fn predict_experiment(
+        &self,
+        params: &EffectParams,
+        experiment: &crate::model::Experiment,
+        tag: &str,
+    ) -> Result<Predicted, GapError> {
+        let mut exp = experiment.clone();
+        exp.seed = self.opts.seed ^ hash(tag);
+        // The centroid from one run with the stochastic effects off (they are zero-mean by
+        // definition), so that the Monte Carlo noise of the spread's runs cannot leak into
+        // the centroid and tie a stochastic parameter to it.
+        let mut systematic = EffectParams::new();
+        for (n, v) in params.iter() {
+            if self.spec(n).is_none_or(|s| s.kind == ParamKind::Systematic) {
+                systematic.set(n, v);
+            }
+        }
+        exp.runs = 1;
+        let centre = self.model.predict(&systematic, &exp)?;
+        let first = centre.first().ok_or_else(|| {
+            GapError::Model(crate::ModelError::InvalidExperiment(
+                "the model returned no runs".into(),
+            ))
+        })?;
+        let (mut sd_x, mut sd_y) = (0.0, 0.0);
+        if self.stochastic(params) {
+            exp.runs = self.opts.prediction_runs.max(2);
+            let runs = self.model.predict(params, &exp)?;
+            let xs: Vec<f64> = runs.iter().map(|r| r.x_cm).collect();
+            let ys: Vec<f64> = runs.iter().map(|r| r.y_cm).collect();
+            let st = Stats::of(&xs, Some(&ys));
+            sd_x = st.sd_x;
+            sd_y = st.sd_y.unwrap_or(0.0);
+        }
+        Ok(Predicted {
+            mean_x: first.x_cm,
+            mean_y: first.y_cm,
+            sd_x,
+            sd_y,
+            mean_theta_deg: first.theta_rad.to_degrees(),
+        })
+    }
+
+    /// Weighted residuals (see the module docs).
+    pub fn residuals(&self, params: &EffectParams, groups: &[Group]) -> Result<Vec<f64>, GapError> {
+        let floor2 = self.opts.floor_cm.powi(2);
+        let mut r = Vec::with_capacity(groups.len() * 4);
+        for g in groups {
+            let p = self.predict(params, g)?;
+            let st = g.stats();
+            let (vx, vy) = self.weights.var(g.id.test);
+            let n = st.n as f64;
+            r.push((st.mean_x - p.mean_x) / (vx / n + floor2).sqrt());
+            if let Some(my) = st.mean_y {
+                r.push((my - p.mean_y) / (vy / n + floor2).sqrt());
+            }
+            if st.n >= 2 {
+                let d = 2.0 * (n - 1.0);
+                let c4 = c4(st.n);
+                r.push((st.sd_x - c4 * p.sd_x) / (vx / d + floor2).sqrt());
+                if let Some(sy) = st.sd_y {
+                    r.push((sy - c4 * p.sd_y) / (vy / d + floor2).sqrt());
+                }
+            }
+        }
+        Ok(r)
+    }
+
+    /// The gap in cm.
+    pub fn gap(&self, params: &EffectParams, groups: &[Group]) -> Result<Gap, GapError> {
+        let m = if self.stochastic(params) {
+            self.opts.prediction_runs.max(2) as f64
+        } else {
+            f64::INFINITY
+        };
+        let mut out = Vec::with_capacity(groups.len());
+        for g in groups {
+            let p = self.predict(params, g)?;
+            let st = g.stats();
+            let n = st.n as f64;
+            let rx = st.mean_x - p.mean_x;
+            let ry = st.mean_y.map(|y| y - p.mean_y);
+            let c4 = c4(st.n);
+            let scatter = ((st.sd_x - c4 * p.sd_x).powi(2)
+                + st.sd_y.map_or(0.0, |s| (s - c4 * p.sd_y).powi(2)))
+            .sqrt();
+            // Sampling variances of the centroids and of the spreads, per axis.
+            let axes: Vec<(f64, f64)> = std::iter::once((st.sd_x, p.sd_x))
+                .chain(st.sd_y.map(|s| (s, p.sd_y)))
+                .collect();
+            let se_mean: f64 = axes.iter().map(|(so, sp)| so * so / n + sp * sp / m).sum();
+            let se_sd: f64 = if st.n >= 2 {
+                axes.iter()
+                    .map(|(so, sp)| so * so / (2.0 * (n - 1.0)) + sp * sp / (2.0 * (m - 1.0)))
+                    .sum()
+            } else {
+                0.0
+            };
+            let sys2 = rx * rx + ry.map_or(0.0, |y| y * y);
+            out.push(GroupGap {
+                systematic_excess_cm: (sys2 - se_mean).max(0.0).sqrt(),
+                scatter_excess_cm: if st.n >= 2 {
+                    (scatter * scatter - se_sd).max(0.0).sqrt()
+                } else {
+                    0.0
+                },
+                group: g.id.to_string(),
+                observed: st,
+                predicted: p,
+                residual_x_cm: rx,
+                residual_y_cm: ry,
+                systematic_cm: rx.hypot(ry.unwrap_or(0.0)),
+                scatter_cm: if st.n >= 2 { scatter } else { 0.0 },
+            });
+        }
+        let rms = |f: &dyn Fn(&GroupGap) -> f64| {
+            (out.iter().map(|g| f(g).powi(2)).sum::<f64>() / out.len().max(1) as f64).sqrt()
+        };
+        let systematic_cm = rms(&|g| g.systematic_cm);
+        let scatter_cm = rms(&|g| g.scatter_cm);
+        Ok(Gap {
+            systematic_cm,
+            scatter_cm,
+            total_cm: systematic_cm.hypot(scatter_cm),
+            systematic_excess_cm: rms(&|g| g.systematic_excess_cm),
+            scatter_excess_cm: rms(&|g| g.scatter_excess_cm),
+            groups: out,
+        })
+    }
+}
+
+/// E[s]/σ for the sample standard deviation of n Gaussian values (c4; 1 for n < 2).
+pub fn c4(n: usize) -> f64 {
+    if n < 2 {
+        return 1.0;
+    }
+    let n = n as f64;
+    (2.0 / (n - 1.0)).sqrt()
+        * (crate::stats::ln_gamma(n / 2.0) - crate::stats::ln_gamma((n - 1.0) / 2.0)).exp()
+}
+
+/// FNV-1a, for seeds from names.
+pub(crate) fn hash(s: &str) -> u64 {
+    s.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// One fitted parameter.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Estimate {
+    /// Effect name.
+    pub name: String,
+    /// Symbol.
+    pub symbol: String,
+    /// Unit.
+    pub unit: String,
+    /// Fitted value.
+    pub value: f64,
+    /// Standard error from the Jacobian (covariance inflated by χ²/dof when above 1);
+    /// `None` when the fit's Jacobian is singular.
+    pub std_err: Option<f64>,
+    /// Standard deviation over bootstrap refits (runs resampled within each group), when
+    /// computed.
+    pub bootstrap_sd: Option<f64>,
+    /// Whether the value ended at a bound.
+    pub at_bound: bool,
+}
+
+/// A fitted set of effects.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CandidateFit {
+    /// The effects fitted (empty: the model as it is).
+    pub effects: Vec<String>,
+    /// Their values.
+    pub estimates: Vec<Estimate>,
+    /// Number of parameters.
+    pub k: usize,
+    /// Number of residuals.
+    pub n_residuals: usize,
+    /// Σ r² on the training data.
+    pub chi2: f64,
+    /// χ² + 2k.
+    pub aic: f64,
+    /// χ² + k ln N.
+    pub bic: f64,
+    /// Share of the training χ² of the model as it is that this fit removes.
+    pub share_explained: f64,
+    /// Training gap.
+    pub train: Gap,
+    /// Held-out gap (filled by the diagnosis).
+    pub heldout: Option<Gap>,
+    /// Parameter correlation matrix (k × k), when the Jacobian is not singular.
+    pub correlation: Option<Vec<Vec<f64>>>,
+    /// Condition number of the scaled Jacobian (∞ when singular).
+    pub condition_number: f64,
+    /// Iterations of Levenberg-Marquardt.
+    pub iterations: usize,
+    /// Whether it converged.
+    pub converged: bool,
+    /// The fitted values as parameters.
+    #[serde(skip)]
+    pub params: EffectParams,
+}
+
+impl CandidateFit {
+    /// Display label: effect names joined by `+`, or `(model as is)`.
+    pub fn label(&self) -> String {
+        if self.effects.is_empty() {
+            "(model as is)".to_owned()
+        } else {
+            self.effects.join(" + ")
+        }
+    }
+
+    /// The estimate of `name`.
+    pub fn estimate(&self, name: &str) -> Option<&Estimate> {
+        self.estimates.iter().find(|e| e.name == name)
+    }
+
+    /// Largest |correlation| between two parameters (0 for one parameter).
+    pub fn max_correlation(&self) -> Option<f64> {
+        let c = self.correlation.as_ref()?;
+        let mut m: f64 = 0.0;
+        for (i, row) in c.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                if i != j {
+                    m = m.max(v.abs());
+                }
+            }
+        }
+        Some(m)
+    }
+}
+
+/// Residuals as a function of the scaled parameters.
+type Residuals<'a> = dyn Fn(&[f64]) -> Result<Vec<f64>, GapError> + 'a;
+
+/// Standard errors, correlation matrix and condition number of a fit.
+struct Covariance {
+    std_err: Option<Vec<f64>>,
+    correlation: Option<Vec<Vec<f64>>>,
+    condition: f64,
+}
+
+struct LmOut {
+    x: Vec<f64>,
+    chi2: f64,
+    jac: DMatrix<f64>,
+    iterations: usize,
+    converged: bool,
+}
+
+fn jacobian(
+    f: &Residuals,
+    x: &[f64],
+    r0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+) -> Result<DMatrix<f64>, GapError> {
+    let h = 1e-4;
+    let mut j = DMatrix::zeros(r0.len(), x.len());
+    for i in 0..x.len() {
+        let up = (x[i] + h).min(hi[i]);
+        let dn = (x[i] - h).max(lo[i]);
+        let mut xu = x.to_vec();
+        xu[i] = up;
+        let mut xd = x.to_vec();
+        xd[i] = dn;
+        let ru = if up != x[i] { f(&xu)? } else { r0.to_vec() };
+        let rd = if dn != x[i] { f(&xd)? } else { r0.to_vec() };
+        let span = up - dn;
+        if span <= 0.0 {
+            continue;
+        }
+        for k in 0..r0.len() {
+            j[(k, i)] = (ru[k] - rd[k]) / span;
+        }
+    }
+    Ok(j)
+}
+
+fn sq(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+/// Levenberg-Marquardt on `f` (residuals) from `x0` within [lo, hi] (projected steps).
+fn levenberg_marquardt(
+    f: &Residuals,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    max_iter: usize,
+) -> Result<LmOut, GapError> {
+    let clamp = |x: &mut Vec<f64>| {
+        for i in 0..x.len() {
+            x[i] = x[i].clamp(lo[i], hi[i]);
+        }
+    };
+    let mut x = x0.to_vec();
+    clamp(&mut x);
+    let mut r = f(&x)?;
+    let mut chi = sq(&r);
+    let mut lambda = 1e-3;
+    let mut iterations = 0;
+    let mut converged = false;
+    while iterations < max_iter {
+        iterations += 1;
+        let j = jacobian(f, &x, &r, lo, hi)?;
+        let rv = DVector::from_column_slice(&r);
+        let g = j.transpose() * &rv;
+        let a = j.transpose() * &j;
+        let mut accepted = false;
+        let mut last_step = 0.0;
+        for _ in 0..12 {
+            let mut m = a.clone();
+            for i in 0..x.len() {
+                m[(i, i)] += lambda * a[(i, i)].max(1e-9);
+            }
+            let Some(delta) = m.lu().solve(&(-&g)) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let mut xn: Vec<f64> = x.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
+            clamp(&mut xn);
+            let rn = f(&xn)?;
+            let chin = sq(&rn);
+            if chin < chi {
+                last_step = xn
+                    .iter()
+                    .zip(&x)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                let gain = chi - chin;
+                x = xn;
+                r = rn;
+                chi = chin;
+                lambda = (lambda / 10.0).max(1e-12);
+                accepted = true;
+                if gain <= 1e-10 * (1.0 + chi) {
+                    converged = true;
+                }
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !accepted || converged || last_step < 1e-9 {
+            converged = true;
+            break;
+        }
+    }
+    let jac = jacobian(f, &x, &r, lo, hi)?;
+    Ok(LmOut {
+        x,
+        chi2: chi,
+        jac,
+        iterations,
+        converged,
+    })
+}
+
+/// Covariance-derived numbers of a fit in scaled units: (std errors, correlation, cond).
+fn covariance(jac: &DMatrix<f64>, chi2: f64) -> Covariance {
+    let k = jac.ncols();
+    let n = jac.nrows();
+    // Condition number of the column-normalised Jacobian.
+    let mut jn = jac.clone();
+    for c in 0..k {
+        let norm = jn.column(c).norm();
+        if norm > 0.0 {
+            jn.column_mut(c).scale_mut(1.0 / norm);
+        }
+    }
+    let sv = jn.svd(false, false).singular_values;
+    let (smax, smin) = sv
+        .iter()
+        .fold((0.0f64, f64::INFINITY), |(a, b), &s| (a.max(s), b.min(s)));
+    let any_zero_col = (0..k).any(|c| jac.column(c).norm() == 0.0);
+    let cond = if any_zero_col || smin <= 1e-12 * smax.max(1e-300) {
+        f64::INFINITY
+    } else {
+        smax / smin
+    };
+    if !cond.is_finite() || cond > 1e10 {
+        return Covariance {
+            std_err: None,
+            correlation: None,
+            condition: cond,
+        };
+    }
+    let jtj = jac.transpose() * jac;
+    let Some(inv) = jtj.try_inverse() else {
+        return Covariance {
+            std_err: None,
+            correlation: None,
+            condition: f64::INFINITY,
+        };
+    };
+    let dof = n.saturating_sub(k).max(1) as f64;
+    let s2 = (chi2 / dof).max(1.0);
+    let se: Vec<f64> = (0..k).map(|i| (inv[(i, i)] * s2).max(0.0).sqrt()).collect();
+    let corr = (0..k)
+        .map(|i| {
+            (0..k)
+                .map(|j| inv[(i, j)] / (inv[(i, i)] * inv[(j, j)]).sqrt())
+                .collect()
+        })
+        .collect();
+    Covariance {
+        std_err: Some(se),
+        correlation: Some(corr),
+        condition: cond,
+    }
+}
+
+/// Fits `effects` to the training groups from each of `starts` (values in parameter units)
+/// and keeps the best.
+pub(crate) fn fit_candidate(
+    ev: &Evaluator,
+    train: &[Group],
+    effects: &[String],
+    starts: &[Vec<f64>],
+    baseline_chi2: f64,
+) -> Result<CandidateFit, GapError> {
+    let specs: Vec<&ParamSpec> = effects
+        .iter()
+        .map(|e| {
+            ev.spec(e).ok_or_else(|| {
+                GapError::Model(crate::ModelError::UnknownParameter {
+                    model: ev.model.name(),
+                    name: e.clone(),
+                    known: ev
+                        .specs
+                        .iter()
+                        .map(|s| s.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                })
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let to_params = |u: &[f64]| {
+        let mut p = EffectParams::new();
+        for (s, v) in specs.iter().zip(u) {
+            p.set(&s.name, (s.neutral + v * s.scale).clamp(s.lower, s.upper));
+        }
+        p
+    };
+    let lo: Vec<f64> = specs
+        .iter()
+        .map(|s| (s.lower - s.neutral) / s.scale)
+        .collect();
+    let hi: Vec<f64> = specs
+        .iter()
+        .map(|s| (s.upper - s.neutral) / s.scale)
+        .collect();
+    let f = |u: &[f64]| ev.residuals(&to_params(u), train);
+    let mut best: Option<LmOut> = None;
+    if effects.is_empty() {
+        let r = f(&[])?;
+        best = Some(LmOut {
+            x: vec![],
+            chi2: sq(&r),
+            jac: DMatrix::zeros(r.len(), 0),
+            iterations: 0,
+            converged: true,
+        });
+    }
+    for start in starts {
+        let u0: Vec<f64> = specs
+            .iter()
+            .zip(start)
+            .map(|(s, v)| (v - s.neutral) / s.scale)
+            .collect();
+        let out = levenberg_marquardt(&f, &u0, &lo, &hi, ev.opts.max_iterations)?;
+        if best.as_ref().is_none_or(|b| out.chi2 < b.chi2) {
+            best = Some(out);
+        }
+    }
+    let best = best.ok_or_else(|| GapError::Fit("no start values".into()))?;
+    let n = best.jac.nrows();
+    let k = effects.len();
+    let Covariance {
+        std_err: se,
+        correlation: corr,
+        condition: cond,
+    } = if k == 0 {
+        Covariance {
+            std_err: Some(vec![]),
+            correlation: Some(vec![]),
+            condition: 1.0,
+        }
+    } else {
+        covariance(&best.jac, best.chi2)
+    };
+    let params = to_params(&best.x);
+    let estimates = specs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let v = params.get_or(&s.name, s.neutral);
+            Estimate {
+                name: s.name.clone(),
+                symbol: s.symbol.clone(),
+                unit: s.unit.clone(),
+                value: v,
+                std_err: se.as_ref().map(|se| se[i] * s.scale),
+                bootstrap_sd: None,
+                at_bound: (v - s.lower).abs() < 1e-9 * s.scale.max(1e-12)
+                    || (v - s.upper).abs() < 1e-9 * s.scale.max(1e-12),
+            }
+        })
+        .collect();
+    let train_gap = ev.gap(&params, train)?;
+    Ok(CandidateFit {
+        effects: effects.to_vec(),
+        estimates,
+        k,
+        n_residuals: n,
+        chi2: best.chi2,
+        aic: best.chi2 + 2.0 * k as f64,
+        bic: best.chi2 + k as f64 * (n.max(1) as f64).ln(),
+        share_explained: if baseline_chi2 > 0.0 {
+            1.0 - best.chi2 / baseline_chi2
+        } else {
+            0.0
+        },
+        train: train_gap,
+        heldout: None,
+        correlation: corr,
+        condition_number: cond,
+        iterations: best.iterations,
+        converged: best.converged,
+        params,
+    })
+}
+
+/// Start values of a single-effect fit: the best point of a bounded grid (and the neutral
+/// value) on the training χ².
+pub(crate) fn grid_start(
+    ev: &Evaluator,
+    train: &[Group],
+    spec: &ParamSpec,
+) -> Result<Vec<Vec<f64>>, GapError> {
+    // The grid only finds a start: a stochastic parameter's spread is estimated from an
+    // eighth of the runs there.
+    let coarse = Evaluator {
+        model: ev.model,
+        specs: ev.specs.clone(),
+        opts: FitOptions {
+            prediction_runs: (ev.opts.prediction_runs / 8).max(32),
+            ..ev.opts.clone()
+        },
+        weights: ev.weights.clone(),
+    };
+    let ev = &coarse;
+    let n = ev.opts.grid_points.max(3);
+    let mut best = (f64::INFINITY, spec.neutral);
+    for i in 0..n {
+        let v = spec.lower + (spec.upper - spec.lower) * i as f64 / (n - 1) as f64;
+        let p = EffectParams::new().with(&spec.name, v);
+        let c = sq(&ev.residuals(&p, train)?);
+        if c < best.0 {
+            best = (c, v);
+        }
+    }
+    let mut starts = vec![vec![best.1]];
+    // A stochastic parameter at its neutral value has no derivative; start inside.
+    let inside = if spec.kind == ParamKind::Stochastic || !spec.two_sided() {
+        (spec.neutral + 0.5 * spec.scale).clamp(spec.lower, spec.upper)
+    } else {
+        spec.neutral
+    };
+    starts.push(vec![inside]);
+    Ok(starts)
+}
+
+/// Standard deviations of the estimates of `fit` over `b` bootstrap resamples of the runs.
+pub(crate) fn bootstrap(
+    ev: &Evaluator,
+    train: &TrainSet,
+    fit: &CandidateFit,
+    b: usize,
+    seed: u64,
+) -> Result<Vec<Option<f64>>, GapError> {
+    let k = fit.effects.len();
+    if k == 0 || b < 2 {
+        return Ok(vec![None; k]);
+    }
+    let mut rng = Rng::new(seed ^ hash(&fit.label()));
+    let start: Vec<f64> = fit.estimates.iter().map(|e| e.value).collect();
+    let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(b); k];
+    for _ in 0..b {
+        let resampled = train.resampled(&mut rng);
+        let sub = fit_candidate(
+            ev,
+            resampled.groups(),
+            &fit.effects,
+            std::slice::from_ref(&start),
+            0.0,
+        )?;
+        for (i, e) in sub.estimates.iter().enumerate() {
+            samples[i].push(e.value);
+        }
+    }
+    Ok(samples
+        .into_iter()
+        .map(|s| {
+            let m = s.iter().sum::<f64>() / s.len() as f64;
+            Some((s.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (s.len() - 1) as f64).sqrt())
+        })
+        .collect())
+}
