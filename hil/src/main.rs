@@ -226,6 +226,34 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Sim-to-real gap: where the real data and the model disagree, which
+    /// effect explains it, how far it shrinks on held-out data.
+    Gap {
+        /// A folder of manifests (TOML) or manifest files: the real data
+        /// (e.g. fixtures/real/thesis).
+        #[arg(long, value_name = "DIR|FILE", num_args = 1..)]
+        real: Vec<PathBuf>,
+        /// The base model: a robot config whose geometry is the reference
+        /// (default: each manifest's own robot_config).
+        #[arg(long, value_name = "FILE")]
+        model: Option<PathBuf>,
+        /// Train on these experiments (manifest `experiment` names), hold out
+        /// the rest (default: umbmark-1 when present, else the first by name).
+        #[arg(long, value_delimiter = ',')]
+        train: Vec<String>,
+        /// Generate "real" data from the model with one hidden effect at a
+        /// time and check the diagnosis finds it.
+        #[arg(long)]
+        self_test: bool,
+        /// Write the report as Markdown (with an SVG plot next to it).
+        #[arg(long, value_name = "FILE")]
+        markdown: Option<PathBuf>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
     /// Combine the partial results of `hil umbmark --shard` into the full result.
     Merge {
         /// Partial result files (JSON).
@@ -727,6 +755,105 @@ fn run(cli: Cli) -> Result<()> {
             }
             if !report.passed() {
                 anyhow::bail!("the firmware did not survive the fuzzing unchanged");
+            }
+        }
+        Command::Gap {
+            real,
+            model,
+            train,
+            self_test,
+            markdown,
+            json,
+            seed,
+        } => {
+            let kinematic = gap::KinematicModel;
+            if self_test {
+                let cases = gap::self_test(&kinematic, seed);
+                if json {
+                    println!("{}", serde_json::to_string_pretty(&cases)?);
+                } else {
+                    println!(
+                        "{:<26} {:>12} {:>6} {:>12} {:>9} {:>12} {:>12}",
+                        "effect",
+                        "injected",
+                        "first",
+                        "fitted",
+                        "error %",
+                        "gap before",
+                        "gap after"
+                    );
+                    for c in &cases {
+                        println!(
+                            "{:<26} {:>12.5} {:>6} {:>12.5} {:>9.2} {:>12.3} {:>12.3}",
+                            c.effect,
+                            c.injected,
+                            if c.ranked_first { "yes" } else { "NO" },
+                            c.fitted,
+                            c.value_error_pct,
+                            c.heldout_gap_before,
+                            c.heldout_gap_after
+                        );
+                    }
+                }
+                return Ok(());
+            }
+            if real.is_empty() {
+                anyhow::bail!("give --real DIR (manifests of real data, e.g. fixtures/real/thesis) or --self-test");
+            }
+            let mut manifests = Vec::new();
+            for r in &real {
+                if r.is_dir() {
+                    manifests.extend(gap::load_dir(r)?);
+                } else {
+                    manifests.push(gap::LoadedManifest::load(r)?);
+                }
+            }
+            if let Some(m) = &model {
+                let cfg = RobotConfig::load(m).with_context(|| format!("model {}", m.display()))?;
+                let reference = gap::manifest::reference_from_config(&cfg);
+                for lm in &mut manifests {
+                    lm.reference = Some(reference);
+                }
+            }
+            let train = if train.is_empty() {
+                let mut names: Vec<String> = manifests
+                    .iter()
+                    .filter(|m| m.manifest.endpoints.is_some())
+                    .map(|m| m.manifest.experiment.clone())
+                    .collect();
+                names.sort();
+                // The thesis' own procedure: fit on UMBmark experiment 1,
+                // predict the rest.
+                match names.iter().find(|n| n.as_str() == "umbmark-1") {
+                    Some(n) => vec![n.clone()],
+                    None => names.into_iter().take(1).collect(),
+                }
+            } else {
+                train
+            };
+            let d = gap::diagnose_manifests(
+                &kinematic,
+                &manifests,
+                &gap::SplitRule::TrainOnExperiments(train),
+                &gap::DiagnoseOptions::default(),
+            )?;
+            if let Some(path) = &markdown {
+                let svg_path = path.with_extension("svg");
+                let svg = gap::plot_svg(&d)?;
+                hil::output::write_atomic(&svg_path, svg.as_bytes())?;
+                let name = svg_path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned());
+                hil::output::write_atomic(
+                    path,
+                    gap::render_markdown(&d, name.as_deref()).as_bytes(),
+                )?;
+                eprintln!("wrote {} and {}", path.display(), svg_path.display());
+            }
+            if json {
+                println!("{}", serde_json::to_string_pretty(&d)?);
+            } else {
+                print!("{}", gap::render_text(&d));
             }
         }
         Command::Merge {
