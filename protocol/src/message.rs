@@ -329,8 +329,9 @@ pub enum Phase {
 pub enum Fault {
     /// No fault since the last test start.
     None = 0,
-    /// Left wheel driven at or above the stall duty without a count for the
-    /// stall timeout.
+    /// Left wheel driven at or above the stall duty without advancing 3
+    /// counts in the commanded direction within the stall timeout (its count
+    /// nearly still).
     StallLeft = 1,
     /// Right wheel, likewise.
     StallRight = 2,
@@ -343,6 +344,12 @@ pub enum Fault {
     WrongWayRight = 5,
     /// The last reset was a watchdog reset (reported at boot).
     WatchdogReset = 6,
+    /// A wheel (either; the notice's counts show which one stopped
+    /// advancing) driven at or above the stall duty whose count moved back
+    /// and forth (3 or more counts, tick by tick) without advancing 3 counts
+    /// in the commanded direction within the stall timeout: edges arrive but
+    /// do not add up, e.g. encoder channel B stuck.
+    EncoderInconsistent = 7,
 }
 
 impl Fault {
@@ -356,6 +363,7 @@ impl Fault {
             4 => Fault::WrongWayLeft,
             5 => Fault::WrongWayRight,
             6 => Fault::WatchdogReset,
+            7 => Fault::EncoderInconsistent,
             _ => return None,
         })
     }
@@ -644,6 +652,30 @@ mod tests {
             }
         }
         assert_eq!(Status::from_u8(8), None);
+    }
+
+    #[test]
+    fn fault_codes_round_trip() {
+        let mut known = 0;
+        for b in 0..=255u8 {
+            if let Some(f) = Fault::from_u8(b) {
+                assert_eq!(f as u8, b);
+                known += 1;
+            }
+        }
+        assert_eq!(known, 8);
+        assert_eq!(Fault::from_u8(7), Some(Fault::EncoderInconsistent));
+        assert_eq!(Fault::from_u8(8), None);
+        let f = FaultNotice {
+            fault: Fault::EncoderInconsistent as u8,
+            test: 4,
+            segment: 0,
+            phase: 1,
+            left: 2100,
+            right: 75,
+        };
+        assert_eq!(f.to_bytes()[0], 7);
+        assert_eq!(FaultNotice::decode(&f.to_bytes()), Some(f));
     }
 
     #[test]

@@ -10,8 +10,9 @@
 //!   within one count of the target and the CPU is not woken per edge;
 //! - in a spin turn each wheel is cut when its own count reaches its target,
 //!   then gets its own braking pulse;
-//! - stall, wrong-direction and segment time-out faults stop the motors; the
-//!   MCU watchdog resets a main loop that stops running;
+//! - stall (no net progress), encoder-inconsistent, wrong-direction and
+//!   segment time-out faults stop the motors; the MCU watchdog resets a main
+//!   loop that stops running;
 //! - every wait is a deadline on the timer 1 clock: no busy loop anywhere.
 
 #![no_std]
@@ -110,6 +111,25 @@ const TABLE_COUNTS: usize = 64;
 static RPM_OF_COUNTS: [f32; TABLE_COUNTS] = rpm_table(robot::SAMPLE_PERIOD_S);
 /// One control period in microseconds, as `HT_PERIOD_US` shows it.
 const PERIOD_US: f32 = robot::SAMPLE_PERIOD_US as f32;
+/// Stall watchdog: net progress, in counts in the commanded direction, that
+/// a wheel driven at or above the stall duty must make within the stall
+/// time. At the set-points a wheel makes about 13 counts per tick; a wheel
+/// that turns while its count does not advance (the 2x decoder with channel
+/// B stuck counts +1, -1, +1 ...) or that creeps a count or two is stopped.
+const STALL_PROGRESS_COUNTS: i16 = 3;
+/// ... and counts moved within that time (each tick's change, either way,
+/// added up) that make it an encoder fault rather than a stall. Movement in
+/// the commanded direction alone adds up to at most 2 under the net progress
+/// above (a wheel coasting to a stop), so 3 means the count went back and
+/// forth: edges arrive but do not add up. Sampled once per tick, the count
+/// shows only the parity of each tick's edges (channel B stuck: about half
+/// the ticks change it by one; 5 in the 14 ticks on the bench), so an
+/// encoder whose edges come in even numbers per tick looks like a stall.
+const ENCODER_TRAVEL_COUNTS: u16 = 3;
+/// Ticks after a segment start the stall watchdog leaves alone (the first
+/// runs at the start duty, below any sensible stall duty; then the wheels
+/// spin up from rest).
+const STALL_GRACE_TICKS: u8 = 3;
 /// Segment time-out: this many times the nominal duration ...
 const TIMEOUT_FACTOR: f32 = 4.0;
 /// ... plus this many ticks (2 s).
@@ -144,8 +164,19 @@ struct Wheel {
     start_count: i32,
     /// Duty applied during the current control period.
     applied: u8,
-    /// Consecutive periods driven at or above the stall duty without a count.
+    /// Stall watchdog: count at the start of the current window (the last
+    /// period not judged, or the last net progress of
+    /// [`STALL_PROGRESS_COUNTS`]), low 16 bits: within a window the count
+    /// stays far closer to it than 2^15 (forward it restarts the window,
+    /// backward the wrong-way check stops the wheel) ...
+    mark: i16,
+    /// ... periods judged since then (driven at or above the stall duty) ...
     still: u16,
+    /// ... and counts moved since then, each period's change either way
+    /// (valid while `still` > 0).
+    travel: u16,
+    /// Periods left before the watchdog judges this wheel.
+    grace: u8,
 }
 
 impl Wheel {
@@ -158,7 +189,10 @@ impl Wheel {
             last_count: 0,
             start_count: 0,
             applied: 0,
+            mark: 0,
             still: 0,
+            travel: 0,
+            grace: 0,
         }
     }
 }
@@ -207,16 +241,30 @@ fn rpm_over(counts: u32, n: u32) -> f32 {
     counts as f32 * RPM_PER_COUNT / n as f32
 }
 
+/// What the watchdogs found on one wheel.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Check {
+    Ok,
+    /// Driven at or above the stall duty without net progress, the count
+    /// (nearly) still.
+    Stall,
+    /// Likewise, but the count moved back and forth.
+    EncoderInconsistent,
+    /// Too far against the commanded direction.
+    WrongWay,
+}
+
 /// What one control period decided for one wheel.
 struct WheelOutcome {
     rpm: f32,
     duty: u8,
-    fault: bool,
-    wrong_way: bool,
+    check: Check,
 }
 
 /// One control period of one driving wheel: speed over the last `n`
-/// periods, PID, output stage, stall and wrong-direction checks.
+/// periods, PID, output stage, stall ([`judge_progress`]; only periods
+/// driven at or above the stall duty after the start's grace are judged, any
+/// other starts the window again) and wrong-direction checks.
 #[inline(always)]
 fn control_wheel(w: &mut Wheel, count: i32, n: u32, stall: StallLimits) -> WheelOutcome {
     let delta = count.wrapping_sub(w.last_count);
@@ -227,15 +275,70 @@ fn control_wheel(w: &mut Wheel, count: i32, n: u32, stall: StallLimits) -> Wheel
         _ => rpm_over(counts, n),
     };
     let duty = duty_from_output(w.pid.update(counts, rpm, n == 1));
-    if w.applied >= stall.duty && delta == 0 {
-        w.still = w.still.saturating_add(n as u16);
+    let mut check = Check::Ok;
+    if w.applied >= stall.duty && w.grace == 0 {
+        let moved = if counts > u16::MAX as u32 { u16::MAX } else { counts as u16 };
+        check = judge_progress(w, count as i16, moved, n as u16, stall.ticks);
     } else {
+        w.grace = w.grace.saturating_sub(1);
+        w.mark = count as i16;
         w.still = 0;
     }
     w.applied = duty;
-    let progress = count.wrapping_sub(w.start_count);
-    let wrong_way = if w.forward { progress < -WRONG_WAY_COUNTS } else { progress > WRONG_WAY_COUNTS };
-    WheelOutcome { rpm, duty, fault: w.still >= stall.ticks, wrong_way }
+    if check == Check::Ok {
+        let progress = count.wrapping_sub(w.start_count);
+        let wrong_way = if w.forward { progress < -WRONG_WAY_COUNTS } else { progress > WRONG_WAY_COUNTS };
+        if wrong_way {
+            check = Check::WrongWay;
+        }
+    }
+    WheelOutcome { rpm, duty, check }
+}
+
+/// The stall watchdog's judgement of one period driven at or above the
+/// stall duty (`count` at its end, `counts` moved during it, `n` periods
+/// long). Out of line: one copy for both wheels, and a wheel under normal
+/// control (below the stall duty) does not call it.
+///
+/// It judges net progress, once per period (the encoder handlers do nothing
+/// for it): once the count has advanced [`STALL_PROGRESS_COUNTS`] in the
+/// commanded direction from the window's mark, the window starts again (as
+/// it does on any period not judged). `ticks` judged periods without that
+/// progress are a fault: an encoder fault if the count moved
+/// [`ENCODER_TRAVEL_COUNTS`] or more in that window (edges arrive, the count
+/// does not advance), a stall otherwise.
+#[inline(never)]
+fn judge_progress(w: &mut Wheel, count: i16, counts: u16, n: u16, ticks: u16) -> Check {
+    if w.still == 0 {
+        w.travel = 0;
+    }
+    let net = count.wrapping_sub(w.mark);
+    let net = if w.forward { net } else { net.wrapping_neg() };
+    if net >= STALL_PROGRESS_COUNTS {
+        w.mark = count;
+        w.still = 0;
+        return Check::Ok;
+    }
+    w.still = w.still.saturating_add(n);
+    w.travel = w.travel.saturating_add(counts);
+    if w.still < ticks {
+        Check::Ok
+    } else if w.travel >= ENCODER_TRAVEL_COUNTS {
+        Check::EncoderInconsistent
+    } else {
+        Check::Stall
+    }
+}
+
+/// The fault code of a wheel's check.
+#[inline(always)]
+fn fault_of(check: Check, stall: Fault, wrong_way: Fault) -> Fault {
+    match check {
+        Check::Ok => Fault::None,
+        Check::Stall => stall,
+        Check::EncoderInconsistent => Fault::EncoderInconsistent,
+        Check::WrongWay => wrong_way,
+    }
 }
 
 /// One control period for every wheel still driving: speed over the last
@@ -257,11 +360,7 @@ pub fn ht_control_tick(d: &mut Drive, n: u32, stall: StallLimits) -> Fault {
         }
         bench::set_speed_left(o.rpm);
         bench::set_duty_left(o.duty);
-        if o.fault {
-            fault = Fault::StallLeft;
-        } else if o.wrong_way {
-            fault = Fault::WrongWayLeft;
-        }
+        fault = fault_of(o.check, Fault::StallLeft, Fault::WrongWayLeft);
     }
     if d.right.stage == Stage::Driving {
         let o = control_wheel(&mut d.right, c.right, n, stall);
@@ -273,11 +372,7 @@ pub fn ht_control_tick(d: &mut Drive, n: u32, stall: StallLimits) -> Fault {
         bench::set_speed_right(o.rpm);
         bench::set_duty_right(o.duty);
         if fault == Fault::None {
-            if o.fault {
-                fault = Fault::StallRight;
-            } else if o.wrong_way {
-                fault = Fault::WrongWayRight;
-            }
+            fault = fault_of(o.check, Fault::StallRight, Fault::WrongWayRight);
         }
     }
     fault
@@ -413,7 +508,9 @@ impl App {
             w.last_count = count;
             w.start_count = count;
             w.applied = robot::START_DUTY;
+            w.mark = count as i16;
             w.still = 0;
+            w.grace = STALL_GRACE_TICKS;
         }
         self.clock.restart_period();
         let duty = robot::START_DUTY;
