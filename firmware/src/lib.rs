@@ -10,6 +10,7 @@
 //!   (`millis`/`micros`/`delay` on timer 0, `Serial.print`);
 //! - the control law and the tests: [`pid`], [`odometry`], [`plan`], with the
 //!   robot's numbers in [`robot`] and the run-time parameters in [`settings`];
+//! - [`selector`]: when the robust build takes a raw byte as a selector;
 //! - [`bench`]: the variables the hardware-in-the-loop bench reads by symbol.
 //!
 //! The binaries in `src/bin/` build the applications from these parts and
@@ -30,6 +31,7 @@ pub mod odometry;
 pub mod pid;
 pub mod plan;
 pub mod robot;
+pub mod selector;
 pub mod settings;
 pub mod time;
 

@@ -35,6 +35,7 @@ use henrytwo_firmware::odometry::{leg_progress, leg_target, leg_trip_ahead, leg_
 use henrytwo_firmware::pid::{duty_from_output, rpm_table, thesis_rpm, TablePid};
 use henrytwo_firmware::plan::{self, Segment};
 use henrytwo_firmware::robot;
+use henrytwo_firmware::selector::Isolation;
 use henrytwo_firmware::settings::Settings;
 use henrytwo_firmware::time::{self, Clock};
 use henrytwo_protocol::{
@@ -99,6 +100,11 @@ const INERTIA_WAIT: u32 = time::ms(1000);
 const STOP_WAIT: u32 = time::ms(1000);
 /// A frame whose next byte does not come within this is truncated.
 const INTER_BYTE_TIMEOUT: u32 = time::ms(50);
+/// A raw selector byte counts only with no other byte this long before and
+/// after it: the inter-byte timeout, so a byte that could belong to a frame
+/// (whose bytes may be up to 50 ms apart; they come back to back, 1.04 ms)
+/// is never one. Checked on each tick: acted upon 50 to 65 ms after it came.
+const RAW_QUIET: u32 = INTER_BYTE_TIMEOUT;
 /// A wheel that goes this many counts against its commanded direction
 /// within a segment is a fault.
 const WRONG_WAY_COUNTS: i32 = 64;
@@ -417,6 +423,8 @@ struct App {
     bluetooth: Serial<USART1>,
     debug: Serial<USART0>,
     parser: Parser,
+    /// The isolation rule for raw selector bytes.
+    raw: Isolation,
     settings: Settings,
     mode: Mode,
     /// Leg length of the running test (read at its start).
@@ -766,22 +774,31 @@ impl App {
 
     // -- commands --
 
-    /// Reads what the Bluetooth UART received (bounded by the ring size) and
-    /// ends a frame the line left incomplete.
+    /// Reads what the Bluetooth UART received (bounded by the ring size),
+    /// ends a frame the line left incomplete, and takes a raw byte once the
+    /// line has stayed quiet after it.
     fn poll_commands(&mut self) {
         let now = self.clock.now();
         if let Some(Event::Error(e)) = self.parser.poll(now) {
             self.handle(Input::FrameError(e.into()));
         }
         for _ in 0..RX_LEN {
-            let Some(byte) = self.bluetooth.read() else { return };
+            let Some(byte) = self.bluetooth.read() else { break };
             let now = self.clock.now();
             if let Some(Event::Error(e)) = self.parser.poll(now) {
                 self.handle(Input::FrameError(e.into()));
             }
+            let quiet_before = self.raw.received(now);
             let input = match self.parser.push(byte, now) {
                 None => continue,
-                Some(Event::Raw(b)) => Input::Raw(b),
+                // Outside a frame (a discarding parser gives none); dropped
+                // while a test runs.
+                Some(Event::Raw(b)) => {
+                    if quiet_before && self.mode == Mode::Idle {
+                        self.raw.hold(b);
+                    }
+                    continue;
+                }
                 Some(Event::Error(e)) => Input::FrameError(e.into()),
                 Some(Event::Frame(p)) => {
                     Input::Command(Command::reply_id_for(p), Command::decode(p), p.first().copied().unwrap_or(0))
@@ -789,12 +806,20 @@ impl App {
             };
             self.handle(input);
         }
+        // `now` is from before the ring was read: a byte that came before it
+        // was read above and dropped the held one.
+        if let Some(b) = self.raw.poll(now) {
+            if self.parser.is_idle() {
+                self.handle(Input::Raw(b));
+            }
+        }
     }
 
     fn handle(&mut self, input: Input) {
         match input {
             Input::Raw(b) => {
-                // The thesis' selectors; dropped while a test runs.
+                // The thesis' selectors, isolated on the line (see
+                // `poll_commands`); dropped while a test runs.
                 if let Some(t) = Test::from_u8(b) {
                     let _ = self.start_test(t);
                 }
@@ -926,6 +951,7 @@ fn main() -> ! {
         bluetooth,
         debug,
         parser: Parser::new(INTER_BYTE_TIMEOUT),
+        raw: Isolation::new(RAW_QUIET),
         settings: Settings::DEFAULT,
         mode: Mode::Idle,
         leg_mm: robot::DEFAULT_LEG_MM,
