@@ -706,10 +706,8 @@ impl BenchCore {
 
     /// Queue bytes from the host for USART `n`.
     pub fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
-        for &b in bytes {
-            let out = self.inject.link_bytes(b);
-            self.uart_tx[n].extend(out);
-        }
+        // Link faults apply when a byte goes over the air (see `timer`).
+        self.uart_tx[n].extend(bytes.iter().copied());
         if self.uart_next[n] == NEVER && !self.uart_tx[n].is_empty() {
             self.uart_next[n] = now + 1;
         }
@@ -907,7 +905,16 @@ impl Handler for BenchCore {
         for n in 0..4 {
             if self.uart_next[n] <= when {
                 if let (Some(b), Some(irq)) = (self.uart_tx[n].pop_front(), self.uart_irq[n]) {
-                    core.raise(irq, b as u32);
+                    // The Bluetooth link's faults hit the byte now, at the
+                    // time it is on the air.
+                    let arrived = if n == self.wiring.bluetooth_uart as usize {
+                        self.inject.link_bytes(b)
+                    } else {
+                        vec![b]
+                    };
+                    for b in arrived {
+                        core.raise(irq, b as u32);
+                    }
                 }
                 self.uart_next[n] = if self.uart_tx[n].is_empty() {
                     NEVER
