@@ -160,3 +160,56 @@ fn thesis_build_runs_each_selector_byte() {
         }
     }
 }
+
+/// The printed turn logic next to the robust build's: with the thesis' wiring
+/// the thesis' "UMBmark CW" turns counter-clockwise, and each motor is cut
+/// when the OTHER wheel's count reaches 612 (the printed code then zeroes
+/// that count, so the count read at the cut is near 0 for one wheel); it does
+/// not hang. The robust build turns clockwise and cuts each motor on its own
+/// wheel's count.
+#[test]
+fn thesis_turn_logic_next_to_robust() {
+    let thesis = run("thesis", Test::UmbmarkCw);
+    let robust = run("robust", Test::UmbmarkCw);
+    println!("turn | thesis angle, cut-off L/R | robust angle, cut-off L/R");
+    for (i, (t, r)) in thesis.turns.iter().zip(&robust.turns).enumerate() {
+        println!(
+            "{} | {:+.1} deg, {:?}/{:?} | {:+.1} deg, {:?}/{:?}",
+            i + 1,
+            t.plant_angle_deg,
+            t.count_left_at_cutoff,
+            t.count_right_at_cutoff,
+            r.plant_angle_deg,
+            r.count_left_at_cutoff,
+            r.count_right_at_cutoff
+        );
+    }
+    assert!(
+        thesis.completed,
+        "the printed turn logic does not hang: {:?}",
+        thesis.finding
+    );
+    assert_eq!(thesis.turns.len(), 4);
+    for t in &thesis.turns {
+        assert!(
+            t.plant_angle_deg > 60.0,
+            "thesis CW turns left: {}",
+            t.plant_angle_deg
+        );
+        let near_zero = [t.count_left_at_cutoff, t.count_right_at_cutoff]
+            .iter()
+            .flatten()
+            .any(|c| c.abs() < 50);
+        assert!(
+            near_zero,
+            "one wheel's count was reset by the other's cut-off: {t:?}"
+        );
+    }
+    for r in &robust.turns {
+        assert!(
+            r.plant_angle_deg < -60.0,
+            "robust CW turns right: {}",
+            r.plant_angle_deg
+        );
+    }
+}
