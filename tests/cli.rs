@@ -204,3 +204,35 @@ fn calibrate_bad_csv_names_the_line() {
     assert_one_line_error(&out, "line 3");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `hil gap --self-test --json` lists, per hidden effect, what the diagnosis
+/// found; every effect the kinematic model has is ranked first.
+#[test]
+fn gap_self_test_json() {
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(["gap", "--self-test", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let cases = v.as_array().unwrap();
+    assert!(cases.len() >= 5);
+    for c in cases {
+        for k in [
+            "effect",
+            "injected",
+            "ranked_first",
+            "fitted",
+            "value_error_pct",
+            "heldout_gap_before",
+            "heldout_gap_after",
+        ] {
+            assert!(c.get(k).is_some(), "{k} missing in {c}");
+        }
+        assert_eq!(c["ranked_first"], true, "{c}");
+    }
+}
