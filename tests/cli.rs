@@ -7,12 +7,16 @@ mod support;
 use std::process::{Command, Output};
 
 fn hil(args: &[&str]) -> Output {
-    // Make sure the firmware is built before the CLI looks for it.
+    // Make sure the firmware is built before the CLI looks for it, and pin
+    // the robot: the default one may carry random effects.
     let _ = support::firmware_path("robust");
-    Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(args)
-        .output()
-        .expect("hil runs")
+    let ideal = hil::paths::robot_config("henrytwo-ideal");
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_hil"));
+    cmd.args(args);
+    if args.first() == Some(&"line") && !args.contains(&"--lenght-mm") {
+        cmd.arg("--robot").arg(ideal);
+    }
+    cmd.output().expect("hil runs")
 }
 
 fn assert_one_line_error(out: &Output, needle: &str) {
