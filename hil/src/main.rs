@@ -301,6 +301,16 @@ fn parse_length(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+/// Print `value` as JSON, or its text rendering for people.
+fn emit<T: serde::Serialize>(json: bool, value: &T, text: impl FnOnce() -> String) -> Result<()> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(value)?);
+    } else {
+        print!("{}", text());
+    }
+    Ok(())
+}
+
 fn write_vcd(
     path: &std::path::Path,
     run: &hil::experiment::TestRun,
@@ -504,11 +514,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             let id = plant_model::identify::identify_csv(csv.as_path(), side)
                 .with_context(|| format!("identifying {}", csv.display()))?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&id)?);
-            } else {
-                print!("{}", id.render());
-            }
+            emit(json, &id, || id.render())?;
         }
         Command::Calibrate {
             from_csv,
@@ -589,11 +595,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             let result = hil::calibrate::from_csv(&path, method, &opts)
                 .with_context(|| format!("{}", path.display()))?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&result)?);
-            } else {
-                print!("{}", result.render());
-            }
+            emit(json, &result, || result.render())?;
         }
         Command::Bench {
             test,
@@ -628,11 +630,7 @@ fn run(cli: Cli) -> Result<()> {
                 thesis,
                 completed: rec.completed,
             };
-            if common.json {
-                println!("{}", serde_json::to_string_pretty(&report)?);
-            } else {
-                print!("{}", report.render());
-            }
+            emit(common.json, &report, || report.render())?;
         }
         Command::Faults {
             all,
@@ -875,11 +873,7 @@ fn run(cli: Cli) -> Result<()> {
             }
             let full = hil::umbmark::merge(partials)?;
             let report = hil::umbmark::report(&full, firmware_wheelbase_mm, None)?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&report)?);
-            } else {
-                print!("{}", report.render());
-            }
+            emit(json, &report, || report.render())?;
         }
         Command::Run {
             test,
