@@ -14,7 +14,7 @@
 //! | [`coast`] | coasting time constant | `left_tau_s`, `right_tau_s` | motor |
 //! | [`turn_slip`] | rotation the ground does not see | `fraction` | ground |
 //! | [`straight_slip`] | travel the ground does not see | `left_fraction`, `right_fraction` | ground |
-//! | [`floor_noise`] | random walk per metre | `heading_deg_per_sqrt_m`, `lateral_mm_per_sqrt_m`, `stretch_mm` | ground |
+//! | [`floor_noise`] | random walk per metre | `heading_deg_per_sqrt_m`, `lateral_mm_per_sqrt_m`, `turn_heading_deg_per_sqrt_m`, `stretch_mm` | ground |
 //! | [`castor_drag`] | drag at the castor | `force_n`, `lateral_offset_mm`, `wheel_stall_torque_nm` | motor |
 //! | [`encoder_missed_counts`] | A pulses missing | `left_fraction`, `right_fraction` | encoder |
 //! | [`encoder_glitches`] | edges that bounce | `left_fraction`, `right_fraction`, `width_motor_deg` | encoder |

@@ -16,7 +16,7 @@
 //!    rolling directions ([`crate::effects::toe`]): forward travel, heading change, sideways
 //!    crab.
 //! 5. **Floor noise** ([`crate::effects::floor_noise`]): heading and lateral noise for the
-//!    floor crossed.
+//!    floor crossed, rolling and turning on the spot.
 //! 6. The pose moves along the exact arc (plus the crab, if any).
 //!
 //! With no effect on, each step computes exactly what the nominal model did (the same
@@ -185,7 +185,8 @@ impl Ground {
             }
         };
         if let Some(floor) = &mut self.floor {
-            let (heading, shift) = floor.advance(0.5 * (left.abs() + right.abs()));
+            let (heading, shift) =
+                floor.advance(0.5 * (left + right).abs(), 0.5 * (right - left).abs());
             dtheta += heading;
             lateral += shift;
         }

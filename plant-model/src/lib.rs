@@ -40,6 +40,22 @@
 //!    in radians).
 //!
 //! Speeds are [`RadPerSec`] inside; [`ThesisRpm`] converts for comparisons with the thesis.
+//!
+//! # A robot that behaves like the real one
+//!
+//! - **Effects** ([`effects`]): fifteen named departures from the nominal robot (unequal
+//!   wheels, slip, coasting, floor noise, battery sag, backlash, toe, encoder flaws, ...),
+//!   each switched on by an `[effects.<name>]` table with unit-suffixed keys and off in the
+//!   ideal robot. `fixtures/robots/henrytwo.toml` combines them into our best estimate of the
+//!   thesis robot, fitted to the thesis' floor measurements through its own firmware.
+//! - **Faults** ([`fault`]): [`Robot::set_motor_fault`] (stall, disconnected, load step),
+//!   [`Robot::set_slip_burst`], [`Robot::set_battery_voltage_override`], set by the bench at
+//!   exact times.
+//! - **Exactness**: effects on the floor act in the pose integration only; effects on the
+//!   motors keep each wheel's motion closed-form between changes; the battery's voltage is
+//!   piecewise constant and changes at the times [`Robot::next_internal_change`] announces;
+//!   encoder flaws are functions of the shaft angle. So [`Robot::next_encoder_transition`]
+//!   stays exact with every effect on.
 
 pub mod bridge;
 pub mod config;

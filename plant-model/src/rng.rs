@@ -10,8 +10,10 @@
 
 /// Stream numbers: one per random effect and side.
 pub(crate) mod stream {
-    /// `floor_noise`.
+    /// `floor_noise`, rolling.
     pub const FLOOR_NOISE: u64 = 1;
+    /// `floor_noise`, turning on the spot.
+    pub const FLOOR_NOISE_TURNING: u64 = 2;
     /// `encoder_missed_counts`, plus the side index.
     pub const MISSED_COUNTS: u64 = 16;
     /// `encoder_glitches`, plus the side index.

@@ -142,6 +142,7 @@ fn ground_effects_do_not_move_encoder_edges() {
     e.floor_noise = Some(FloorNoise {
         heading_deg_per_sqrt_m: 2.0,
         lateral_mm_per_sqrt_m: 5.0,
+        turn_heading_deg_per_sqrt_m: Some(3.0),
         stretch_mm: 20.0,
     });
     e.backlash = Some(Backlash {

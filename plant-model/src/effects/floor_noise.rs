@@ -1,28 +1,35 @@
 //! `floor_noise`: floor irregularities (joints, dust, bumps) as random, non-systematic error
 //! per metre travelled: a heading random walk and a lateral random walk.
 //!
-//! The travel is cut into stretches of `stretch_mm` of floor (the mean of the two wheels'
-//! absolute ground travel, so spin turns travel too). Each stretch draws, in order, a
-//! heading change `N(0, sigma_h^2 l)` and a lateral shift `N(0, sigma_y^2 l)` (`l` the
-//! stretch in metres), spread evenly along it. Over a distance `L` the heading therefore
-//! wanders with variance `sigma_h^2 L` and the lateral shift it adds directly with
-//! `sigma_y^2 L` (the heading's own effect on position comes on top, growing as `L^3`).
+//! Each pose step's wheel travel splits into a rolling part (the mean of the two wheels'
+//! arcs, `|d_L + d_R| / 2`) and a turning part (half their difference, `|d_R - d_L| / 2`,
+//! each wheel's travel in a spin on the spot). Each part is cut into stretches of
+//! `stretch_mm`. A rolling stretch draws, in order, a heading change `N(0, sigma_h^2 l)`
+//! and a lateral shift `N(0, sigma_y^2 l)` (`l` the stretch in metres); a turning stretch a
+//! heading change `N(0, sigma_t^2 l)`: a tyre that scrubs round on the spot feels the floor
+//! more than one that rolls. Each draw is spread evenly along its stretch. Over a distance
+//! `L` the heading therefore wanders with variance `sigma_h^2 L` and the lateral shift it adds
+//! directly with `sigma_y^2 L` (the heading's own effect on position comes on top, growing as
+//! `L^3 / 3`); a spin of angle `A` adds heading variance `sigma_t^2 A b / 2`.
 //!
-//! The draws come from the robot's seed (a SplitMix64 stream of its own, `floor_noise`), one pair per
-//! stretch in the order the stretches are reached: the same seed gives the same floor however
-//! often the bench advances the plant. Ground only: the encoders do not see the floor.
+//! The draws come from the robot's seed (SplitMix64 streams of their own, rolling and
+//! turning), one draw per stretch in the order the stretches are reached: the same seed gives
+//! the same floor however often the bench advances the plant. Ground only: the encoders do
+//! not see the floor.
 //!
 //! # Signature
 //!
 //! Zero mean, a spread that grows with distance: the end points of repeated runs scatter
-//! around the systematic end point (the thesis' five runs per direction scatter by a few cm).
+//! around the systematic end point (the thesis' five runs per direction scatter by a few
+//! cm; its straight lines by a few mm sideways).
 //!
 //! # Keys
 //!
 //! | key | unit | meaning |
 //! |---|---|---|
-//! | `heading_deg_per_sqrt_m` | deg / sqrt(m) | sigma_h: heading standard deviation after 1 m |
-//! | `lateral_mm_per_sqrt_m` | mm / sqrt(m) | sigma_y: lateral standard deviation after 1 m |
+//! | `heading_deg_per_sqrt_m` | deg / sqrt(m) | sigma_h: heading standard deviation after 1 m of rolling |
+//! | `lateral_mm_per_sqrt_m` | mm / sqrt(m) | sigma_y: lateral standard deviation after 1 m of rolling |
+//! | `turn_heading_deg_per_sqrt_m` | deg / sqrt(m) | optional, default sigma_h: sigma_t, heading standard deviation after 1 m of wheel travel turning on the spot |
 //! | `stretch_mm` | mm | optional, default 20: floor per draw (the size of a floor feature) |
 
 use serde::{Deserialize, Serialize};
@@ -43,6 +50,10 @@ pub struct FloorNoise {
     pub heading_deg_per_sqrt_m: f64,
     /// Lateral standard deviation after 1 m, mm per sqrt(metre).
     pub lateral_mm_per_sqrt_m: f64,
+    /// Heading standard deviation after 1 m of wheel travel turning on the spot, degrees per
+    /// sqrt(metre); `heading_deg_per_sqrt_m` when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turn_heading_deg_per_sqrt_m: Option<f64>,
     /// Floor travelled per draw, mm.
     #[serde(default = "default_stretch")]
     pub stretch_mm: f64,
@@ -65,6 +76,13 @@ impl FloorNoise {
             self.lateral_mm_per_sqrt_m,
             "lateral standard deviation after 1 m, mm",
         )?;
+        if let Some(sigma) = self.turn_heading_deg_per_sqrt_m {
+            check_non_negative(
+                &key(prefix, "turn_heading_deg_per_sqrt_m"),
+                sigma,
+                "heading standard deviation after 1 m turning on the spot, deg",
+            )?;
+        }
         check_positive(
             &key(prefix, "stretch_mm"),
             self.stretch_mm,
@@ -74,9 +92,9 @@ impl FloorNoise {
     }
 }
 
-/// The floor under one run: the stretch being crossed and its draws.
+/// One kind of travel cut into stretches, each with its own draws.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct FloorState {
+struct Stretches {
     rng: SplitMix64,
     stretch_mm: f64,
     /// Standard deviations per stretch: heading (rad) and lateral (mm).
@@ -87,32 +105,32 @@ pub(crate) struct FloorState {
     rate: (f64, f64),
 }
 
-impl FloorState {
-    pub(crate) fn new(params: &FloorNoise, seed: u64) -> Self {
-        let metres = (params.stretch_mm / 1000.0).sqrt();
-        let mut state = FloorState {
-            rng: SplitMix64::new(seed, stream::FLOOR_NOISE),
-            stretch_mm: params.stretch_mm,
-            sigma: (
-                params.heading_deg_per_sqrt_m.to_radians() * metres,
-                params.lateral_mm_per_sqrt_m * metres,
-            ),
+impl Stretches {
+    fn new(rng: SplitMix64, stretch_mm: f64, sigma: (f64, f64)) -> Self {
+        let mut stretches = Stretches {
+            rng,
+            stretch_mm,
+            sigma,
             into_mm: 0.0,
             rate: (0.0, 0.0),
         };
-        state.draw();
-        state
+        stretches.draw();
+        stretches
     }
 
     fn draw(&mut self) {
         let heading = self.sigma.0 * self.rng.next_standard_normal();
-        let lateral = self.sigma.1 * self.rng.next_standard_normal();
+        let lateral = if self.sigma.1 == 0.0 {
+            0.0
+        } else {
+            self.sigma.1 * self.rng.next_standard_normal()
+        };
         self.rate = (heading / self.stretch_mm, lateral / self.stretch_mm);
         self.into_mm = 0.0;
     }
 
-    /// Heading change (rad) and lateral shift (mm) over `travel_mm` more of floor.
-    pub(crate) fn advance(&mut self, travel_mm: f64) -> (f64, f64) {
+    /// Heading change (rad) and lateral shift (mm) over `travel_mm` more of this travel.
+    fn advance(&mut self, travel_mm: f64) -> (f64, f64) {
         let mut left = travel_mm;
         let (mut heading, mut lateral) = (0.0, 0.0);
         while left > 0.0 {
@@ -129,6 +147,45 @@ impl FloorState {
     }
 }
 
+/// The floor under one run: the rolling and the turning stretches being crossed.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct FloorState {
+    rolling: Stretches,
+    turning: Stretches,
+}
+
+impl FloorState {
+    pub(crate) fn new(params: &FloorNoise, seed: u64) -> Self {
+        let metres = (params.stretch_mm / 1000.0).sqrt();
+        let turn_deg = params
+            .turn_heading_deg_per_sqrt_m
+            .unwrap_or(params.heading_deg_per_sqrt_m);
+        FloorState {
+            rolling: Stretches::new(
+                SplitMix64::new(seed, stream::FLOOR_NOISE),
+                params.stretch_mm,
+                (
+                    params.heading_deg_per_sqrt_m.to_radians() * metres,
+                    params.lateral_mm_per_sqrt_m * metres,
+                ),
+            ),
+            turning: Stretches::new(
+                SplitMix64::new(seed, stream::FLOOR_NOISE_TURNING),
+                params.stretch_mm,
+                (turn_deg.to_radians() * metres, 0.0),
+            ),
+        }
+    }
+
+    /// Heading change (rad) and lateral shift (mm) over `rolling_mm` more rolling and
+    /// `turning_mm` more turning on the spot.
+    pub(crate) fn advance(&mut self, rolling_mm: f64, turning_mm: f64) -> (f64, f64) {
+        let (h1, lateral) = self.rolling.advance(rolling_mm);
+        let (h2, _) = self.turning.advance(turning_mm);
+        (h1 + h2, lateral)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,6 +198,7 @@ mod tests {
             c.effects.floor_noise = Some(FloorNoise {
                 heading_deg_per_sqrt_m: 1.0,
                 lateral_mm_per_sqrt_m: 3.0,
+                turn_heading_deg_per_sqrt_m: Some(4.0),
                 stretch_mm: 20.0,
             })
         })
@@ -212,6 +270,29 @@ mod tests {
             rough.a_edges(crate::Side::Left)
         );
         assert_ne!(plain.pose(), rough.pose());
+    }
+
+    /// Spins on the spot draw from the turning sigma: after the same wheel travel, the
+    /// heading spreads `sigma_t / sigma_h` = 4 times as far as rolling straight.
+    #[test]
+    fn spins_feel_the_turning_sigma() {
+        let config = noisy();
+        let spread = |left: f64, right: f64| {
+            let ends: Vec<f64> = (0..400)
+                .map(|seed| {
+                    let mut robot = Robot::new(&config, seed).unwrap();
+                    drive(&mut robot, left, right);
+                    robot.advance_to(Seconds(1.0)).unwrap();
+                    let plain = (robot.distance_travelled(crate::Side::Right).0
+                        - robot.distance_travelled(crate::Side::Left).0)
+                        / 130.0;
+                    robot.pose().theta().0 - plain
+                })
+                .collect();
+            mean_var(ends.iter().copied()).1.sqrt()
+        };
+        let ratio = spread(-0.9, 0.9) / spread(0.9, 0.9);
+        assert!((ratio - 4.0).abs() < 0.6, "ratio {ratio}");
     }
 
     /// The same seed gives the same floor however the plant is stepped (to rounding in the
