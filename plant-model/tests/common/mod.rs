@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+pub mod thesis;
+
 use plant_model::{Duty, RobotConfig};
 
 /// A file under the repository's `fixtures/` folder.
@@ -51,6 +53,7 @@ right_fraction = 0.0
 [effects.floor_noise]
 heading_deg_per_sqrt_m = 0.5
 lateral_mm_per_sqrt_m = 2.0
+turn_heading_deg_per_sqrt_m = 3.0
 stretch_mm = 25.0
 [effects.castor_drag]
 force_n = 0.2
