@@ -330,6 +330,29 @@ fn write_vcd(
     Ok(())
 }
 
+/// Run `specs` of `plan` with a progress bar of runs and robot time.
+fn execute_with_progress(
+    firmware: &Firmware,
+    robot: &RobotConfig,
+    plan: &Plan,
+    specs: &[hil::umbmark::RunSpec],
+) -> Result<Vec<hil::umbmark::IndexedRun>> {
+    let bar = progress_bar(specs.len(), plan.leg_mm);
+    let runs = execute(
+        firmware,
+        robot,
+        plan,
+        specs,
+        BenchOptions::default(),
+        &|n, robot_s| {
+            bar.set_position(n as u64);
+            bar.set_message(format!("{robot_s:.0} s of robot time"));
+        },
+    )?;
+    bar.finish_and_clear();
+    Ok(runs)
+}
+
 fn progress_bar(runs: usize, leg_mm: f64) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(runs as u64);
     bar.set_style(
@@ -383,22 +406,8 @@ fn run(cli: Cli) -> Result<()> {
                 .num_threads(jobs.unwrap_or(0))
                 .build()
                 .context("starting the worker threads")?;
-            let bar = progress_bar(specs.len(), leg_mm);
             let wall = Instant::now();
-            let runs = pool.install(|| {
-                execute(
-                    &firmware,
-                    &robot,
-                    &plan,
-                    &specs,
-                    BenchOptions::default(),
-                    &|n, robot_s| {
-                        bar.set_position(n as u64);
-                        bar.set_message(format!("{robot_s:.0} s of robot time"));
-                    },
-                )
-            })?;
-            bar.finish_and_clear();
+            let runs = pool.install(|| execute_with_progress(&firmware, &robot, &plan, &specs))?;
             let wall_s = wall.elapsed().as_secs_f64();
             let partial = Partial {
                 kind: if shard.is_some() {
@@ -688,20 +697,8 @@ fn run(cli: Cli) -> Result<()> {
             let firmware = load_firmware(&common)?;
             let plan = Plan::new(leg_mm, common.seed, &robot, &firmware).triangle();
             let specs = plan.runs();
-            let bar = progress_bar(specs.len(), leg_mm);
             let wall = Instant::now();
-            let runs = execute(
-                &firmware,
-                &robot,
-                &plan,
-                &specs,
-                BenchOptions::default(),
-                &|n, robot_s| {
-                    bar.set_position(n as u64);
-                    bar.set_message(format!("{robot_s:.0} s of robot time"));
-                },
-            )?;
-            bar.finish_and_clear();
+            let runs = execute_with_progress(&firmware, &robot, &plan, &specs)?;
             let wall_s = wall.elapsed().as_secs_f64();
             let full = Partial {
                 kind: "triangle".into(),
