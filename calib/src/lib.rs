@@ -88,6 +88,7 @@
 
 pub mod csv;
 mod error;
+pub mod exact;
 pub mod forward;
 pub mod plot;
 pub mod round;
@@ -97,6 +98,7 @@ mod types;
 pub mod umbmark;
 
 pub use error::Error;
+pub use exact::Solution;
 pub use plot::{plot_triangle, plot_umbmark};
 pub use round::{improvement, Round};
 pub use thesis::Discrepancy;

@@ -87,6 +87,7 @@
 
 use serde::Serialize;
 
+use crate::exact::{self, Solution};
 use crate::thesis;
 use crate::types::{
     centroid, Direction, EdVariant, Endpoint, Frame, LineRuns, Mode, PartialEndpoint, ScaleError,
@@ -122,6 +123,9 @@ pub struct TriangleParams {
     /// [`Mode::ThesisCompat`] only: the GUI's b/2 in the line's Ed formula, mm, when it is
     /// not `wheelbase_mm / 2` (as printed in ANEXO D: 6.36 cm).
     pub compat_half_wheelbase_mm: Option<f64>,
+    /// First-order formulas (as derived above) or the same model solved exactly
+    /// ([`Mode::Correct`] only; see [`crate::exact`]).
+    pub solution: Solution,
 }
 
 impl Default for TriangleParams {
@@ -138,6 +142,7 @@ impl Default for TriangleParams {
             agreement_tolerance_deg: 1.0,
             compat_base_mm: None,
             compat_half_wheelbase_mm: None,
+            solution: Solution::FirstOrder,
         }
     }
 }
@@ -162,6 +167,8 @@ pub struct TriangleAgreement {
 pub struct TriangleResult {
     /// Formulas used.
     pub mode: Mode,
+    /// Which solution of the model gave β and δ (always first order in compat mode).
+    pub solution: Solution,
     /// Frame of the input (centroids below are reported in it).
     pub frame: Frame,
     /// Direction of the triangle runs.
@@ -364,9 +371,33 @@ pub fn triangle_correction(
             if params.compat_base_mm.is_some() || params.compat_half_wheelbase_mm.is_some() {
                 warnings.push("compat_* parameters are ignored in Mode::Correct".into());
             }
-            beta_rad = beta_line;
-            alpha_rad = dx;
-            eb = 120.0 / ((120.0 - dx.to_degrees()) * es.unwrap_or(1.0));
+            (beta_rad, alpha_rad) = match params.solution {
+                Solution::FirstOrder => (beta_line, dx),
+                Solution::Exact => {
+                    let beta = exact::line_beta(line.y_cm, l);
+                    let beta_t = if params.line_correction_applied {
+                        Some(0.0)
+                    } else {
+                        beta
+                    };
+                    match (
+                        beta,
+                        beta_t.and_then(|bt| {
+                            exact::triangle_delta(tri.x_cm, l, bt, params.direction)
+                        }),
+                    ) {
+                        (Some(b), Some(d)) => (b, d),
+                        _ => {
+                            warnings.push(
+                                "the exact solution did not converge (errors beyond ~30°): first-order β and δ used"
+                                    .into(),
+                            );
+                            (beta_line, dx)
+                        }
+                    }
+                }
+            };
+            eb = 120.0 / ((120.0 - alpha_rad.to_degrees()) * es.unwrap_or(1.0));
             wheelbase_mm = eb * b_nom;
             let b_for_ed_cm = match params.ed_variant {
                 EdVariant::Borenstein => b_nom,
@@ -420,6 +451,10 @@ pub fn triangle_correction(
 
     TriangleResult {
         mode: params.mode,
+        solution: match params.mode {
+            Mode::Correct => params.solution,
+            Mode::ThesisCompat => Solution::FirstOrder,
+        },
         frame: params.frame,
         direction: params.direction,
         ed_variant,

@@ -41,6 +41,7 @@
 
 use serde::Serialize;
 
+use crate::exact::{self, Solution};
 use crate::thesis;
 use crate::types::{
     centroid, Direction, EdVariant, Endpoint, Frame, Mode, ScaleError, UmbmarkRuns,
@@ -71,6 +72,9 @@ pub struct UmbmarkParams {
     /// is not `wheelbase_mm / 2` (as printed in ANEXO C the GUI has b = 12.25 cm but
     /// b/2 = 6.15 cm).
     pub compat_half_wheelbase_mm: Option<f64>,
+    /// First-order formulas (as published) or the same model solved exactly
+    /// ([`Mode::Correct`] only; see [`crate::exact`]).
+    pub solution: Solution,
 }
 
 impl Default for UmbmarkParams {
@@ -85,6 +89,7 @@ impl Default for UmbmarkParams {
             agreement_tolerance_deg: 1.0,
             compat_base_mm: None,
             compat_half_wheelbase_mm: None,
+            solution: Solution::FirstOrder,
         }
     }
 }
@@ -131,6 +136,8 @@ const FLIPPING_CHANGES: [&str; 4] = [
 pub struct UmbmarkResult {
     /// Formulas used.
     pub mode: Mode,
+    /// Which solution of the model gave α and β (always first order in compat mode).
+    pub solution: Solution,
     /// Frame of the input (centroids below are reported in it).
     pub frame: Frame,
     /// Wheelbase used in the Ed formula (always `borenstein` in compat mode).
@@ -332,8 +339,17 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
             if params.compat_base_mm.is_some() || params.compat_half_wheelbase_mm.is_some() {
                 warnings.push("compat_* parameters are ignored in Mode::Correct".into());
             }
-            alpha_rad = est.alpha_x;
-            beta_rad = est.beta_x;
+            (alpha_rad, beta_rad) = match params.solution {
+                Solution::FirstOrder => (est.alpha_x, est.beta_x),
+                Solution::Exact => exact::umbmark_alpha_beta(cw, ccw, side_actual)
+                    .unwrap_or_else(|| {
+                        warnings.push(
+                            "the exact solution did not converge (errors beyond ~30°): first-order α and β used"
+                                .into(),
+                        );
+                        (est.alpha_x, est.beta_x)
+                    }),
+            };
             let alpha_deg = alpha_rad.to_degrees();
             eb = 90.0 / ((90.0 - alpha_deg) * es.unwrap_or(1.0));
             wheelbase_mm = eb * b_nom;
@@ -403,6 +419,10 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
 
     UmbmarkResult {
         mode: params.mode,
+        solution: match params.mode {
+            Mode::Correct => params.solution,
+            Mode::ThesisCompat => Solution::FirstOrder,
+        },
         frame: params.frame,
         ed_variant,
         side_cm: params.side_cm,
