@@ -19,6 +19,13 @@ pub const SAMPLE_PERIOD_US: u32 = 15_000;
 pub const SETPOINT_RIGHT: f32 = 14.47;
 /// Left wheel speed set-point, thesis "RPM" (`Set_I`).
 pub const SETPOINT_LEFT: f32 = 15.0;
+/// The robust build's default set-point of both wheels, thesis "RPM" (the
+/// sketch's right-wheel 14.47: ~145 mm/s). The sketch's 15 : 14.47 split is a
+/// per-robot trim that its timing partly cancels (it reads the two counts a
+/// print apart); held exactly, it curves every leg by tens of degrees. The
+/// robust build starts from equal ground speeds and leaves the wheels'
+/// differences to the calibration's c_L, c_R, which scale the set-points.
+pub const ROBUST_SETPOINT: f32 = SETPOINT_RIGHT;
 /// Right wheel PID gains (Ziegler-Nichols, `Kp_D`, `Ki_D`, `Kd_D`).
 pub const GAINS_RIGHT: Gains = Gains { kp: 2.74, ki: 45.66, kd: 0.0411 };
 /// Left wheel PID gains (`Kp_I`, `Ki_I`, `Kd_I`).

@@ -30,7 +30,8 @@ pub struct Settings {
     pub turn_umbmark_deg: f32,
     /// Triangle spin-turn angle, degrees.
     pub turn_triangle_deg: f32,
-    /// Speed set-points, thesis "RPM".
+    /// Speed set-points, thesis "RPM" of a wheel of nominal size (a wheel
+    /// with correction c runs at set-point / c in counts).
     pub setpoint: PerWheel<f32>,
     /// PID gains.
     pub gains: PerWheel<Gains>,
@@ -47,7 +48,7 @@ impl Settings {
         wheelbase_mm: robot::DEFAULT_WHEELBASE_MM,
         turn_umbmark_deg: robot::DEFAULT_TURN_UMBMARK_DEG,
         turn_triangle_deg: robot::DEFAULT_TURN_TRIANGLE_DEG,
-        setpoint: PerWheel { left: robot::SETPOINT_LEFT, right: robot::SETPOINT_RIGHT },
+        setpoint: PerWheel { left: robot::ROBUST_SETPOINT, right: robot::ROBUST_SETPOINT },
         gains: PerWheel { left: robot::GAINS_LEFT, right: robot::GAINS_RIGHT },
         stall_timeout_ms: robot::DEFAULT_STALL_TIMEOUT_MS,
         stall_duty: robot::DEFAULT_STALL_DUTY,

@@ -36,7 +36,7 @@ use henrytwo_firmware::pid::{duty_from_output, rpm_table, thesis_rpm, TablePid};
 use henrytwo_firmware::plan::{self, Segment};
 use henrytwo_firmware::robot;
 use henrytwo_firmware::selector::Isolation;
-use henrytwo_firmware::settings::Settings;
+use henrytwo_firmware::settings::{PerWheel, Settings};
 use henrytwo_firmware::time::{self, Clock};
 use henrytwo_protocol::{
     encode_frame, Command, Event, Fault, FaultNotice, Param, Parser, Reply, StateReport, Status, Telemetry, Test,
@@ -191,7 +191,7 @@ impl Wheel {
             forward: true,
             stage: Stage::Done,
             until: 0,
-            pid: TablePid::new(robot::GAINS_LEFT, robot::SETPOINT_LEFT, robot::SAMPLE_PERIOD_S),
+            pid: TablePid::new(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S),
             last_count: 0,
             start_count: 0,
             applied: 0,
@@ -500,14 +500,19 @@ impl App {
                 ((fl, fr), (if nl > nr { nl } else { nr }) as f32)
             }
         };
-        // Time-out from the slower set-point's counts per period.
-        let set_min = if s.setpoint.left < s.setpoint.right { s.setpoint.left } else { s.setpoint.right };
+        // The set-points are ground speeds: a wheel whose counts are worth
+        // c times the nominal distance must turn 1/c times as fast in counts.
+        // That is where c_L, c_R straighten a leg (the wheels then cover equal
+        // ground per period); in the stop rules above they only measure it.
+        let raw = PerWheel { left: s.setpoint.left / s.correction.left, right: s.setpoint.right / s.correction.right };
+        // Time-out from the slower wheel's counts per period.
+        let set_min = if raw.left < raw.right { raw.left } else { raw.right };
         let nominal = wheel_counts / (set_min / RPM_PER_COUNT);
         self.segment_limit = (TIMEOUT_FACTOR * nominal) as u32 + TIMEOUT_EXTRA_TICKS;
         self.segment_ticks = 0;
         for (side, fwd, count, gains, set) in [
-            (Side::Left, forward.0, c.left, s.gains.left, s.setpoint.left),
-            (Side::Right, forward.1, c.right, s.gains.right, s.setpoint.right),
+            (Side::Left, forward.0, c.left, s.gains.left, raw.left),
+            (Side::Right, forward.1, c.right, s.gains.right, raw.right),
         ] {
             let w = self.drive.wheel(side);
             w.forward = fwd;
