@@ -51,7 +51,9 @@ fn shards_merge_into_the_single_machine_result() {
     let a: Partial = serde_json::from_str(&serde_json::to_string(&a).unwrap()).unwrap();
     let b: Partial = serde_json::from_str(&serde_json::to_string(&b).unwrap()).unwrap();
     let merged = merge(vec![b, a]).unwrap();
-    let json = |p: &Partial| serde_json::to_string(&report(p, 130.0, None).unwrap()).unwrap();
+    let json = |p: &Partial| {
+        serde_json::to_string(&report(p, 130.0, calib::Solution::FirstOrder).unwrap()).unwrap()
+    };
     assert_eq!(json(&merged), json(&whole));
     assert_eq!(json(&serial), json(&whole));
     // A shard missing is an error that names the runs.

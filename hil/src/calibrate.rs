@@ -30,6 +30,8 @@ pub struct FromCsv {
     /// Wheelbase the robot's odometry used, mm (None: the thesis' value for the
     /// experiment in compat mode, else 130).
     pub wheelbase_mm: Option<f64>,
+    /// The error model's solution (ignored in compat mode: the GUI is first order).
+    pub solution: calib::Solution,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -96,6 +98,7 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
                 UmbmarkParams::default()
             };
             params.mode = mode;
+            params.solution = opts.solution;
             if let Some(f) = opts.frame {
                 params.frame = f;
             }
@@ -145,6 +148,7 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
                 TriangleParams::default()
             };
             params.mode = mode;
+            params.solution = opts.solution;
             if let Some(f) = opts.frame {
                 params.frame = f;
             }

@@ -97,6 +97,10 @@ enum Command {
         /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`).
         #[arg(long, default_value_t = 130.0)]
         firmware_wheelbase_mm: f64,
+        /// Solve the error model exactly instead of with the published
+        /// first-order formulas (better when turns miss by degrees).
+        #[arg(long)]
+        exact: bool,
         /// Run only shard K of N (K/N) and write its partial result to --out.
         #[arg(long, value_name = "K/N")]
         shard: Option<Shard>,
@@ -166,6 +170,10 @@ enum Command {
         /// The wheelbase the robot's odometry used, mm.
         #[arg(long)]
         wheelbase_mm: Option<f64>,
+        /// Solve the error model exactly instead of with the published
+        /// first-order formulas (better when turns miss by degrees).
+        #[arg(long)]
+        exact: bool,
         /// Correction rounds on the emulated robot (without --from-csv).
         #[arg(long, default_value_t = 2)]
         rounds: usize,
@@ -211,6 +219,10 @@ enum Command {
         /// The wheelbase the firmware's odometry uses, mm.
         #[arg(long, default_value_t = 130.0)]
         firmware_wheelbase_mm: f64,
+        /// Solve the error model exactly instead of with the published
+        /// first-order formulas (better when turns miss by degrees).
+        #[arg(long)]
+        exact: bool,
         /// Output folder for the report and the plot.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
@@ -262,6 +274,10 @@ enum Command {
         /// The wheelbase the firmware's odometry uses, mm.
         #[arg(long, default_value_t = 130.0)]
         firmware_wheelbase_mm: f64,
+        /// Solve the error model exactly instead of with the published
+        /// first-order formulas (better when turns miss by degrees).
+        #[arg(long)]
+        exact: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -390,6 +406,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Umbmark {
             leg_mm,
             firmware_wheelbase_mm,
+            exact,
             shard,
             out,
             jobs,
@@ -429,7 +446,7 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("wrote {} ({} runs)", path.display(), partial.runs.len());
                 return Ok(());
             }
-            let report = hil::umbmark::report(&partial, firmware_wheelbase_mm, None)?;
+            let report = hil::umbmark::report(&partial, firmware_wheelbase_mm, solution(exact))?;
             if let Some(dir) = &out {
                 for f in hil::umbmark::write_outputs(dir, &partial, &report)? {
                     eprintln!("wrote {}", f.display());
@@ -535,16 +552,19 @@ fn run(cli: Cli) -> Result<()> {
             wheelbase_mm,
             rounds,
             leg_mm,
+            exact,
             common,
         } => {
             let json = common.json;
             let Some(path) = from_csv else {
-                if method.as_deref().is_some_and(|m| m != "umbmark") {
-                    anyhow::bail!("calibration rounds on the emulated robot use --method umbmark (the triangle rounds are not wired yet); give --from-csv FILE for measured end points");
-                }
                 let robot = load_robot(common.robot.as_ref())?;
                 let firmware = load_firmware(&common)?;
                 let plan = Plan::new(leg_mm, common.seed, &robot, &firmware);
+                let plan = match method.as_deref() {
+                    None | Some("umbmark") => plan,
+                    Some("triangle") => plan.triangle(),
+                    Some(m) => anyhow::bail!("--method {m}: use umbmark or triangle"),
+                };
                 let bar = progress_bar((rounds + 1) * 2 * plan.runs_per_direction, leg_mm);
                 let total = 2 * plan.runs_per_direction;
                 let results = hil::umbmark::calibrate(
@@ -553,22 +573,26 @@ fn run(cli: Cli) -> Result<()> {
                     &plan,
                     wheelbase_mm.unwrap_or(130.0),
                     rounds,
+                    solution(exact),
                     &|round, n, _| {
                         bar.set_position((round * total + n) as u64);
                         bar.set_message(format!("round {round}"));
                     },
                 )?;
                 bar.finish_and_clear();
-                let table = hil::umbmark::table10(&results);
+                let table = hil::umbmark::table10(&results)?;
                 if common.json {
                     let v = serde_json::json!({ "rounds": results, "table10": table });
                     println!("{}", serde_json::to_string_pretty(&v)?);
                 } else {
                     for r in &results {
                         println!(
-                            "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm -> r_cg CW {:.2} cm, CCW {:.2} cm, E_max {:.2} cm",
-                            r.round, r.c_left, r.c_right, r.wheelbase_mm,
-                            r.report.result.r_cg_cw_cm, r.report.result.r_cg_ccw_cm, r.report.result.e_max_cm
+                            "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm -> {}",
+                            r.round,
+                            r.c_left,
+                            r.c_right,
+                            r.wheelbase_mm,
+                            r.report.summary()
                         );
                     }
                     let rows: Vec<(&str, calib::Round)> =
@@ -601,6 +625,7 @@ fn run(cli: Cli) -> Result<()> {
                 frame,
                 side_cm,
                 wheelbase_mm,
+                solution: solution(exact),
             };
             let result = hil::calibrate::from_csv(&path, method, &opts)
                 .with_context(|| format!("{}", path.display()))?;
@@ -690,6 +715,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Triangle {
             leg_mm,
             firmware_wheelbase_mm,
+            exact,
             out,
             common,
         } => {
@@ -706,7 +732,8 @@ fn run(cli: Cli) -> Result<()> {
                 shard: None,
                 runs,
             };
-            let report = hil::umbmark::triangle_report(&full, firmware_wheelbase_mm)?;
+            let report =
+                hil::umbmark::triangle_report(&full, firmware_wheelbase_mm, solution(exact))?;
             if let Some(dir) = &out {
                 for f in hil::umbmark::write_triangle_outputs(dir, &full, &report)? {
                     eprintln!("wrote {}", f.display());
@@ -854,6 +881,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Merge {
             parts,
             firmware_wheelbase_mm,
+            exact,
             json,
         } => {
             let mut partials = Vec::new();
@@ -869,7 +897,7 @@ fn run(cli: Cli) -> Result<()> {
                 partials.push(part);
             }
             let full = hil::umbmark::merge(partials)?;
-            let report = hil::umbmark::report(&full, firmware_wheelbase_mm, None)?;
+            let report = hil::umbmark::report(&full, firmware_wheelbase_mm, solution(exact))?;
             emit(json, &report, || report.render())?;
         }
         Command::Run {
@@ -976,5 +1004,14 @@ fn main() -> ExitCode {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The error model's solution the `--exact` flag selects.
+fn solution(exact: bool) -> calib::Solution {
+    if exact {
+        calib::Solution::Exact
+    } else {
+        calib::Solution::FirstOrder
     }
 }

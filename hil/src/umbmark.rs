@@ -44,6 +44,16 @@ pub enum Experiment {
     Triangle,
 }
 
+impl Experiment {
+    /// The `kind` of its partial results.
+    pub fn kind(self) -> &'static str {
+        match self {
+            Experiment::Umbmark => "umbmark",
+            Experiment::Triangle => "triangle",
+        }
+    }
+}
+
 /// What to run. Everything that changes a result is in here.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plan {
@@ -295,7 +305,7 @@ pub struct RunRow {
 pub fn report(
     full: &Partial,
     wheelbase_mm: f64,
-    params: Option<UmbmarkParams>,
+    solution: calib::Solution,
 ) -> Result<Report, UmbmarkError> {
     let n = full.plan.runs_per_direction;
     let point = |r: &IndexedRun| Endpoint::new(r.x_cm, r.y_cm);
@@ -312,11 +322,12 @@ pub fn report(
         .map(point)
         .collect();
     let runs = UmbmarkRuns::new(cw, ccw)?;
-    let params = params.unwrap_or(UmbmarkParams {
+    let params = UmbmarkParams {
         side_cm: full.plan.leg_mm / 10.0,
         wheelbase_mm,
+        solution,
         ..UmbmarkParams::default()
-    });
+    };
     let result = calib::umbmark_correction(&runs, &params);
     Ok(Report {
         plan: full.plan.clone(),
@@ -539,12 +550,20 @@ fn triangle_runs(full: &Partial) -> Result<(calib::LineRuns, calib::TriangleRuns
 }
 
 /// The Triangular Path correction from a complete set of runs.
-pub fn triangle_report(full: &Partial, wheelbase_mm: f64) -> Result<TriangleReport, UmbmarkError> {
+pub fn triangle_report(
+    full: &Partial,
+    wheelbase_mm: f64,
+    solution: calib::Solution,
+) -> Result<TriangleReport, UmbmarkError> {
     let n = full.plan.runs_per_direction;
     let (line, tri) = triangle_runs(full)?;
     let params = calib::TriangleParams {
         side_cm: full.plan.leg_mm / 10.0,
         wheelbase_mm,
+        // The bench drives the lines and the triangles with the same
+        // parameters: the triangles' legs bend as the lines do.
+        line_correction_applied: false,
+        solution,
         ..calib::TriangleParams::default()
     };
     let result = calib::triangle_correction(&line, &tri, &params);
@@ -644,27 +663,66 @@ pub fn write_triangle_outputs(
     Ok(written)
 }
 
-/// One calibration round: the firmware's parameters, the UMBmark with them,
-/// and the correction it yields.
+/// One calibration round: the firmware's parameters, the experiment run with
+/// them, and the correction it yields.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CalibrationRound {
     pub round: usize,
     pub c_left: f64,
     pub c_right: f64,
     pub wheelbase_mm: f64,
-    pub report: Report,
+    pub report: RoundReport,
 }
 
-/// Calibrate the emulated robot: run the UMBmark, send the correction (cL,
-/// cR, wheelbase) over the protocol, run again, `rounds` corrections in all.
-/// The corrections compose: each round's Ed and Eb are measured against the
-/// parameters the firmware already used.
+/// The experiment of a calibration round.
+#[derive(Debug, Clone, serde::Serialize)]
+#[serde(tag = "method", rename_all = "snake_case")]
+pub enum RoundReport {
+    Umbmark(Report),
+    Triangle(TriangleReport),
+}
+
+impl RoundReport {
+    /// The correction measured against the parameters of the round:
+    /// (cL, cR, wheelbase in mm).
+    pub fn correction(&self) -> (f64, f64, f64) {
+        match self {
+            RoundReport::Umbmark(r) => (r.result.cl, r.result.cr, r.result.wheelbase_mm),
+            RoundReport::Triangle(r) => (r.result.cl, r.result.cr, r.result.wheelbase_mm),
+        }
+    }
+
+    /// The round's errors, one line.
+    pub fn summary(&self) -> String {
+        match self {
+            RoundReport::Umbmark(r) => format!(
+                "r_cg CW {:.2} cm, CCW {:.2} cm, E_max {:.2} cm",
+                r.result.r_cg_cw_cm, r.result.r_cg_ccw_cm, r.result.e_max_cm
+            ),
+            RoundReport::Triangle(r) => format!(
+                "line centroid ({:.2}, {:.2}) cm, triangle centroid {} cm",
+                r.result.line_centroid.x_cm,
+                r.result.line_centroid.y_cm,
+                r.result
+                    .triangle_r_cm
+                    .map_or("unknown".to_string(), |e| format!("{e:.2}"))
+            ),
+        }
+    }
+}
+
+/// Calibrate the emulated robot: run the plan's experiment (UMBmark or
+/// Triangular Path), send the correction (cL, cR, wheelbase) over the
+/// protocol, run again, `rounds` corrections in all. The corrections compose:
+/// each round's Ed and Eb are measured against the parameters the firmware
+/// already used.
 pub fn calibrate(
     firmware: &Firmware,
     robot: &RobotConfig,
     base: &Plan,
     wheelbase_mm: f64,
     rounds: usize,
+    solution: calib::Solution,
     progress: &(dyn Fn(usize, usize, f64) + Sync),
 ) -> Result<Vec<CalibrationRound>, UmbmarkError> {
     let (mut cl, mut cr, mut b) = (1.0f64, 1.0f64, wheelbase_mm);
@@ -683,17 +741,16 @@ pub fn calibrate(
             &|n, t| progress(round, n, t),
         )?;
         let full = Partial {
-            kind: "umbmark".into(),
+            kind: plan.experiment.kind().into(),
             plan: plan.clone(),
             shard: None,
             runs,
         };
-        let rep = report(&full, b, None)?;
-        let next = (
-            cl * rep.result.cl,
-            cr * rep.result.cr,
-            rep.result.wheelbase_mm,
-        );
+        let rep = match plan.experiment {
+            Experiment::Umbmark => RoundReport::Umbmark(report(&full, b, solution)?),
+            Experiment::Triangle => RoundReport::Triangle(triangle_report(&full, b, solution)?),
+        };
+        let (dl, dr, next_b) = rep.correction();
         out.push(CalibrationRound {
             round,
             c_left: cl,
@@ -701,26 +758,41 @@ pub fn calibrate(
             wheelbase_mm: b,
             report: rep,
         });
-        (cl, cr, b) = next;
+        (cl, cr, b) = (cl * dl, cr * dr, next_b);
     }
     Ok(out)
 }
 
-/// The rounds in the thesis' Table 10 layout: each round against the first.
-pub fn table10(rounds: &[CalibrationRound]) -> Vec<(String, calib::Round)> {
+/// The rounds in the thesis' Table 10 layout: each round against the first
+/// (UMBmark: the mean end error; Triangular Path: the triangle centroid's
+/// distance).
+pub fn table10(rounds: &[CalibrationRound]) -> Result<Vec<(String, calib::Round)>, UmbmarkError> {
     let Some(first) = rounds.first() else {
-        return Vec::new();
+        return Ok(Vec::new());
     };
     rounds
         .iter()
         .skip(1)
         .map(|r| {
-            let mut round = calib::improvement(&first.report.result, &r.report.result);
+            let (name, mut round) = match (&first.report, &r.report) {
+                (RoundReport::Umbmark(a), RoundReport::Umbmark(b)) => {
+                    ("umbmark", calib::improvement(&a.result, &b.result))
+                }
+                (RoundReport::Triangle(a), RoundReport::Triangle(b)) => (
+                    "triangle",
+                    calib::round::triangle_improvement(&a.result, &b.result)?,
+                ),
+                _ => {
+                    return Err(UmbmarkError::Mismatch(
+                        "the rounds ran different experiments".into(),
+                    ))
+                }
+            };
             // The wheelbase "after" is the one the firmware used in that round.
             round.wheelbase_after_mm = r.wheelbase_mm;
             round.wheelbase_correction_pct =
                 (r.wheelbase_mm - first.wheelbase_mm) / first.wheelbase_mm * 100.0;
-            (format!("umbmark round {}", r.round), round)
+            Ok((format!("{name} round {}", r.round), round))
         })
         .collect()
 }
