@@ -21,6 +21,7 @@ use crate::pwm::{PinDrive, PwmError, PwmTimer};
 use crate::sim::{Avr, Core, CpuState, Handler, IoClaim, Irq, SimError};
 use crate::time::Clock;
 use crate::wiring::{BridgeInput, PwmSource, Wiring, HENRYTWO};
+use plant_model::encoder::Watch;
 
 /// Where in the firmware something happened.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -316,6 +317,11 @@ const TAG_UART_OUT: u32 = 16; // + USART number
 
 const SIDES: [Side; 2] = [Side::Left, Side::Right];
 const NEVER: u64 = u64::MAX;
+/// Analog comparator control and status (data-space address) and its
+/// interrupt-enable and input-capture-enable bits (ATmega2560 datasheet).
+const ACSR: u16 = 0x50;
+const ACSR_ACIE: u8 = 1 << 3;
+const ACSR_ACIC: u8 = 1 << 2;
 
 /// simavr-owned timers whose modes the bench checks: (timer, TCCRnA, TCCRnB).
 const CHECKED_TIMERS: [(u8, u16, u16); 4] = [
@@ -339,6 +345,18 @@ pub struct BenchCore {
     bridge: [(f64, f64); 2],
     enc_irq: [[Option<Irq>; 2]; 2],
     enc_level: [[bool; 2]; 2],
+    /// Per side: channel B is raised only when the firmware reads its PIN
+    /// register (or with an A edge), not at its own transitions. Exact while
+    /// nothing but a read can see B (see `update_lazy_b`).
+    lazy_b: [bool; 2],
+    /// Lazy B is allowed at all (off when the true waveform is wanted, e.g.
+    /// for a VCD).
+    lazy_b_allowed: bool,
+    /// The analog comparator's interrupt or input capture is on (ACSR): a
+    /// B line on AIN1 is then watched by hardware.
+    comparator_on: bool,
+    /// PIN reads that brought a lazy B up to date.
+    pub lazy_b_reads: u64,
     /// A edges raised on the pins, signed as the thesis' decoder counts them.
     pub edges_raised: [i64; 2],
     /// Cycle at which the last A edge of each encoder was due (the plant's
@@ -585,10 +603,16 @@ impl BenchCore {
     }
 
     fn plan_edge(&mut self, side: Side, now: u64) {
-        self.next_edge[side_index(side)] = match self.robot.next_encoder_transition(side) {
-            Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
-            None => NEVER,
+        let watch = if self.lazy_b[side_index(side)] {
+            Watch::A
+        } else {
+            Watch::Both
         };
+        self.next_edge[side_index(side)] =
+            match self.robot.next_encoder_transition_watching(side, watch) {
+                Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
+                None => NEVER,
+            };
     }
 
     fn next_event(&self) -> u64 {
@@ -660,11 +684,15 @@ impl BenchCore {
         }
     }
 
-    fn apply_action(&mut self, core: &Core, cycle: u64, action: Action) {
+    fn apply_action(&mut self, core: &mut Core, cycle: u64, action: Action) {
         self.applied.push((cycle, action.clone()));
         match action {
             Action::Encoder { side, fault } => {
+                // B must be exact from here on if the fault acts on the lines.
+                self.advance_plant(cycle);
+                self.raise_encoders(core, cycle);
                 self.inject.encoder[side as usize] = fault;
+                self.update_lazy_b(core, cycle);
             }
             Action::Link { fault } => self.inject.link = fault,
             Action::MotorDisconnected { side, disconnected } => {
@@ -694,8 +722,10 @@ impl BenchCore {
     }
 
     /// Bring the bench's own peripheral models to their reset state.
-    pub fn after_reset(&mut self, core: &Core) {
+    pub fn after_reset(&mut self, core: &mut Core) {
         let cycle = core.cycle();
+        self.comparator_on = false;
+        self.update_lazy_b(core, cycle);
         self.timer2 = PwmTimer::timer2();
         self.timer4 = PwmTimer::timer4();
         self.pending_top = [NEVER; 2];
@@ -710,6 +740,34 @@ impl BenchCore {
         self.uart_tx[n].extend(bytes.iter().copied());
         if self.uart_next[n] == NEVER && !self.uart_tx[n].is_empty() {
             self.uart_next[n] = now + 1;
+        }
+    }
+
+    /// Decide per side whether channel B may be raised lazily: only when the
+    /// pin it is wired to can start nothing in the MCU by itself (no external
+    /// or pin-change interrupt, input capture or counter input; on AIN1 only
+    /// while the comparator's interrupt and capture are off), no encoder fault
+    /// is active on that side, and the true waveform is not wanted. Then the
+    /// firmware can see B only by reading its PIN register, and the bench
+    /// brings B up to date right before every such read: what the firmware
+    /// reads is exactly what it would read with every B edge raised, at half
+    /// the events. On a change the lines are brought up to date and both
+    /// wheels re-planned.
+    fn update_lazy_b(&mut self, core: &mut Core, cycle: u64) {
+        let mut lazy = [false; 2];
+        for side in SIDES {
+            let i = side_index(side);
+            let b = self.wiring.encoder(side).b;
+            lazy[i] = self.lazy_b_allowed
+                && self.inject.encoder[i] == EncoderFault::Healthy
+                && !b.can_interrupt()
+                && !(b.is_comparator_input() && self.comparator_on);
+        }
+        if lazy != self.lazy_b {
+            self.advance_plant(cycle);
+            self.raise_encoders(core, cycle);
+            self.lazy_b = lazy;
+            self.plan_edges(cycle);
         }
     }
 
@@ -829,6 +887,13 @@ impl Handler for BenchCore {
     fn io_write(&mut self, core: &mut Core, addr: u16, value: u8) {
         self.callbacks += 1;
         let cycle = core.cycle();
+        if addr == ACSR {
+            // Observed: simavr's comparator has stored the value already.
+            self.comparator_on = value & (ACSR_ACIE | ACSR_ACIC) != 0;
+            self.update_lazy_b(core, cycle);
+            core.schedule(self.next_event());
+            return;
+        }
         if let Some(&(timer, a, b)) = CHECKED_TIMERS.iter().find(|t| t.1 == addr || t.2 == addr) {
             self.check_simavr_timer(core, timer, a, b);
             return;
@@ -868,6 +933,40 @@ impl Handler for BenchCore {
                     self.failed = true;
                     self.attention = true;
                     self.error = Some(PendingError::Pwm(e, cycle, core.pc()));
+                }
+            }
+        }
+    }
+
+    fn before_io_read(&mut self, core: &mut Core, addr: u16) {
+        // A lazily raised B is brought to its level at this cycle (see
+        // `update_lazy_b`). The plant is not advanced: its closed form holds
+        // until its next event, which has not come yet.
+        let cycle = core.cycle();
+        for side in SIDES {
+            let i = side_index(side);
+            if !self.lazy_b[i] || self.wiring.encoder(side).b.pin_register() != addr {
+                continue;
+            }
+            let t = Seconds(self.clock.seconds(cycle).0.max(self.robot.now().0));
+            let [old_a, old_b] = self.enc_level[i];
+            let (_, b) = self.inject.encoder_levels(
+                i,
+                self.robot.encoder_levels_at(side, t),
+                (old_a, old_b),
+            );
+            if b != old_b {
+                if let Some(irq_b) = self.enc_irq[i][1] {
+                    core.raise(irq_b, b as u32);
+                }
+                self.enc_level[i][1] = b;
+                self.lazy_b_reads += 1;
+                if let Some(rec) = &mut self.recording {
+                    rec.push(PinEvent {
+                        cycle,
+                        line: 2 * i as u8 + 1,
+                        level: b,
+                    });
                 }
             }
         }
@@ -1037,6 +1136,10 @@ impl Bench {
             port_ddr: 0,
             bridge: [(0.0, 0.0); 2],
             enc_irq: [[None; 2]; 2],
+            lazy_b: [false; 2],
+            lazy_b_allowed: true,
+            comparator_on: false,
+            lazy_b_reads: 0,
             enc_level: [[false; 2]; 2],
             edges_raised: [0; 2],
             last_a_edge: [0; 2],
@@ -1104,6 +1207,12 @@ impl Bench {
         avr.watch_irq(ddr, TAG_PORT_DDR);
         let adc0 = avr.adc_input(0)?;
         avr.handler_mut().adc0 = Some(adc0);
+        // B lines may be raised lazily, before reads of their PIN registers;
+        // the comparator's control register says when AIN1 is watched.
+        for side in SIDES {
+            avr.observe_io_read(wiring.encoder(side).b.pin_register())?;
+        }
+        avr.claim_io_write(ACSR, IoClaim::Observe)?;
         let mut enc_irq = [[None; 2]; 2];
         for side in SIDES {
             let e = wiring.encoder(side);
@@ -1131,6 +1240,7 @@ impl Bench {
                 }
                 core.enc_level[i] = [a, b];
             }
+            core.update_lazy_b(c, 0);
             core.plan_edges(0);
         });
         let first = avr.handler().next_event();
@@ -1183,9 +1293,24 @@ impl Bench {
         self.observer.take()
     }
 
-    /// Record every encoder pin change from now on.
+    /// Record every encoder pin change from now on. A lazily raised B line
+    /// is recorded as the firmware saw it (changes at the reads that noticed
+    /// them): a replay gives the firmware the same inputs. For B's true edge
+    /// times, call [`Bench::true_waveforms`] first.
     pub fn start_recording(&mut self) {
         self.avr.handler_mut().recording = Some(Vec::new());
+    }
+
+    /// Raise every encoder transition at its own cycle, B included (for
+    /// traces that show the lines as they are). Costs speed, changes nothing
+    /// the firmware sees.
+    pub fn true_waveforms(&mut self) {
+        self.avr.with_core(|core, c| {
+            core.lazy_b_allowed = false;
+            let cycle = c.cycle();
+            core.update_lazy_b(c, cycle);
+            c.schedule(core.next_event());
+        });
     }
 
     /// Attribute awake cycles to the instruction executing them, from now on.

@@ -221,6 +221,7 @@ pub fn run_test_observed(
         bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
     }
     if opts.record {
+        bench.true_waveforms();
         bench.start_recording();
     }
     if opts.framed || !opts.params.is_empty() {

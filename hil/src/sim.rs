@@ -72,6 +72,10 @@ pub trait Handler: 'static {
     /// A read of a register claimed with [`Avr::claim_io_read`]; returns the
     /// value the CPU reads.
     fn io_read(&mut self, core: &mut Core, addr: u16) -> u8;
+    /// A read of a register watched with [`Avr::observe_io_read`] is about
+    /// to happen (simavr's own read handler runs right after): the moment to
+    /// bring input lines up to date.
+    fn before_io_read(&mut self, _core: &mut Core, _addr: u16) {}
     /// The bench's cycle timer fired; `when` is the cycle it was scheduled for
     /// (the current cycle may be a few cycles later: simavr checks timers
     /// between instructions). Returns the next cycle to fire at, or 0 for none.
@@ -131,6 +135,9 @@ struct Shared<H> {
     /// The handler simavr had installed on each IO write slot we took over
     /// with [`IoClaim::Observe`], to forward to first.
     forward: Vec<Option<(ffi::avr_io_write_t, *mut c_void)>>,
+    /// The read handler simavr had on each slot watched with
+    /// [`Avr::observe_io_read`], called after the bench's.
+    forward_read: Vec<Option<(ffi::avr_io_read_t, *mut c_void)>>,
     in_timer: bool,
 }
 
@@ -203,6 +210,25 @@ unsafe extern "C" fn io_read_trampoline<H: Handler>(
         avr: NonNull::new(avr).expect("simavr passed a null MCU"),
     };
     shared.handler.io_read(&mut core, addr)
+}
+
+unsafe extern "C" fn io_read_observe_trampoline<H: Handler>(
+    avr: *mut ffi::avr_t,
+    addr: ffi::avr_io_addr_t,
+    param: *mut c_void,
+) -> u8 {
+    // SAFETY: as in `timer_trampoline`.
+    let shared = unsafe { &mut *(param as *mut Shared<H>) };
+    let mut core = Core {
+        avr: NonNull::new(avr).expect("simavr passed a null MCU"),
+    };
+    shared.handler.before_io_read(&mut core, addr);
+    match shared.forward_read[addr as usize - 32] {
+        // SAFETY: the original handler and its param were installed by simavr
+        // for this very slot; we call it as simavr would have.
+        Some((Some(original), original_param)) => unsafe { original(avr, addr, original_param) },
+        _ => data_read(shared.avr, addr),
+    }
 }
 
 unsafe extern "C" fn irq_trampoline<H: Handler>(
@@ -313,6 +339,7 @@ impl<H: Handler> Avr<H> {
             handler,
             avr,
             forward: vec![None; ffi::MAX_IOs as usize],
+            forward_read: vec![None; ffi::MAX_IOs as usize],
             in_timer: false,
         });
         let scheduler = Box::new(Scheduler {
@@ -477,6 +504,25 @@ impl<H: Handler> Avr<H> {
         unsafe {
             let io = &mut (*self.avr.as_ptr()).io[slot];
             io.r.c = Some(io_read_trampoline::<H>);
+            io.r.param = shared_ptr;
+        }
+        Ok(())
+    }
+
+    /// Be told before every read of IO register `addr` ([`Handler::before_io_read`]);
+    /// simavr's read handler still produces the value.
+    pub fn observe_io_read(&mut self, addr: u16) -> Result<(), SimError> {
+        let slot = io_slot(addr)?;
+        let shared_ptr = &mut *self.shared as *mut Shared<H> as *mut c_void;
+        // SAFETY: `slot` is within the IO table; we keep what simavr had there
+        // to call after the bench's hook.
+        unsafe {
+            let io = &mut (*self.avr.as_ptr()).io[slot];
+            // Observing a slot twice keeps the first (simavr's) handler.
+            if self.shared.forward_read[slot].is_none() {
+                self.shared.forward_read[slot] = Some((io.r.c, io.r.param));
+            }
+            io.r.c = Some(io_read_observe_trampoline::<H>);
             io.r.param = shared_ptr;
         }
         Ok(())

@@ -15,6 +15,52 @@ pub struct Pin {
     pub arduino: u8,
 }
 
+impl Pin {
+    /// Data-space address of the pin's PIN register (ATmega2560 datasheet,
+    /// register summary): ports A-G in the low IO space, H-L in extended IO.
+    pub fn pin_register(&self) -> u16 {
+        match self.port {
+            'A' => 0x20,
+            'B' => 0x23,
+            'C' => 0x26,
+            'D' => 0x29,
+            'E' => 0x2C,
+            'F' => 0x2F,
+            'G' => 0x32,
+            'H' => 0x100,
+            'J' => 0x103,
+            'K' => 0x106,
+            'L' => 0x109,
+            p => panic!("the ATmega2560 has no port {p}"),
+        }
+    }
+
+    /// Whether a level change on this pin can start something in the
+    /// ATmega2560 by itself, however the firmware configures it: an external
+    /// interrupt (INT0-7), a pin-change interrupt (PCINT0-23), an input
+    /// capture (ICP1/3/4/5), a counter or asynchronous clock input
+    /// (T0/1/3/4/5, TOSC1/2), a USART clock input (XCK0-3), SPI or TWI. The
+    /// analog comparator's inputs are separate ([`Pin::is_comparator_input`]).
+    pub fn can_interrupt(&self) -> bool {
+        match (self.port, self.bit) {
+            ('B', _) | ('K', _) => true, // PCINT0-7, PCINT16-23 (and SPI on B0-3)
+            ('D', 0..=7) => true,        // INT0-3, XCK1, ICP1, T1, T0
+            ('E', 0) | ('E', 2) | ('E', 4..=7) => true, // PCINT8, XCK0, INT4-7, T3, ICP3
+            ('G', 3) | ('G', 4) => true, // TOSC2, TOSC1
+            ('H', 2) | ('H', 7) => true, // XCK2, T4
+            ('J', 0..=6) => true,        // PCINT9-15, XCK3
+            ('L', 0..=2) => true,        // ICP4, ICP5, T5
+            _ => false,
+        }
+    }
+
+    /// AIN0 (PE2) or AIN1 (PE3): the analog comparator can interrupt or
+    /// capture on it when ACSR enables that.
+    pub fn is_comparator_input(&self) -> bool {
+        matches!((self.port, self.bit), ('E', 2) | ('E', 3))
+    }
+}
+
 /// Which timer channel can drive a pin with PWM.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum PwmSource {

@@ -167,23 +167,41 @@ impl Encoder {
     }
 
     /// The first boundary crossed from position `s` moving up (`upward`) or down at which
-    /// the levels become different from `from`: moving up, the levels change when the
-    /// position reaches it (`s' >= boundary`); moving down, when it falls below it
-    /// (`s' < boundary`). Silent boundaries are skipped.
-    pub fn next_level_change(&self, s: f64, upward: bool, from: (bool, bool)) -> f64 {
+    /// the watched levels become different from `from`: moving up, the levels change when
+    /// the position reaches it (`s' >= boundary`); moving down, when it falls below it
+    /// (`s' < boundary`). Silent boundaries are skipped. Watching channel A alone, the
+    /// search gives up after [`WATCH_A_STATES`] states (every pulse missed) and returns the
+    /// boundary it reached: a change of nothing, which a caller treats as a check-point.
+    pub fn next_level_change(&self, s: f64, upward: bool, from: (bool, bool), watch: Watch) -> f64 {
         let n0 = s.floor() as i64;
+        let limit = match watch {
+            Watch::Both => i64::MAX,
+            Watch::A => WATCH_A_STATES,
+        };
         if upward {
-            for n in n0.. {
+            let mut last = s;
+            for n in n0..n0.saturating_add(limit) {
                 for b in self.boundaries_of(n) {
-                    if b > s && self.levels_at(b) != from {
-                        return b;
+                    if b > s {
+                        if watch.differs(self.levels_at(b), from) {
+                            return b;
+                        }
+                        last = b;
                     }
                 }
             }
+            last
         } else {
-            for n in (i64::MIN..=n0).rev() {
-                let bounds: Vec<f64> = self.boundaries_of(n).collect();
-                for (i, &b) in bounds.iter().enumerate().rev() {
+            let mut last = s;
+            for n in (n0.saturating_sub(limit)..=n0).rev() {
+                let mut bounds = [0.0; 3];
+                let mut len = 0;
+                for b in self.boundaries_of(n) {
+                    bounds[len] = b;
+                    len += 1;
+                }
+                for i in (0..len).rev() {
+                    let b = bounds[i];
                     if b > s {
                         continue;
                     }
@@ -192,13 +210,14 @@ impl Encoder {
                         0 => self.region_start_below(n),
                         _ => bounds[i - 1],
                     };
-                    if self.levels_at(below) != from {
+                    if watch.differs(self.levels_at(below), from) {
                         return b;
                     }
+                    last = b;
                 }
             }
+            last
         }
-        unreachable!("the searches above return within a few states")
     }
 
     /// The start of the last region of state `n - 1`.
@@ -258,6 +277,29 @@ impl Encoder {
     }
 }
 
+/// Which channels a transition search watches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Watch {
+    /// A and B: every level change.
+    Both,
+    /// Channel A alone: for a reader who samples B only when it needs it (the bench raises
+    /// B lazily when nothing can interrupt on it).
+    A,
+}
+
+impl Watch {
+    fn differs(self, now: (bool, bool), from: (bool, bool)) -> bool {
+        match self {
+            Watch::Both => now != from,
+            Watch::A => now.0 != from.0,
+        }
+    }
+}
+
+/// How many states a search watching channel A alone looks through before it returns a
+/// check-point (A changes every second state unless pulses are missed).
+pub const WATCH_A_STATES: i64 = 256;
+
 /// Levels `(A, B)` of the encoder in quadrature state `q`.
 pub fn levels(q: i64) -> (bool, bool) {
     let phase = q.rem_euclid(4);
@@ -273,6 +315,50 @@ pub fn net_a_edges(q: i64) -> i64 {
 mod tests {
     use super::*;
     use rstest::rstest;
+
+    /// Watching A alone finds the first boundary at which A changes: the same one as
+    /// stepping through every level change (A and B), with missed pulses and glitches.
+    #[rstest]
+    #[case(0.0, 0.0)]
+    #[case(0.3, 0.0)]
+    #[case(0.0, 0.25)]
+    #[case(0.5, 0.5)]
+    fn watching_a_skips_b_only(#[case] missed: f64, #[case] glitches: f64) {
+        let enc = Encoder::new(100.37, 6, false).with_imperfections(Imperfections {
+            seed: 11,
+            side_index: 1,
+            missed_pulse_fraction: missed,
+            glitch_fraction: glitches,
+            glitch_width_states: 0.2,
+        });
+        for k in 0..400 {
+            let s = -50.0 + k as f64 * 0.2537;
+            for upward in [true, false] {
+                let from = enc.levels_at(s);
+                let a_only = enc.next_level_change(s, upward, from, Watch::A);
+                // Step through every change until A differs.
+                let mut at = s;
+                let mut levels = from;
+                let expected = loop {
+                    let b = enc.next_level_change(at, upward, levels, Watch::Both);
+                    let next = if upward {
+                        enc.levels_at(b)
+                    } else {
+                        enc.levels_at(b - 1e-9)
+                    };
+                    if next.0 != from.0 {
+                        break b;
+                    }
+                    at = if upward { b } else { b - 1e-9 };
+                    levels = next;
+                };
+                assert!(
+                    (a_only - expected).abs() < 1e-6,
+                    "s {s} up {upward}: A-only {a_only} vs stepped {expected}"
+                );
+            }
+        }
+    }
 
     /// The level table of the module docs.
     #[rstest]

@@ -43,7 +43,7 @@
 use crate::bridge::DriveState;
 use crate::config::RobotConfig;
 use crate::effects::battery_sag::{MotorLoad, SagState};
-use crate::encoder::{self, Encoder, Imperfections};
+use crate::encoder::{self, Encoder, Imperfections, Watch};
 use crate::fault::MotorFault;
 use crate::ground::{effective_radius_mm, Ground};
 use crate::motor::{Modifiers, MotorModel, Segment};
@@ -188,7 +188,13 @@ impl Wheel {
 
     /// Earliest time in `(now, until]` at which the encoder levels differ from `from` (the
     /// levels at `now`), under this segment.
-    fn next_transition(&self, now: Seconds, until: Seconds, from: (bool, bool)) -> Option<Seconds> {
+    fn next_transition(
+        &self,
+        now: Seconds,
+        until: Seconds,
+        from: (bool, bool),
+        watch: Watch,
+    ) -> Option<Seconds> {
         if self.segment.is_at_rest_from(now) {
             return None;
         }
@@ -201,7 +207,7 @@ impl Wheel {
         let mut a = now;
         for b in cuts {
             if b > a {
-                if let Some(t) = self.transition_on(a, b, from) {
+                if let Some(t) = self.transition_on(a, b, from, watch) {
                     return Some(t);
                 }
             }
@@ -211,13 +217,19 @@ impl Wheel {
     }
 
     /// The transition on the monotone piece `[a, b]`, if the levels change on it.
-    fn transition_on(&self, a: Seconds, b: Seconds, from: (bool, bool)) -> Option<Seconds> {
+    fn transition_on(
+        &self,
+        a: Seconds,
+        b: Seconds,
+        from: (bool, bool),
+        watch: Watch,
+    ) -> Option<Seconds> {
         let (sa, sb) = (self.position(a), self.position(b));
         if sa == sb {
             return None;
         }
         let upward = sb > sa;
-        let boundary = self.encoder.next_level_change(sa, upward, from);
+        let boundary = self.encoder.next_level_change(sa, upward, from, watch);
         let crossed = |t: Seconds| {
             let s = self.position(t);
             if upward {
@@ -763,6 +775,13 @@ impl Robot {
     /// Coulomb stop, so a boundary reached only after turning back is found too; boundaries
     /// where no level changes (a missed pulse) are skipped.
     pub fn next_encoder_transition(&self, side: Side) -> Option<Seconds> {
+        self.next_encoder_transition_watching(side, Watch::Both)
+    }
+
+    /// [`Robot::next_encoder_transition`] for the channels in `watch` only. Watching A
+    /// alone, a search that meets only missed pulses for [`crate::encoder::WATCH_A_STATES`]
+    /// states returns the time it got there, at which nothing on A changes.
+    pub fn next_encoder_transition_watching(&self, side: Side, watch: Watch) -> Option<Seconds> {
         let from = self.encoder_levels(side);
         let end = self.dynamics.now + TRANSITION_HORIZON;
         let mut probe: Option<Dynamics> = None;
@@ -771,7 +790,7 @@ impl Robot {
             let change = dynamics.next_internal_change().filter(|&c| c < end);
             let until = change.unwrap_or(end);
             let wheel = dynamics.wheels.get(side);
-            if let Some(t) = wheel.next_transition(dynamics.now, until, from) {
+            if let Some(t) = wheel.next_transition(dynamics.now, until, from, watch) {
                 return Some(t);
             }
             let change = change?;
@@ -787,6 +806,19 @@ impl Robot {
     /// Encoder levels `(A, B)` of `side` now, with the encoder effects.
     pub fn encoder_levels(&self, side: Side) -> (bool, bool) {
         self.dynamics.wheels.get(side).levels(self.dynamics.now)
+    }
+
+    /// Encoder levels `(A, B)` of `side` at `t`, without advancing the robot: exact for
+    /// `t` from now up to the next change of the inputs or of the plant's own dynamics
+    /// ([`Robot::next_internal_change`]), over which the wheels' closed forms hold. For a
+    /// reader that samples a channel between the robot's events.
+    pub fn encoder_levels_at(&self, side: Side, t: Seconds) -> (bool, bool) {
+        debug_assert!(t >= self.dynamics.now, "encoder_levels_at looks ahead only");
+        debug_assert!(
+            self.dynamics.next_internal_change().is_none_or(|c| t <= c),
+            "encoder_levels_at beyond the next internal change"
+        );
+        self.dynamics.wheels.get(side).levels(t)
     }
 
     /// Quadrature state index `q` of `side` now (see [`crate::encoder`]): the shaft's
