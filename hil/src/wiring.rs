@@ -182,4 +182,18 @@ mod tests {
         assert_eq!(arduino, vec![6, 7, 8, 9]);
         assert!(inputs.iter().all(|b| b.pin.port == 'H'));
     }
+
+    /// The thesis wires A to INT4/INT5 (D2, D3) and B to D4 (PG5) and D5
+    /// (PE3, AIN1): the bench may raise B lazily only because of that.
+    #[test]
+    fn encoder_a_interrupts_and_b_cannot() {
+        for side in [Side::Left, Side::Right] {
+            let e = HENRYTWO.encoder(side);
+            assert!(e.a.can_interrupt(), "{side:?} A");
+            assert!(!e.b.can_interrupt(), "{side:?} B");
+        }
+        assert!(HENRYTWO.encoder(Side::Right).b.is_comparator_input());
+        assert_eq!(HENRYTWO.encoder(Side::Left).b.pin_register(), 0x32); // PING
+        assert_eq!(HENRYTWO.encoder(Side::Right).b.pin_register(), 0x2C); // PINE
+    }
 }
