@@ -198,52 +198,7 @@ pub fn cross_correlation(e: &[f64], u: &[f64], max_lag: usize) -> Option<CrossCo
 }
 
 /// Minimises `f` on [lo, hi]: `n` grid points (geometric when `log`), then golden section in
-/// the bracket around the best. Returns (x, f(x)).
+/// the bracket around the best. Returns (x, f(x)). The identification's minimiser.
 pub fn minimise_1d(f: impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize, log: bool) -> (f64, f64) {
-    let n = n.max(3);
-    let at = |i: usize| {
-        let s = i as f64 / (n - 1) as f64;
-        if log {
-            lo * (hi / lo).powf(s)
-        } else {
-            lo + (hi - lo) * s
-        }
-    };
-    let mut best = (0, f64::INFINITY);
-    for i in 0..n {
-        let v = f(at(i));
-        if v < best.1 {
-            best = (i, v);
-        }
-    }
-    let (mut a, mut b) = (at(best.0.saturating_sub(1)), at((best.0 + 1).min(n - 1)));
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..80 {
-        if (b - a).abs() <= 1e-12 * (1.0 + a.abs() + b.abs()) {
-            break;
-        }
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
-        }
-    }
-    let x = (a + b) / 2.0;
-    let fx = f(x);
-    if fx <= best.1 {
-        (x, fx)
-    } else {
-        (at(best.0), best.1)
-    }
+    plant_model::identify::minimise_bounded(f, lo, hi, n, log)
 }

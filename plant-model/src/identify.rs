@@ -156,8 +156,9 @@ use serde::Serialize;
 
 pub use data::{Column, CsvSource, IdentifyError, StepData};
 pub use first_order::{
-    fit_632, fit_fopdt, reaction_curve, unit_response, ziegler_nichols, DiscreteModel,
-    FirstOrder632, FopdtBounds, FopdtFit, PidGains, ReactionCurve, Sampling, FRACTION_AT_TAU,
+    fit_632, fit_fopdt, minimise_bounded, reaction_curve, unit_response, ziegler_nichols,
+    DiscreteModel, FirstOrder632, FopdtBounds, FopdtFit, PidGains, ReactionCurve, Sampling,
+    FRACTION_AT_TAU,
 };
 pub use physical::{
     fit_physical, holdout_for, holdout_report, motor_rad_s_per_thesis_rpm, HoldoutReport,

@@ -70,8 +70,10 @@ pub(crate) fn lstsq<const N: usize>(
 }
 
 /// Minimises `f` over `[lo, hi]`: `n` grid points (geometric when `log`), then a
-/// golden-section search in the bracket around the best grid point. Returns `(x, f(x))`.
-pub(crate) fn minimise_bounded(
+/// golden-section search in the bracket around the best grid point (60 steps: the bracket
+/// shrinks to 3e-13 of its size). Returns `(x, f(x))`. For one-parameter fits anywhere in
+/// the workspace (the gap diagnosis uses it too).
+pub fn minimise_bounded(
     mut f: impl FnMut(f64) -> f64,
     lo: f64,
     hi: f64,
