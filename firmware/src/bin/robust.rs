@@ -60,29 +60,8 @@ fn TIMER1_COMPB() {
     unsafe { time::on_alarm() }
 }
 
-#[avr_device::interrupt(atmega2560)]
-fn USART0_RX() {
-    // SAFETY: this is USART0's RX-complete vector.
-    unsafe { usart::on_rx::<USART0>() }
-}
-
-#[avr_device::interrupt(atmega2560)]
-fn USART0_UDRE() {
-    // SAFETY: this is USART0's data-register-empty vector.
-    unsafe { usart::on_udre::<USART0>() }
-}
-
-#[avr_device::interrupt(atmega2560)]
-fn USART1_RX() {
-    // SAFETY: this is USART1's RX-complete vector.
-    unsafe { usart::on_rx::<USART1>() }
-}
-
-#[avr_device::interrupt(atmega2560)]
-fn USART1_UDRE() {
-    // SAFETY: this is USART1's data-register-empty vector.
-    unsafe { usart::on_udre::<USART1>() }
-}
+// Both USARTs' RX-complete and data-register-empty vectors.
+henrytwo_firmware::usart_vectors!();
 
 // ---- constants ----
 

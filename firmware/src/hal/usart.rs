@@ -9,7 +9,8 @@
 //! [`Serial::write`] and [`Serial::read`] never wait.
 //!
 //! The handlers are plain functions ([`on_rx`], [`on_udre`]): each binary
-//! binds them to its vectors, so a build links only the vectors it uses.
+//! binds them to its vectors, so a build links only the vectors it uses
+//! ([`usart_vectors!`] binds both USARTs' in one line).
 
 use avr_device::interrupt::{self, Mutex};
 
@@ -271,3 +272,36 @@ macro_rules! usart_instance {
 
 usart_instance!(usart0_impl, USART0, ucsr0a, ucsr0b, ucsr0c, ubrr0, udr0);
 usart_instance!(usart1_impl, USART1, ucsr1a, ucsr1b, ucsr1c, ubrr1, udr1);
+
+/// Binds the RX-complete and data-register-empty vectors of USART0 and
+/// USART1 to [`on_rx`] and [`on_udre`]. Expanded in a binary (the vectors
+/// must be defined where they are linked); needs `avr_device`, `USART0` and
+/// `USART1` and this module as `usart` in scope.
+#[macro_export]
+macro_rules! usart_vectors {
+    () => {
+        #[avr_device::interrupt(atmega2560)]
+        fn USART0_RX() {
+            // SAFETY: this is USART0's RX-complete vector.
+            unsafe { usart::on_rx::<USART0>() }
+        }
+
+        #[avr_device::interrupt(atmega2560)]
+        fn USART0_UDRE() {
+            // SAFETY: this is USART0's data-register-empty vector.
+            unsafe { usart::on_udre::<USART0>() }
+        }
+
+        #[avr_device::interrupt(atmega2560)]
+        fn USART1_RX() {
+            // SAFETY: this is USART1's RX-complete vector.
+            unsafe { usart::on_rx::<USART1>() }
+        }
+
+        #[avr_device::interrupt(atmega2560)]
+        fn USART1_UDRE() {
+            // SAFETY: this is USART1's data-register-empty vector.
+            unsafe { usart::on_udre::<USART1>() }
+        }
+    };
+}
