@@ -938,6 +938,10 @@ impl Handler for BenchCore {
         }
     }
 
+    fn attention(&self) -> bool {
+        self.attention
+    }
+
     fn before_io_read(&mut self, core: &mut Core, addr: u16) {
         // A lazily raised B is brought to its level at this cycle (see
         // `update_lazy_b`). The plant is not advanced: its closed form holds
@@ -1447,6 +1451,37 @@ impl Bench {
         // Instruction-level detail costs speed: only when someone looks.
         let watch = self.profile.is_some() || self.observer.is_some();
         let mut sleeping = self.avr.state() == CpuState::Sleeping;
+        if !watch {
+            // The same steps and checks as the loop below, in bursts that
+            // stay inside the simulator module between checks.
+            loop {
+                let burst = self.avr.run_burst(64 - n % 64, check_at, &mut sleeping);
+                n = n.wrapping_add(burst.steps);
+                self.sleep_cycles += burst.slept;
+                if !matches!(burst.state, CpuState::Running | CpuState::Sleeping) {
+                    let at = self.location();
+                    return Err(if burst.state == CpuState::Crashed {
+                        BenchError::Crashed { at }
+                    } else {
+                        BenchError::Stopped { at }
+                    });
+                }
+                if self.avr.handler().attention {
+                    self.attend()?;
+                    sleeping = self.avr.state() == CpuState::Sleeping;
+                }
+                let now = self.avr.cycle();
+                if n % 64 == 0 || now >= check_at {
+                    check_at = now + ms;
+                    if done(self) {
+                        return Ok(true);
+                    }
+                    if now >= limit {
+                        return Ok(false);
+                    }
+                }
+            }
+        }
         loop {
             let before = self.avr.cycle();
             let (pc_before, sp_before, i_before) = if watch {

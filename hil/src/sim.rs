@@ -51,6 +51,17 @@ pub enum CpuState {
     Other(i32),
 }
 
+/// How a burst of steps ([`Avr::run_burst`]) ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Burst {
+    /// Steps run.
+    pub steps: u32,
+    /// Cycles spent asleep.
+    pub slept: u64,
+    /// The CPU's state after the last step.
+    pub state: CpuState,
+}
+
 /// How the bench takes part in writes to an IO register.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IoClaim {
@@ -76,6 +87,11 @@ pub trait Handler: 'static {
     /// to happen (simavr's own read handler runs right after): the moment to
     /// bring input lines up to date.
     fn before_io_read(&mut self, _core: &mut Core, _addr: u16) {}
+    /// Whether a callback left something for the caller of
+    /// [`Avr::run_burst`] to handle: the burst ends after that step.
+    fn attention(&self) -> bool {
+        false
+    }
     /// The bench's cycle timer fired; `when` is the cycle it was scheduled for
     /// (the current cycle may be a few cycles later: simavr checks timers
     /// between instructions). Returns the next cycle to fire at, or 0 for none.
@@ -390,11 +406,63 @@ impl<H: Handler> Avr<H> {
     }
 
     /// Execute one instruction (or, while sleeping, jump to the next timer).
+    #[inline]
     pub fn step(&mut self) -> CpuState {
+        let avr = self.avr.as_ptr();
         // SAFETY: the MCU is initialised and loaded; callbacks re-enter the
-        // handler through `shared`, which nothing else borrows during the call.
-        let state = unsafe { ffi::avr_run(self.avr.as_ptr()) };
+        // handler through `shared`, which nothing else borrows during the
+        // call. `run` is the step function simavr installed at init (what
+        // `avr_run` calls; called directly to save a call per instruction).
+        let state = unsafe {
+            match (*avr).run {
+                Some(run) => {
+                    run(avr);
+                    (*avr).state
+                }
+                None => ffi::avr_run(avr),
+            }
+        };
         decode_state(state)
+    }
+
+    /// Runs up to `max_steps` steps (an instruction, or a jump over a sleep),
+    /// ending early after the step at which the CPU stops running and
+    /// sleeping, the handler asks for [`Handler::attention`], or the cycle
+    /// reaches `until`. `sleeping` says whether the CPU slept before the
+    /// first step and is updated; cycles of steps that slept (or began or
+    /// ended asleep) are summed in [`Burst::slept`]. The same as calling
+    /// [`Avr::step`] in a loop, without leaving this module per instruction.
+    pub fn run_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
+        let avr = self.avr.as_ptr();
+        let mut steps = 0;
+        let mut slept = 0;
+        loop {
+            // SAFETY: as in `step`; plain field reads between the steps.
+            let (before, state, now) = unsafe {
+                let before = (*avr).cycle;
+                match (*avr).run {
+                    Some(run) => run(avr),
+                    None => {
+                        ffi::avr_run(avr);
+                    }
+                }
+                (before, (*avr).state as u32, (*avr).cycle)
+            };
+            let asleep = state == ffi::cpu_Sleeping;
+            if *sleeping || asleep {
+                slept += now - before;
+            }
+            *sleeping = asleep;
+            steps += 1;
+            let stopped = !asleep && state != ffi::cpu_Running;
+            if stopped || self.shared.handler.attention() || steps >= max_steps || now >= until {
+                return Burst {
+                    steps,
+                    slept,
+                    state: decode_state(state as i32),
+                };
+            }
+        }
     }
 
     pub fn state(&self) -> CpuState {
@@ -659,12 +727,20 @@ fn io_slot(addr: u16) -> Result<usize, SimError> {
     Ok(addr as usize - 32)
 }
 
+#[inline]
 fn decode_state(state: i32) -> CpuState {
-    match state as u32 {
-        ffi::cpu_Running => CpuState::Running,
-        ffi::cpu_Sleeping => CpuState::Sleeping,
-        ffi::cpu_Done | ffi::cpu_Stopped => CpuState::Done,
-        ffi::cpu_Crashed => CpuState::Crashed,
-        _ => CpuState::Other(state),
+    // The two states of every step first, as plain compares: this runs once
+    // per emulated instruction.
+    let s = state as u32;
+    if s == ffi::cpu_Running {
+        CpuState::Running
+    } else if s == ffi::cpu_Sleeping {
+        CpuState::Sleeping
+    } else {
+        match s {
+            ffi::cpu_Done | ffi::cpu_Stopped => CpuState::Done,
+            ffi::cpu_Crashed => CpuState::Crashed,
+            _ => CpuState::Other(state),
+        }
     }
 }
