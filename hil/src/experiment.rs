@@ -10,8 +10,8 @@
 use plant_model::RobotConfig;
 
 use crate::bench::{
-    Action, Bench, BenchError, BenchOptions, DriveEvent, Motion, MotionEvent, Observer, PinEvent,
-    Sample, ScheduledFault, SideName, Snapshot,
+    Action, Bench, BenchError, BenchOptions, DriveEvent, LedEvent, Location, Motion, MotionEvent,
+    Observer, PinEvent, Sample, ScheduledFault, SideName, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::ready_bench;
@@ -99,6 +99,9 @@ pub struct TestOptions {
     pub framed: bool,
     /// Parameters to set over the protocol before the start (implies framed).
     pub params: Vec<(crate::link::Param, f32)>,
+    /// Stop the run as hung after this much robot time without progress
+    /// (see [`crate::hang`]); None: only `limit_s` ends an unfinished run.
+    pub hang_after_s: Option<f64>,
 }
 
 impl Default for TestOptions {
@@ -111,6 +114,7 @@ impl Default for TestOptions {
             faults: Vec::new(),
             framed: false,
             params: Vec::new(),
+            hang_after_s: None,
         }
     }
 }
@@ -128,6 +132,10 @@ pub struct Leg {
     /// Firmware counts over the leg, at the motors' cut-off.
     pub firmware_count_left: i32,
     pub firmware_count_right: i32,
+    /// Net A edges the plant made over the same span: what a perfect
+    /// decoder would have counted.
+    pub plant_edges_left: i64,
+    pub plant_edges_right: i64,
     pub start_cycle: u64,
     pub cutoff_cycle: u64,
 }
@@ -165,6 +173,9 @@ pub struct TestRun {
     pub completed: bool,
     /// Why it did not complete (a hang, a fault): a finding, not an error.
     pub finding: Option<String>,
+    /// Where the firmware was when the bench found it hung (see
+    /// [`TestOptions::hang_after_s`]).
+    pub hang: Option<Location>,
     pub legs: Vec<Leg>,
     pub turns: Vec<Turn>,
     pub final_pose: FinalPose,
@@ -191,6 +202,11 @@ pub struct TestRun {
     pub drive: Vec<DriveEvent>,
     #[serde(skip)]
     pub uart: Vec<(u64, u8, u8)>,
+    /// Battery LED changes.
+    #[serde(skip)]
+    pub leds: Vec<LedEvent>,
+    /// Resets by the brown-out detector.
+    pub bod_resets: u32,
 }
 
 /// Run `test` from a fresh reset.
@@ -238,21 +254,36 @@ pub fn run_test_observed(
     let limit = opts
         .limit_s
         .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0);
-    let completed = bench.run_until(limit, |b| {
+    bench.set_hang_after(opts.hang_after_s);
+    let outcome = bench.run_until(limit, |b| {
         b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
-    })?;
-    let finding = (!completed).then(|| {
-        format!(
-            "did not complete within {limit:.0} s of robot time; the firmware is {}",
-            bench.location()
-        )
     });
+    bench.set_hang_after(None);
+    // A hang is what the firmware did: a finding of the run, not an error.
+    let (completed, hang) = match outcome {
+        Ok(done) => (done, None),
+        Err(BenchError::Hang { still_s, at }) => (false, Some((still_s, at))),
+        Err(e) => return Err(e),
+    };
+    let finding = match &hang {
+        Some((still_s, at)) => Some(format!(
+            "hung: busy in the test without progress for {still_s:.1} s of robot time, {at}"
+        )),
+        None => (!completed).then(|| {
+            format!(
+                "did not complete within {limit:.0} s of robot time; the firmware is {}",
+                bench.location()
+            )
+        }),
+    };
+    let hang = hang.map(|(_, at)| at);
     // Let the last coast and the UART drain.
     if completed {
         bench.run_for(0.1)?;
     }
     let observer = bench.take_observer();
-    let run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    run.hang = hang;
     Ok((run, observer))
 }
 
@@ -295,6 +326,8 @@ fn analyse(
                 plant_heading_change_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
                 firmware_count_left: stop.left_count - start.left_count,
                 firmware_count_right: stop.right_count - start.right_count,
+                plant_edges_left: stop.left_edges - start.left_edges,
+                plant_edges_right: stop.right_edges - start.right_edges,
                 start_cycle: start.cycle,
                 cutoff_cycle: stop.cycle,
             }),
@@ -333,6 +366,7 @@ fn analyse(
         seed: opts.bench.seed,
         completed,
         finding,
+        hang: None,
         legs,
         turns,
         final_pose: FinalPose {
@@ -356,6 +390,8 @@ fn analyse(
         edges: core.recording.clone().unwrap_or_default(),
         drive: core.drive_log.clone(),
         uart: core.uart_log.clone(),
+        leds: core.leds.clone(),
+        bod_resets: core.bod_resets,
     }
 }
 
