@@ -233,27 +233,8 @@ pub fn run_test_observed(
         ready_bench(firmware, robot, opts.bench, opts.leg_mm)?;
     let vars = *bench.vars();
     bench.set_observer(observer);
-    for f in &opts.faults {
-        bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
-    }
-    if opts.record {
-        bench.start_recording();
-    }
-    if opts.framed || !opts.params.is_empty() {
-        use crate::link::{frame, proto_test, Command};
-        for (p, v) in &opts.params {
-            bench.send(1, &frame(&Command::SetParam(*p, *v)));
-        }
-        bench.send(1, &frame(&Command::StartTest(proto_test(test))));
-    } else {
-        bench.send(1, &[test.command_byte()]);
-    }
-    let (legs, turns, _) = test.shape();
-    // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
-    // braking and waits per segment: generous, so a slow robot is not a hang.
-    let limit = opts
-        .limit_s
-        .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0);
+    start(&mut bench, test, opts);
+    let limit = limit_s(test, opts);
     bench.set_hang_after(opts.hang_after_s);
     let outcome = bench.run_until(limit, |b| {
         b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
@@ -285,6 +266,108 @@ pub fn run_test_observed(
     let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
     run.hang = hang;
     Ok((run, observer))
+}
+
+/// Faults scheduled, recording on, and the host's start command sent: what
+/// follows the firmware's ready state.
+fn start(bench: &mut Bench, test: Test, opts: &TestOptions) {
+    for f in &opts.faults {
+        bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
+    }
+    if opts.record {
+        bench.start_recording();
+    }
+    if opts.framed || !opts.params.is_empty() {
+        use crate::link::{frame, proto_test, Command};
+        for (p, v) in &opts.params {
+            bench.send(1, &frame(&Command::SetParam(*p, *v)));
+        }
+        bench.send(1, &frame(&Command::StartTest(proto_test(test))));
+    } else {
+        bench.send(1, &[test.command_byte()]);
+    }
+}
+
+/// Robot time allowed from the start command to the end of the test.
+fn limit_s(test: Test, opts: &TestOptions) -> f64 {
+    let (legs, turns, _) = test.shape();
+    // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
+    // braking and waits per segment: generous, so a slow robot is not a hang.
+    opts.limit_s
+        .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0)
+}
+
+/// Run `test` under a debugger: the MCU paused at its reset vector until
+/// the debugger continues. The bench plays the host as [`run_test`] does
+/// (the start command once the firmware is idle); after a detach the run
+/// goes on to its end without the debugger. None when the debugger killed
+/// the run.
+pub fn run_test_debugged(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    test: Test,
+    opts: &TestOptions,
+    server: crate::gdb::GdbServer,
+) -> Result<Option<TestRun>, crate::gdb::GdbError> {
+    use crate::gdb::{Flow, SessionEnd};
+    let name = firmware.name();
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    let vars = *bench.vars();
+    let limit = limit_s(test, opts);
+    // (HT_DONE_COUNT before the start, the start's cycle), once started.
+    let mut started: Option<(u16, u64)> = None;
+    let host = |b: &mut Bench, started: &mut Option<(u16, u64)>| -> Flow {
+        match *started {
+            None if b.read_u8(vars.state) == 1 => {
+                b.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
+                *started = Some((b.read_u16(vars.done_count), b.cycle()));
+                start(b, test, opts);
+                Flow::Continue
+            }
+            Some((done_before, at))
+                if (b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1)
+                    || b.cycle() >= at + b.clock().cycles_in(plant_model::Seconds(limit)) =>
+            {
+                Flow::Finished
+            }
+            _ => Flow::Continue,
+        }
+    };
+    let end = server.serve(&mut bench, &mut |b: &mut Bench| host(b, &mut started))?;
+    if end == SessionEnd::Killed {
+        return Ok(None);
+    }
+    if end == SessionEnd::Detached {
+        if started.is_none() {
+            crate::line::wait_ready(&mut bench)?;
+            host(&mut bench, &mut started);
+        }
+        let left = |b: &Bench, at: u64| limit - b.clock().seconds(b.cycle() - at).0;
+        if let Some((done_before, at)) = started {
+            let remaining = left(&bench, at).max(0.0);
+            bench.run_until(remaining, |b| {
+                b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
+            })?;
+        }
+    }
+    let (done_before, start_cycle) = started.unwrap_or((0, bench.cycle()));
+    let completed =
+        bench.read_u16(vars.done_count) != done_before && bench.read_u8(vars.state) == 1;
+    let finding = (!completed).then(|| {
+        format!(
+            "did not complete within {limit:.0} s of robot time; the firmware is {}",
+            bench.location()
+        )
+    });
+    Ok(Some(analyse(
+        &bench,
+        test,
+        name,
+        opts,
+        start_cycle,
+        completed,
+        finding,
+    )))
 }
 
 fn analyse(

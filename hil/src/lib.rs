@@ -14,6 +14,7 @@ pub mod experiment;
 pub mod faults;
 pub mod fuzz;
 pub mod fwvars;
+pub mod gdb;
 pub mod hang;
 pub mod inject;
 pub mod line;

@@ -288,6 +288,10 @@ enum Command {
         /// seconds without progress while the firmware is busy in the test.
         #[arg(long, value_name = "S", value_parser = parse_seconds)]
         hang_after: Option<f64>,
+        /// Serve gdb's remote protocol on 127.0.0.1:PORT, the run paused at
+        /// reset until the debugger continues (`target remote :PORT`).
+        #[arg(long, value_name = "PORT")]
+        gdb: Option<u16>,
         #[command(flatten)]
         common: Common,
     },
@@ -916,6 +920,7 @@ fn run(cli: Cli) -> Result<()> {
             leg_mm,
             scenario,
             hang_after,
+            gdb,
             common,
         } => {
             let robot = load_robot(common.robot.as_ref())?;
@@ -928,7 +933,25 @@ fn run(cli: Cli) -> Result<()> {
                 opts.framed = s.framed;
             }
             let wall = Instant::now();
-            let run = run_test(firmware, &robot, test, &opts)?;
+            let run = match gdb {
+                Some(port) => {
+                    let server = hil::gdb::GdbServer::bind(port)?;
+                    eprintln!(
+                        "gdb: paused at reset; connect with avr-gdb {} -ex 'target remote {}'",
+                        firmware.path.display(),
+                        server.local_addr()?
+                    );
+                    match hil::experiment::run_test_debugged(firmware, &robot, test, &opts, server)?
+                    {
+                        Some(run) => run,
+                        None => {
+                            eprintln!("gdb: the debugger killed the run");
+                            return Ok(());
+                        }
+                    }
+                }
+                None => run_test(firmware, &robot, test, &opts)?,
+            };
             if let Some(path) = &common.vcd {
                 write_vcd(path, &run, common.vcd_pwm)?;
             }
