@@ -441,8 +441,9 @@ pub struct BenchCore {
     /// Set when the detector lets go: the run loop restarts the MCU with
     /// BORF set.
     pub bod_release_pending: bool,
-    /// Brown-out resets so far.
-    pub bod_resets: u32,
+    /// Brown-out resets: the cycle the detector pulled the reset and the
+    /// cycle it let go (None while it still holds).
+    pub brownouts: Vec<(u64, Option<u64>)>,
     /// Battery LED changes.
     pub leds: Vec<LedEvent>,
     /// Actions waiting for an event, with an optional duration in cycles
@@ -701,11 +702,14 @@ impl BenchCore {
         self.bod = self.bod.next(&self.supply, vcc, cycle, self.startup_cycles);
         match (before, self.bod.holds_reset()) {
             (false, true) => {
-                self.bod_resets += 1;
+                self.brownouts.push((cycle, None));
                 self.reset_requested = true;
                 self.attention = true;
             }
             (true, false) => {
+                if let Some(b) = self.brownouts.last_mut() {
+                    b.1 = Some(cycle);
+                }
                 self.bod_release_pending = true;
                 self.attention = true;
             }
@@ -1255,7 +1259,7 @@ impl Bench {
             bod: Bod::Released,
             vcc_v: f64::NAN,
             bod_release_pending: false,
-            bod_resets: 0,
+            brownouts: Vec::new(),
             leds: Vec::new(),
             triggered: Vec::new(),
             turns_started: 0,

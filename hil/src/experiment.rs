@@ -205,8 +205,9 @@ pub struct TestRun {
     /// Battery LED changes.
     #[serde(skip)]
     pub leds: Vec<LedEvent>,
-    /// Resets by the brown-out detector.
-    pub bod_resets: u32,
+    /// Brown-out resets: robot times (s) the detector pulled the reset and
+    /// let it go (None: still held at the end).
+    pub brownouts: Vec<(f64, Option<f64>)>,
 }
 
 /// Run `test` from a fresh reset.
@@ -474,7 +475,14 @@ fn analyse(
         drive: core.drive_log.clone(),
         uart: core.uart_log.clone(),
         leds: core.leds.clone(),
-        bod_resets: core.bod_resets,
+        brownouts: core
+            .brownouts
+            .iter()
+            .map(|(on, off)| {
+                let s = |c: u64| bench.clock().seconds(c).0;
+                (s(*on), off.map(s))
+            })
+            .collect(),
     }
 }
 

@@ -16,9 +16,9 @@ pub fn case() -> FaultCase {
         test: Test::Line,
         leg_mm: 2000.0,
         faults: vec![ScheduledFault {
-            trigger: Trigger::Time { s: 3.0 },
+            trigger: Trigger::Time { s: DIP_S.0 },
             action: Action::BatteryVolts { volts: Some(3.0) },
-            undo: Some((0.3, Action::BatteryVolts { volts: None })),
+            undo: Some((DIP_S.1 - DIP_S.0, Action::BatteryVolts { volts: None })),
         }],
         limit_s: 8.0,
         framed: false,
@@ -26,15 +26,33 @@ pub fn case() -> FaultCase {
     }
 }
 
+/// The dip, and when the reset must let go: VCC back at the dip's end,
+/// plus the 65 ms start-up time-out.
+const DIP_S: (f64, f64) = (3.0, 3.3);
+const RELEASE_S: f64 = DIP_S.1 + 0.065;
+
 fn check(o: &Observed) -> Result<String, String> {
-    match o.motors_off_after_s {
-        Some(t) if t < 1e-3 && o.bod_resets == 1 && !o.completed && o.hang.is_none() => Ok(format!(
-            "one brown-out reset, motors off {:.2} ms after the dip, no test resumed",
-            t * 1e3
-        )),
-        t => Err(format!(
-            "expected one brown-out reset, the motors off within 1 ms and no completion; saw {} resets, motors off after {t:?} s, completed {}, hang {:?}",
-            o.bod_resets, o.completed, o.hang
+    let held = match o.brownouts.as_slice() {
+        [(on, Some(off))] => Some((*on, *off)),
+        _ => None,
+    };
+    let at = |t: f64, want: f64| (t - want).abs() < 1e-3;
+    match (o.motors_off_after_s, held) {
+        (Some(t), Some((on, off)))
+            if t < 1e-3
+                && at(on, DIP_S.0)
+                && at(off, RELEASE_S)
+                && !o.completed
+                && o.hang.is_none() =>
+        {
+            Ok(format!(
+                "held in reset {on:.3}-{off:.3} s, motors off {:.2} ms after the dip, no test resumed",
+                t * 1e3
+            ))
+        }
+        (t, _) => Err(format!(
+            "expected one brown-out reset from {:.3} to {RELEASE_S:.3} s, the motors off within 1 ms and no completion; saw resets {:?}, motors off after {t:?} s, completed {}, hang {:?}",
+            DIP_S.0, o.brownouts, o.completed, o.hang
         )),
     }
 }

@@ -146,8 +146,8 @@ pub struct Observed {
     pub led_at_end: String,
     /// Robot time of the first fault action.
     pub fault_at_s: Option<f64>,
-    /// Resets by the brown-out detector.
-    pub bod_resets: u32,
+    /// Brown-out resets: robot times (s) the reset was pulled and released.
+    pub brownouts: Vec<(f64, Option<f64>)>,
 }
 
 impl Observed {
@@ -201,7 +201,7 @@ impl Observed {
             hang: run.hang.clone(),
             led_changes,
             led_at_end: run.leds.last().map_or("off", |e| e.colour()).into(),
-            bod_resets: run.bod_resets,
+            brownouts: run.brownouts.clone(),
         }
     }
 
@@ -231,8 +231,11 @@ impl Observed {
         if let Some((l, r)) = self.first_leg_count_error.filter(|e| *e != (0, 0)) {
             parts.push(format!("first leg counts off by {l:+} left, {r:+} right"));
         }
-        if self.bod_resets > 0 {
-            parts.push(format!("{} brown-out reset(s)", self.bod_resets));
+        for (on, off) in &self.brownouts {
+            parts.push(match off {
+                Some(off) => format!("held in brown-out reset {on:.3}-{off:.3} s"),
+                None => format!("held in brown-out reset from {on:.3} s"),
+            });
         }
         if self.error_replies > 0 {
             parts.push(format!("{} error replies", self.error_replies));
