@@ -698,6 +698,9 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 return Ok(());
             }
+            if let Some(unknown) = only.iter().find(|o| library.iter().all(|f| f.name != *o)) {
+                anyhow::bail!("no fault is called {unknown:?}: `hil faults --list` names them");
+            }
             let selected: Vec<_> = library
                 .into_iter()
                 .filter(|f| all || scenario.is_some() || only.iter().any(|o| o == f.name))

@@ -340,6 +340,14 @@ duration_s = 0.0005
     }
 
     #[test]
+    fn the_example_fixture_parses() {
+        let path = crate::paths::workspace_root().join("fixtures/scenarios/dropout-then-slip.toml");
+        let s = Scenario::load(&path).unwrap();
+        assert_eq!(s.test, Some(Test::UmbmarkCw));
+        assert_eq!(s.scheduled().len(), 3);
+    }
+
+    #[test]
     fn json_parses_too() {
         let text = r#"{"fault": [{"trigger": {"at": "leg_start", "n": 2},
             "action": {"action": "reset"}}]}"#;
