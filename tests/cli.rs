@@ -297,3 +297,30 @@ fn scenario_faults_reach_the_run() {
     assert_eq!(v["applied"].as_array().map(|a| a.len()), Some(1));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `hil faults --json` prints the table as a list of rows with the issue's
+/// fields, the thesis build's reaction as a finding.
+#[test]
+fn faults_json_rows_have_the_table_fields() {
+    let ideal = hil::paths::robot_config("henrytwo-ideal");
+    let out = hil(&[
+        "faults",
+        "--fault",
+        "uart-garbage",
+        "--json",
+        "--robot",
+        ideal.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = v.as_array().expect("a list of rows");
+    assert_eq!(rows.len(), 1);
+    for key in ["fault", "expected", "robust", "thesis"] {
+        assert!(rows[0][key].is_string(), "{key}");
+    }
+    assert_eq!(rows[0]["pass"], true);
+}

@@ -96,6 +96,18 @@ fn debug_session(tick: u32, state_addr: u32, ticks_addr: u32) -> (Seen, u64, Ses
         let stop_pc = le(&c.ask("p22"));
         let state = c.ask(&format!("m{:x},1", 0x80_0000 + state_addr));
         let ticks_at_stop = le(&c.ask(&format!("m{:x},4", 0x80_0000 + ticks_addr)));
+        // Writes go where reads come from: every register back as read,
+        // the PC alone, a byte of SRAM (the same values: the run goes on
+        // as it would have).
+        let regs = c.ask("g");
+        assert_eq!(c.ask(&format!("G{regs}")), "OK");
+        assert_eq!(c.ask("g"), regs);
+        assert_eq!(c.ask(&format!("P22={}", &regs[70..78])), "OK");
+        assert_eq!(
+            c.ask(&format!("M{:x},1:{state}", 0x80_0000 + state_addr)),
+            "OK"
+        );
+        assert_eq!(c.ask("Z1,0,2"), "", "hardware breakpoints are not offered");
         // Flash reads from 0: the reset vector is a jmp (0x940c).
         assert_eq!(c.ask("m0,2"), "0c94");
         // Off the map: an error, not a crash.
