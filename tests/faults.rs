@@ -30,7 +30,11 @@ fn robust_firmware_reacts_as_expected_to_every_fault() {
         if row.fault == "robot-wedged" {
             let hang = row.thesis_observed.as_ref().and_then(|o| o.hang.clone());
             match hang {
-                Some(at) if at.function.is_some() && at.pc != 0 => {
+                Some(h)
+                    if h.at.function.is_some()
+                        && h.at.pc != 0
+                        && h.callers.iter().any(|c| c.contains("thesis::")) =>
+                {
                     assert!(row.thesis.contains("HUNG"), "{}", row.thesis)
                 }
                 other => failures.push(format!("robot-wedged: thesis hang not placed: {other:?}")),

@@ -74,8 +74,8 @@ pub enum BenchError {
         at: Location,
     },
     /// The firmware was busy in a test without progress (see [`crate::hang`]).
-    #[error("the firmware hung: busy in a test without progress (no wheel motion, no change of state, phase, segment or fault) for {still_s:.3} s of robot time, {at}")]
-    Hang { still_s: f64, at: Location },
+    #[error("the firmware hung: busy in a test without progress (no wheel motion, no change of state, phase, segment or fault) for {still:.3} s of robot time, {report}", still = .0.still_s, report = .0)]
+    Hang(crate::hang::HangReport),
 }
 
 /// Bench settings that are not the robot's.
@@ -1600,10 +1600,11 @@ impl Bench {
         let still = watch.check(self);
         self.hang = Some(watch);
         match still {
-            Some(cycles) => Err(BenchError::Hang {
+            Some(cycles) => Err(BenchError::Hang(crate::hang::HangReport {
                 still_s: self.clock.seconds(cycles).0,
                 at: self.location(),
-            }),
+                callers: crate::hang::callers(self, 4),
+            })),
             None => Ok(()),
         }
     }

@@ -10,8 +10,8 @@
 use plant_model::RobotConfig;
 
 use crate::bench::{
-    Action, Bench, BenchError, BenchOptions, DriveEvent, LedEvent, Location, Motion, MotionEvent,
-    Observer, PinEvent, Sample, ScheduledFault, SideName, Snapshot,
+    Action, Bench, BenchError, BenchOptions, DriveEvent, LedEvent, Motion, MotionEvent, Observer,
+    PinEvent, Sample, ScheduledFault, SideName, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::ready_bench;
@@ -175,7 +175,7 @@ pub struct TestRun {
     pub finding: Option<String>,
     /// Where the firmware was when the bench found it hung (see
     /// [`TestOptions::hang_after_s`]).
-    pub hang: Option<Location>,
+    pub hang: Option<crate::hang::HangReport>,
     pub legs: Vec<Leg>,
     pub turns: Vec<Turn>,
     pub final_pose: FinalPose,
@@ -244,12 +244,13 @@ pub fn run_test_observed(
     // A hang is what the firmware did: a finding of the run, not an error.
     let (completed, hang) = match outcome {
         Ok(done) => (done, None),
-        Err(BenchError::Hang { still_s, at }) => (false, Some((still_s, at))),
+        Err(BenchError::Hang(report)) => (false, Some(report)),
         Err(e) => return Err(e),
     };
     let finding = match &hang {
-        Some((still_s, at)) => Some(format!(
-            "hung: busy in the test without progress for {still_s:.1} s of robot time, {at}"
+        Some(h) => Some(format!(
+            "hung: busy in the test without progress for {:.1} s of robot time, {h}",
+            h.still_s
         )),
         None => (!completed).then(|| {
             format!(
@@ -258,7 +259,6 @@ pub fn run_test_observed(
             )
         }),
     };
-    let hang = hang.map(|(_, at)| at);
     // Let the last coast and the UART drain.
     if completed {
         bench.run_for(0.1)?;

@@ -23,7 +23,7 @@
 //! part of it). A limit above that (the bench's default is 3 s) never calls a
 //! healthy run a hang.
 
-use crate::bench::Bench;
+use crate::bench::{Bench, Location};
 use crate::elf::Firmware;
 use crate::fwvars::FwState;
 
@@ -102,4 +102,65 @@ impl HangWatch {
         let still = now - self.since;
         (still >= self.after_cycles).then_some(still)
     }
+}
+
+/// Where a hung firmware was: the PC and its function, and the calls that
+/// led there.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct HangReport {
+    /// Robot time without progress when the bench stopped it.
+    pub still_s: f64,
+    pub at: Location,
+    /// Return addresses on the stack, innermost first (see [`callers`]).
+    pub callers: Vec<String>,
+}
+
+impl std::fmt::Display for HangReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.at)?;
+        for c in &self.callers {
+            write!(f, ", called from {c}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The return addresses on the stack, named, innermost first, at most `max`:
+/// a heuristic backtrace without debug info. A 3-byte word address on the
+/// stack (the ATmega2560's 22-bit PC, high byte first) counts when the
+/// instruction before it is a call (`call`, `rcall`, `icall`, `eicall`); an
+/// interrupted PC, pushed by no call, is skipped with the ISR's frame. The
+/// walk ends at the firmware's entry (`main`).
+pub fn callers(bench: &Bench, max: usize) -> Vec<String> {
+    let mcu = bench.mcu();
+    let after_call = |ret: u32| {
+        ret >= 4
+            && (mcu.flash_word(ret - 4) & 0xfe0e == 0x940e
+                || mcu.flash_word(ret - 2) & 0xf000 == 0xd000
+                || matches!(mcu.flash_word(ret - 2), 0x9509 | 0x9519))
+    };
+    let mut out = Vec::new();
+    let mut addr = u32::from(mcu.sp()) + 1;
+    while out.len() < max {
+        let Some(b) = mcu.read_data(addr, 3) else {
+            break;
+        };
+        let ret = (u32::from(b[0]) << 16 | u32::from(b[1]) << 8 | u32::from(b[2])) * 2;
+        let named = after_call(ret)
+            .then(|| bench.firmware().function_at(ret))
+            .flatten();
+        match named {
+            Some((name, off)) => {
+                out.push(format!("{name}+0x{off:x}"));
+                addr += 3;
+                // The entry never returns: what lies above its frame is
+                // left over from start-up, not a caller.
+                if name == "main" || name.ends_with("rt_main") {
+                    break;
+                }
+            }
+            None => addr += 1,
+        }
+    }
+    out
 }

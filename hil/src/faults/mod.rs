@@ -11,7 +11,7 @@
 use plant_model::RobotConfig;
 use serde::Serialize;
 
-use crate::bench::{BenchError, BenchOptions, Location, ScheduledFault};
+use crate::bench::{BenchError, BenchOptions, ScheduledFault};
 use crate::elf::Firmware;
 use crate::experiment::{run_test, Test, TestOptions, TestRun};
 
@@ -139,7 +139,7 @@ pub struct Observed {
     pub replies: usize,
     pub error_replies: usize,
     /// Where the bench found the firmware hung (see [`crate::hang`]).
-    pub hang: Option<Location>,
+    pub hang: Option<crate::hang::HangReport>,
     /// Battery LED changes: robot time (s since reset) and the colour shown.
     pub led_changes: Vec<(f64, String)>,
     /// The battery LED at the end.
@@ -209,7 +209,7 @@ impl Observed {
     pub fn describe(&self) -> String {
         let mut parts = Vec::new();
         parts.push(match (&self.hang, self.completed) {
-            (Some(at), _) => format!("HUNG (no progress for the hang limit) {at}"),
+            (Some(h), _) => format!("HUNG (no progress for {:.1} s) {h}", h.still_s),
             (None, true) => "completed".to_string(),
             (None, false) => "did not complete".to_string(),
         });
