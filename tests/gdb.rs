@@ -69,11 +69,23 @@ struct Seen {
     stop_pc: u64,
     state: String,
     ticks_at_stop: u64,
+    /// Every register and the firmware's counters at the stop.
+    regs_at_stop: String,
+    counts_at_stop: String,
+    /// `monitor cycle` at the stop.
+    cycle_at_stop: String,
 }
 
 /// One debugged run of the straight line: the driver plays the host (the
 /// command byte once the firmware is idle).
-fn debug_session(tick: u32, state_addr: u32, ticks_addr: u32) -> (Seen, u64, SessionEnd) {
+/// `detour`: stop on the way first (steps, and a breakpoint at `detour_at`),
+/// which must change nothing.
+fn debug_session(
+    tick: u32,
+    state_addr: u32,
+    ticks_addr: u32,
+    detour_at: Option<u32>,
+) -> (Seen, u64, SessionEnd) {
     let robust = support::firmware("robust");
     let mut bench = Bench::new(
         robust,
@@ -84,6 +96,7 @@ fn debug_session(tick: u32, state_addr: u32, ticks_addr: u32) -> (Seen, u64, Ses
     let server = GdbServer::bind(0).unwrap();
     let addr = server.local_addr().unwrap();
     assert!(addr.ip().is_loopback());
+    let counts_addr = bench.vars().left_count as u32;
     let client = std::thread::spawn(move || {
         let mut c = Client(TcpStream::connect(addr).unwrap());
         assert!(c.ask("qSupported:swbreak+").contains("PacketSize"));
@@ -91,9 +104,30 @@ fn debug_session(tick: u32, state_addr: u32, ticks_addr: u32) -> (Seen, u64, Ses
         let regs = c.ask("g");
         assert_eq!(regs.len(), 39 * 2, "r0-r31, SREG, SP, PC");
         let first_pc = le(&regs[70..78]);
+        if let Some(at) = detour_at {
+            for _ in 0..100 {
+                assert_eq!(c.ask("s"), "S05");
+            }
+            assert_eq!(c.ask(&format!("Z0,{at:x},2")), "OK");
+            assert_eq!(c.ask("c"), "S05");
+            assert_eq!(le(&c.ask("p22")), at as u64);
+            assert_eq!(c.ask(&format!("z0,{at:x},2")), "OK");
+        }
         assert_eq!(c.ask(&format!("Z0,{tick:x},2")), "OK");
         assert_eq!(c.ask("c"), "S05");
         let stop_pc = le(&c.ask("p22"));
+        let regs_at_stop = c.ask("g");
+        let hex: String = "cycle".bytes().map(|b| format!("{b:02x}")).collect();
+        let reply = c.ask(&format!("qRcmd,{hex}"));
+        let cycle_at_stop = String::from_utf8(
+            (0..reply.len())
+                .step_by(2)
+                .map(|i| u8::from_str_radix(&reply[i..i + 2], 16).unwrap())
+                .collect(),
+        )
+        .unwrap();
+        assert!(cycle_at_stop.starts_with("cycle "), "{cycle_at_stop}");
+        let counts_at_stop = c.ask(&format!("m{:x},8", 0x80_0000 + counts_addr));
         let state = c.ask(&format!("m{:x},1", 0x80_0000 + state_addr));
         let ticks_at_stop = le(&c.ask(&format!("m{:x},4", 0x80_0000 + ticks_addr)));
         // Writes go where reads come from: every register back as read,
@@ -125,6 +159,9 @@ fn debug_session(tick: u32, state_addr: u32, ticks_addr: u32) -> (Seen, u64, Ses
             stop_pc,
             state,
             ticks_at_stop,
+            regs_at_stop,
+            counts_at_stop,
+            cycle_at_stop,
         }
     });
     let mut sent = false;
@@ -147,15 +184,18 @@ fn raw_client_breaks_on_the_control_tick_and_reads_sram() {
     let tick = robust.symbol("ht_control_tick").unwrap().addr;
     let state = robust.variable("HT_STATE", 1).unwrap() as u32;
     let ticks = robust.variable("HT_TICKS", 4).unwrap() as u32;
-    let (seen, _, end) = debug_session(tick, state, ticks);
+    let (seen, _, end) = debug_session(tick, state, ticks, None);
     assert_eq!(end, SessionEnd::Detached);
     assert_eq!(seen.first_pc, 0, "paused at reset");
     assert_eq!(seen.stop_pc, tick as u64, "stopped on the symbol");
     assert_eq!(seen.state, "02", "HT_STATE: driving the line");
     assert!(seen.ticks_at_stop > 0);
-    // Same session again: the breakpoint is hit at the same simulated
-    // instant (the debugger pauses; it never adds or removes time).
-    let (again, _, _) = debug_session(tick, state, ticks);
+    // Again, stopping on the way (100 single steps, then a breakpoint on
+    // the USART1 receive handler as the start command arrives): the tick
+    // is reached in the same state, registers and counters included. The
+    // debugger pauses; it never adds or removes time.
+    let detour = robust.symbol("__vector_36").unwrap().addr;
+    let (again, _, _) = debug_session(tick, state, ticks, Some(detour));
     assert_eq!(seen, again);
 }
 

@@ -11,6 +11,7 @@
 //! address map: flash from 0, data space from 0x800000), `c`, `s`,
 //! `Z0`/`z0` software breakpoints (compared with the PC after each
 //! instruction, flash is never patched), Ctrl-C while running, `k` and `D`.
+//! `monitor cycle` (`qRcmd`) tells the emulated cycle and robot time.
 //! Anything else gets the empty reply ("not supported"), as the protocol
 //! asks.
 
@@ -85,6 +86,7 @@ impl GdbServer {
             stream,
             pending: Vec::new(),
             breakpoints: BTreeSet::new(),
+            executed: 0,
         }
         .run(bench, driver)
     }
@@ -95,8 +97,8 @@ const REG_SREG: usize = 32;
 const REG_SP: usize = 33;
 const REG_PC: usize = 34;
 const G_BYTES: usize = 32 + 1 + 2 + 4;
-/// Instructions between looks at the socket (Ctrl-C) and the driver.
-const POLL_EVERY: u32 = 256;
+/// Steps between looks at the socket (Ctrl-C) and the driver.
+const POLL_EVERY: u64 = 256;
 const SIGINT: u8 = 2;
 const SIGTRAP: u8 = 5;
 const SIGSEGV: u8 = 11;
@@ -107,6 +109,10 @@ struct Session {
     pending: Vec<u8>,
     /// Breakpoint PCs (flash byte addresses).
     breakpoints: BTreeSet<u32>,
+    /// Steps executed since reset: the driver runs every [`POLL_EVERY`] of
+    /// them, counted across stops, so where the debugger stops changes
+    /// nothing in the run.
+    executed: u64,
 }
 
 enum Packet {
@@ -203,6 +209,21 @@ impl Session {
                 Some(b'H') => self.send("OK")?,
                 _ if cmd.starts_with("qSupported") => self.send("PacketSize=1000")?,
                 _ if cmd == "qAttached" => self.send("1")?,
+                _ if cmd.starts_with("qRcmd,") => {
+                    let text = unhex(&cmd[6..])
+                        .map(|b| String::from_utf8_lossy(&b).trim().to_string())
+                        .unwrap_or_default();
+                    let reply = match text.as_str() {
+                        "cycle" => hex(format!(
+                            "cycle {} (robot time {:.9} s)\n",
+                            bench.cycle(),
+                            bench.robot_time_s()
+                        )
+                        .as_bytes()),
+                        _ => hex(b"monitor commands: cycle\n"),
+                    };
+                    self.send(&reply)?
+                }
                 _ => self.send("")?,
             }
         }
@@ -216,7 +237,6 @@ impl Session {
         driver: &mut dyn FnMut(&mut Bench) -> Flow,
         single: bool,
     ) -> Result<Option<SessionEnd>, GdbError> {
-        let mut n: u32 = 0;
         loop {
             if let Err(e) = bench.step_instruction() {
                 // The firmware crashed or stopped: a stop for the debugger
@@ -225,16 +245,16 @@ impl Session {
                 self.send(&format!("S{SIGSEGV:02x}"))?;
                 return Ok(None);
             }
+            self.executed += 1;
+            if self.executed % POLL_EVERY == 0 && driver(bench) == Flow::Finished {
+                self.send("W00")?;
+                return Ok(Some(SessionEnd::Finished));
+            }
             if single || self.breakpoints.contains(&bench.mcu().pc()) {
                 self.send(&format!("S{SIGTRAP:02x}"))?;
                 return Ok(None);
             }
-            n = n.wrapping_add(1);
-            if n % POLL_EVERY == 0 {
-                if driver(bench) == Flow::Finished {
-                    self.send("W00")?;
-                    return Ok(Some(SessionEnd::Finished));
-                }
+            if self.executed % POLL_EVERY == 0 {
                 match self.poll_interrupt()? {
                     Some(true) => {
                         self.send(&format!("S{SIGINT:02x}"))?;
