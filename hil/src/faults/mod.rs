@@ -26,6 +26,7 @@ mod link_corruption;
 mod missed_counts;
 mod motor_disconnected;
 mod motor_load_step;
+mod motor_overload;
 mod motor_stall;
 mod reset_mid_test;
 mod robot_wedged;
@@ -62,6 +63,7 @@ pub fn library() -> Vec<FaultCase> {
         motor_disconnected::case(),
         motor_stall::case(),
         motor_load_step::case(),
+        motor_overload::case(),
         robot_wedged::case(),
         turn_slip_burst::case(),
         battery_below_adc_thresholds::case(),
@@ -131,6 +133,8 @@ pub struct Observed {
     /// First leg: firmware count minus the plant's edges, per wheel (left,
     /// right): counts gained (+) or lost (-) between the wheel and the MCU.
     pub first_leg_count_error: Option<(i64, i64)>,
+    /// First leg: robot time from its start to the motors' cut-off.
+    pub first_leg_drive_s: Option<f64>,
     /// First leg: heading change, degrees (positive to the left).
     pub first_leg_heading_deg: Option<f64>,
     pub bluetooth_reply_bytes: usize,
@@ -188,6 +192,8 @@ impl Observed {
             first_leg_plant_mm: leg.map(|l| l.plant_distance_mm),
             first_leg_arc_mm: leg.map(|l| l.plant_arc_mm),
             first_leg_heading_deg: leg.map(|l| l.plant_heading_change_deg),
+            first_leg_drive_s: leg
+                .map(|l| (l.cutoff_cycle - l.start_cycle) as f64 / clock_hz as f64),
             first_leg_count_error: leg.map(|l| {
                 (
                     l.firmware_count_left as i64 - l.plant_edges_left,
@@ -246,6 +252,17 @@ impl Observed {
         ));
         parts.join(", ")
     }
+}
+
+/// Counts per second of both wheels at the firmware's set-points, on
+/// average: 15 and 14.47 thesis RPM at 1.107 RPM per count in a 15 ms
+/// period (firmware/src/robot.rs) make 903 and 871 counts/s.
+pub const SETPOINT_COUNTS_PER_S: f64 = (15.0 + 14.47) / 2.0 / 1.107 / 0.015;
+
+/// How much longer than at the set-points the first leg took (0.1: 10 %).
+pub fn leg_overrun(o: &Observed) -> Option<f64> {
+    let nominal = o.first_leg_counts? / SETPOINT_COUNTS_PER_S;
+    Some(o.first_leg_drive_s? / nominal - 1.0)
 }
 
 /// One row of `hil faults`.

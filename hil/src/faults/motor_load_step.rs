@@ -1,7 +1,7 @@
 //! The left wheel starts dragging (a cable caught in the axle, a rug): a load
 //! torque of 15 % of the motor's stall torque from the middle of a leg.
 
-use super::{FaultCase, Observed};
+use super::{leg_overrun, FaultCase, Observed};
 use crate::bench::{Action, ScheduledFault, SideName, Trigger};
 use crate::experiment::Test;
 
@@ -9,7 +9,7 @@ pub fn case() -> FaultCase {
     FaultCase {
         name: "motor-load-step",
         what: "left wheel loaded with 15 % of its stall torque from 3 s into a 2 m line",
-        expected: "the PID raises the left duty and holds the set-point: the line completes with no fault code and the robot drives its 2 m within 2 %",
+        expected: "the PID raises the left duty and holds the set-point (the load is within the motor's reserve): the line completes with no fault code, its leg no more than 2 % longer than at the set-points",
         test: Test::Line,
         leg_mm: 2000.0,
         faults: vec![ScheduledFault::new(
@@ -27,15 +27,18 @@ pub fn case() -> FaultCase {
     }
 }
 
+// The robot's own effects change how far it rolls, not how long its wheels
+// take to make their counts: the leg's time shows whether the set-point held.
 fn check(o: &Observed) -> Result<String, String> {
-    let arc = o.first_leg_arc_mm.unwrap_or(0.0);
     let code = o.fault_code.unwrap_or(0);
-    if o.completed && code == 0 && (arc - 2000.0).abs() <= 40.0 {
-        Ok(format!("completed without a fault; drove {arc:.0} mm"))
-    } else {
-        Err(format!(
-            "expected completion, no fault code and 2000 mm within 2 %; completed {}, code {code}, {arc:.0} mm",
+    match leg_overrun(o) {
+        Some(over) if o.completed && code == 0 && over <= 0.02 => Ok(format!(
+            "completed without a fault; the leg took {:+.1} % of its time at the set-points",
+            over * 100.0
+        )),
+        over => Err(format!(
+            "expected completion, no fault code and the leg within 2 % of its time at the set-points; completed {}, code {code}, overrun {over:?}",
             o.completed
-        ))
+        )),
     }
 }
