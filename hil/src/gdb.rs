@@ -128,7 +128,7 @@ impl Session {
         driver: &mut dyn FnMut(&mut Bench) -> Flow,
     ) -> Result<SessionEnd, GdbError> {
         loop {
-            let cmd = match self.next_packet(true)? {
+            let cmd = match self.next_packet()? {
                 Packet::Command(c) => c,
                 Packet::Interrupt => continue, // already stopped
                 Packet::Closed => return Ok(SessionEnd::Killed),
@@ -238,10 +238,10 @@ impl Session {
         single: bool,
     ) -> Result<Option<SessionEnd>, GdbError> {
         loop {
-            if let Err(e) = bench.step_instruction() {
+            if bench.step_instruction().is_err() {
                 // The firmware crashed or stopped: a stop for the debugger
-                // to look at, not an end of the bench.
-                let _ = e;
+                // to look at (its PC and registers say where), not an end of
+                // the session.
                 self.send(&format!("S{SIGSEGV:02x}"))?;
                 return Ok(None);
             }
@@ -292,8 +292,8 @@ impl Session {
         Ok(None)
     }
 
-    /// The next packet (acknowledged) or a Ctrl-C.
-    fn next_packet(&mut self, block: bool) -> Result<Packet, GdbError> {
+    /// The next packet (acknowledged) or a Ctrl-C; waits for one.
+    fn next_packet(&mut self) -> Result<Packet, GdbError> {
         loop {
             // Skip acks and noise before a packet start.
             while let Some(&b) = self.pending.first() {
@@ -322,9 +322,6 @@ impl Session {
                     }
                     continue;
                 }
-            }
-            if !block {
-                return Ok(Packet::Closed);
             }
             let mut buf = [0u8; 4096];
             let k = self.stream.read(&mut buf)?;
