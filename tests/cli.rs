@@ -240,3 +240,87 @@ fn gap_self_test_json() {
         assert_eq!(c["ranked_first"], true, "{c}");
     }
 }
+
+/// A scenario file with a bad value stops `hil run` before anything runs,
+/// with one line naming the fault and what to give instead.
+#[test]
+fn bad_scenario_is_one_clear_error() {
+    let dir = std::env::temp_dir().join(format!("hil-scenario-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        "[[fault]]\ntrigger = { at = \"time\", s = 1.0 }\naction = { action = \"slip_burst\", side = \"left\", slip = 2.0 }\n",
+    )
+    .unwrap();
+    let out = hil(&["run", "line", "--scenario", path.to_str().unwrap()]);
+    assert_one_line_error(&out, "fault 1: slip = 2");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Faults from a scenario file reach the run: the left encoder frozen from
+/// 2 s stops the robust build with a fault code, and the run says so.
+#[test]
+fn scenario_faults_reach_the_run() {
+    let dir = std::env::temp_dir().join(format!("hil-scenario-ok-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("dropout.json");
+    std::fs::write(
+        &path,
+        r#"{"fault": [{"trigger": {"at": "time", "s": 2.0},
+            "action": {"action": "encoder", "side": "left", "fault": {"kind": "dropout"}}}]}"#,
+    )
+    .unwrap();
+    let ideal = hil::paths::robot_config("henrytwo-ideal");
+    let out = hil(&[
+        "run",
+        "line",
+        "--leg-mm",
+        "1000",
+        "--json",
+        "--deterministic",
+        "--hang-after",
+        "2.5",
+        "--robot",
+        ideal.to_str().unwrap(),
+        "--scenario",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["completed"], false);
+    assert_eq!(v["fault_code"], 1, "stall of the left wheel");
+    assert_eq!(v["applied"].as_array().map(|a| a.len()), Some(1));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `hil faults --json` prints the table as a list of rows with the issue's
+/// fields, the thesis build's reaction as a finding.
+#[test]
+fn faults_json_rows_have_the_table_fields() {
+    let ideal = hil::paths::robot_config("henrytwo-ideal");
+    let out = hil(&[
+        "faults",
+        "--fault",
+        "uart-garbage",
+        "--json",
+        "--robot",
+        ideal.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = v.as_array().expect("a list of rows");
+    assert_eq!(rows.len(), 1);
+    for key in ["fault", "expected", "robust", "thesis"] {
+        assert!(rows[0][key].is_string(), "{key}");
+    }
+    assert_eq!(rows[0]["pass"], true);
+}

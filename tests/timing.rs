@@ -23,6 +23,7 @@ fn report() -> &'static TimingReport {
             faults: Vec::new(),
             framed: false,
             params: Vec::new(),
+            hang_after_s: None,
         };
         let (run, obs) = run_test_observed(
             fw.clone(),

@@ -13,7 +13,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use thiserror::Error;
 
-use crate::inject::{EncoderFault, Injection, LinkFault};
+use crate::inject::{Channel, EncoderFault, Injection, LinkFault};
+use crate::supply::{Bod, Supply};
 
 use crate::elf::{ElfError, Firmware};
 use crate::fwvars::{FwState, FwVars};
@@ -73,6 +74,9 @@ pub enum BenchError {
         robot_s: f64,
         at: Location,
     },
+    /// The firmware was busy in a test without progress (see [`crate::hang`]).
+    #[error("the firmware hung: busy in a test without progress (no wheel motion, no change of state, phase, segment or fault) for {still:.3} s of robot time, {report}", still = .0.still_s, report = .0)]
+    Hang(crate::hang::HangReport),
 }
 
 /// Bench settings that are not the robot's.
@@ -88,6 +92,8 @@ pub struct BenchOptions {
     /// the thesis' LED thresholds (ADC 942 and 901 of 1023 at 5 V) at a
     /// battery of 8.37 V and 8.01 V: a 2S LiPo full, half, low.
     pub battery_divider: f64,
+    /// The MCU's supply from the battery, and its brown-out detector.
+    pub supply: Supply,
 }
 
 impl Default for BenchOptions {
@@ -101,6 +107,7 @@ impl Default for BenchOptions {
             trace_interval_s: 10e-3,
             seed: 0,
             battery_divider: 0.55,
+            supply: Supply::default(),
         }
     }
 }
@@ -124,6 +131,28 @@ pub struct PinEvent {
     pub cycle: u64,
     pub line: u8,
     pub level: bool,
+}
+
+/// The battery LEDs after a change (each lit by a high pin).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct LedEvent {
+    pub cycle: u64,
+    pub green: bool,
+    pub blue: bool,
+    pub red: bool,
+}
+
+impl LedEvent {
+    /// The colour shown: one LED lit, else a description.
+    pub fn colour(&self) -> &'static str {
+        match (self.green, self.blue, self.red) {
+            (false, false, false) => "off",
+            (true, false, false) => "green",
+            (false, true, false) => "blue",
+            (false, false, true) => "red",
+            _ => "several",
+        }
+    }
 }
 
 /// A change of one H-bridge input, as the plant saw it.
@@ -273,8 +302,25 @@ pub enum Action {
         slip: f64,
     },
     /// The battery's terminal voltage forced (None: the battery model again).
+    /// Below the regulator's headroom VCC follows it; below the brown-out
+    /// level the MCU is held in reset (see [`crate::supply`]).
     BatteryVolts {
         volts: Option<f64>,
+    },
+    /// A burst of glitch pulses on one encoder channel (EMI from the motor,
+    /// a loose connector): `pulses` pulses `width_us` wide, one every
+    /// `period_us`, each inverting the pin's level for its width.
+    EncoderGlitch {
+        side: SideName,
+        channel: Channel,
+        pulses: u32,
+        width_us: f64,
+        period_us: f64,
+    },
+    /// The host sends these bytes on the Bluetooth link (a command, a retry),
+    /// one per byte time, through the link's faults.
+    HostSend {
+        bytes: Vec<u8>,
     },
 }
 
@@ -288,6 +334,9 @@ pub enum Trigger {
     TurnStart { n: u32 },
     /// When the n-th straight leg (1-based) of the run starts.
     LegStart { n: u32 },
+    /// When the n-th byte (1-based) from the host goes on the air on the
+    /// Bluetooth link, before the link's faults apply to it.
+    HostByte { n: u32 },
 }
 
 /// A fault to inject: when, what, and what undoes it how long after (s).
@@ -313,9 +362,13 @@ type Armed = (Trigger, Action, Option<(u64, Action)>);
 
 const TAG_PORT_REG: u32 = 1;
 const TAG_PORT_DDR: u32 = 2;
+const TAG_LED_PORT: u32 = 3;
 const TAG_UART_OUT: u32 = 16; // + USART number
 
 const SIDES: [Side; 2] = [Side::Left, Side::Right];
+/// MCUSR (data space) and its brown-out reset flag.
+const MCUSR: u16 = 0x54;
+const MCUSR_BORF: u8 = 1 << 2;
 const NEVER: u64 = u64::MAX;
 /// Analog comparator control and status (data-space address) and its
 /// interrupt-enable and input-capture-enable bits (ATmega2560 datasheet).
@@ -391,6 +444,26 @@ pub struct BenchCore {
     battery_divider: f64,
     /// Scheduled actions, sorted by cycle (stable for equal cycles).
     actions: Vec<(u64, Action)>,
+    /// Encoder levels after the encoder faults, before glitches.
+    enc_base: [[bool; 2]; 2],
+    /// Glitch pulse edges to come: (cycle, side, channel, on), sorted.
+    glitches: Vec<(u64, usize, usize, bool)>,
+    /// Bytes from the host that went on the air on the Bluetooth link.
+    host_bytes: u32,
+    supply: Supply,
+    startup_cycles: u64,
+    /// The brown-out detector's state; while it holds the reset, the run
+    /// loop executes nothing.
+    bod: Bod,
+    vcc_v: f64,
+    /// Set when the detector lets go: the run loop restarts the MCU with
+    /// BORF set.
+    pub bod_release_pending: bool,
+    /// Brown-out resets: the cycle the detector pulled the reset and the
+    /// cycle it let go (None while it still holds).
+    pub brownouts: Vec<(u64, Option<u64>)>,
+    /// Battery LED changes.
+    pub leds: Vec<LedEvent>,
     /// Actions waiting for an event, with an optional duration in cycles
     /// after which `undo` runs.
     triggered: Vec<Armed>,
@@ -619,6 +692,11 @@ impl BenchCore {
         let internal = self.next_internal;
         let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
         let action = self.actions.first().map_or(NEVER, |a| a.0);
+        let glitch = self.glitches.first().map_or(NEVER, |g| g.0);
+        let bod = match self.bod {
+            Bod::Releasing { at } => at,
+            _ => NEVER,
+        };
         self.next_edge[0]
             .min(self.next_edge[1])
             .min(self.next_step)
@@ -627,6 +705,40 @@ impl BenchCore {
             .min(uart)
             .min(action)
             .min(internal)
+            .min(glitch)
+            .min(bod)
+    }
+
+    /// The brown-out detector holds the MCU in reset.
+    pub fn held_in_reset(&self) -> bool {
+        self.bod.holds_reset()
+    }
+
+    /// VCC from the battery now, the ADC's reference with it, and the
+    /// brown-out detector's reaction (see [`crate::supply`]).
+    fn update_supply(&mut self, core: &mut Core, cycle: u64) {
+        let vcc = self.supply.vcc(self.robot.battery_voltage().0);
+        if vcc != self.vcc_v {
+            self.vcc_v = vcc;
+            core.set_supply_mv((vcc * 1000.0).round() as u32);
+        }
+        let before = self.bod.holds_reset();
+        self.bod = self.bod.next(&self.supply, vcc, cycle, self.startup_cycles);
+        match (before, self.bod.holds_reset()) {
+            (false, true) => {
+                self.brownouts.push((cycle, None));
+                self.reset_requested = true;
+                self.attention = true;
+            }
+            (true, false) => {
+                if let Some(b) = self.brownouts.last_mut() {
+                    b.1 = Some(cycle);
+                }
+                self.bod_release_pending = true;
+                self.attention = true;
+            }
+            _ => {}
+        }
     }
 
     /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
@@ -654,6 +766,13 @@ impl BenchCore {
         }
     }
 
+    fn apply_due_actions(&mut self, core: &mut Core, when: u64) {
+        while self.actions.first().is_some_and(|a| a.0 <= when) {
+            let (_, action) = self.actions.remove(0);
+            self.apply_action(core, when, action);
+        }
+    }
+
     fn fire_triggers(&mut self, cycle: u64, motion: Motion) {
         let event = match motion {
             Motion::SpinCw | Motion::SpinCcw => {
@@ -670,6 +789,11 @@ impl BenchCore {
             }
             _ => return,
         };
+        self.fire_event(event, cycle);
+    }
+
+    /// Schedule at `cycle` every action armed for `event`.
+    fn fire_event(&mut self, event: Trigger, cycle: u64) {
         let mut i = 0;
         while i < self.triggered.len() {
             if self.triggered[i].0 == event {
@@ -717,6 +841,31 @@ impl BenchCore {
                     .robot
                     .set_battery_voltage_override(volts.map(plant_model::Volts));
                 self.plan_edges(cycle);
+                self.update_supply(core, cycle);
+            }
+            Action::EncoderGlitch {
+                side,
+                channel,
+                pulses,
+                width_us,
+                period_us,
+            } => {
+                let width = self.clock.cycles_in(Seconds(width_us * 1e-6)).max(1);
+                let period = self
+                    .clock
+                    .cycles_in(Seconds(period_us * 1e-6))
+                    .max(width + 1);
+                let (i, ch) = (side as usize, channel as usize);
+                for k in 0..pulses as u64 {
+                    let on = cycle + k * period;
+                    self.glitches.push((on, i, ch, true));
+                    self.glitches.push((on + width, i, ch, false));
+                }
+                self.glitches.sort_by_key(|g| g.0);
+            }
+            Action::HostSend { bytes } => {
+                let n = self.wiring.bluetooth_uart as usize;
+                self.queue_uart(n, &bytes, cycle);
             }
         }
     }
@@ -732,6 +881,25 @@ impl BenchCore {
         self.port_value = 0;
         self.port_ddr = 0;
         self.refresh_bridge(core, cycle);
+        // The LED pins are inputs again: all dark.
+        self.log_leds(cycle, 0);
+    }
+
+    fn log_leds(&mut self, cycle: u64, port: u8) {
+        let l = self.wiring.battery_leds;
+        let lit = |p: crate::wiring::Pin| port >> p.bit & 1 != 0;
+        let e = LedEvent {
+            cycle,
+            green: lit(l.green),
+            blue: lit(l.blue),
+            red: lit(l.red),
+        };
+        let same = |x: &LedEvent| (x.green, x.blue, x.red) == (e.green, e.blue, e.red);
+        // The log starts dark: only a change is an event.
+        let dark_start = self.leds.is_empty() && port == 0;
+        if !(dark_start || self.leds.last().is_some_and(same)) {
+            self.leds.push(e);
+        }
     }
 
     /// Queue bytes from the host for USART `n`.
@@ -774,10 +942,15 @@ impl BenchCore {
     fn raise_encoders(&mut self, core: &mut Core, when: u64) {
         for side in SIDES {
             let i = side_index(side);
-            let [old_a, old_b] = self.enc_level[i];
-            let (a, b) =
+            let [base_a, base_b] = self.enc_base[i];
+            let (base_a, base_b) =
                 self.inject
-                    .encoder_levels(i, self.robot.encoder_levels(side), (old_a, old_b));
+                    .encoder_levels(i, self.robot.encoder_levels(side), (base_a, base_b));
+            self.enc_base[i] = [base_a, base_b];
+            // A glitch pulse inverts what the pin shows while it lasts.
+            let [ga, gb] = self.inject.glitch[i];
+            let (a, b) = (base_a ^ ga, base_b ^ gb);
+            let [old_a, old_b] = self.enc_level[i];
             let [Some(irq_a), Some(irq_b)] = self.enc_irq[i] else {
                 continue;
             };
@@ -810,9 +983,10 @@ impl BenchCore {
 
     /// Drive A0 with the battery's voltage when it changed.
     fn update_adc(&mut self, core: &mut Core) {
+        // A pin cannot rise above VCC (its protection diodes clamp it).
         let mv = (self.robot.battery_voltage().0 * self.battery_divider * 1000.0)
             .round()
-            .clamp(0.0, 5000.0) as u32;
+            .clamp(0.0, (self.vcc_v * 1000.0).round()) as u32;
         if mv != self.adc_mv {
             if let Some(irq) = self.adc0 {
                 core.raise(irq, mv);
@@ -953,12 +1127,16 @@ impl Handler for BenchCore {
                 continue;
             }
             let t = Seconds(self.clock.seconds(cycle).0.max(self.robot.now().0));
-            let [old_a, old_b] = self.enc_level[i];
-            let (_, b) = self.inject.encoder_levels(
+            // As `raise_encoders` computes it: the faults on the plant's
+            // levels, then a glitch pulse's inversion.
+            let (_, base_b) = self.inject.encoder_levels(
                 i,
                 self.robot.encoder_levels_at(side, t),
-                (old_a, old_b),
+                (self.enc_base[i][0], self.enc_base[i][1]),
             );
+            self.enc_base[i][1] = base_b;
+            let b = base_b ^ self.inject.glitch[i][1];
+            let old_b = self.enc_level[i][1];
             if b != old_b {
                 if let Some(irq_b) = self.enc_irq[i][1] {
                     core.raise(irq_b, b as u32);
@@ -1001,9 +1179,12 @@ impl Handler for BenchCore {
                 self.refresh_bridge(core, when);
             }
         }
-        while self.actions.first().is_some_and(|a| a.0 <= when) {
-            let (_, action) = self.actions.remove(0);
-            self.apply_action(core, when, action);
+        self.apply_due_actions(core, when);
+        while self.glitches.first().is_some_and(|g| g.0 <= when) {
+            let (_, i, ch, on) = self.glitches.remove(0);
+            self.inject.glitch[i][ch] = on;
+            // Each edge of a pulse at its own cycle.
+            self.raise_encoders(core, when);
         }
         for n in 0..4 {
             if self.uart_next[n] <= when {
@@ -1011,6 +1192,9 @@ impl Handler for BenchCore {
                     // The Bluetooth link's faults hit the byte now, at the
                     // time it is on the air.
                     let arrived = if n == self.wiring.bluetooth_uart as usize {
+                        self.host_bytes += 1;
+                        self.fire_event(Trigger::HostByte { n: self.host_bytes }, when);
+                        self.apply_due_actions(core, when);
                         self.inject.link_bytes(b)
                     } else {
                         vec![b]
@@ -1035,6 +1219,7 @@ impl Handler for BenchCore {
             }
             self.next_step = when + self.step_cycles;
         }
+        self.update_supply(core, when);
         if self.next_internal <= when {
             // The plant changed its own dynamics: every prediction is stale.
             self.plan_edges(when);
@@ -1058,6 +1243,7 @@ impl Handler for BenchCore {
     fn irq(&mut self, core: &mut Core, tag: u32, value: u32) {
         self.callbacks += 1;
         match tag {
+            TAG_LED_PORT => self.log_leds(core.cycle(), value as u8),
             TAG_PORT_REG => {
                 self.port_value = value as u8;
                 self.refresh_bridge(core, core.cycle());
@@ -1116,6 +1302,7 @@ pub struct Bench {
     /// Awake cycles per flash word, when profiling.
     profile: Option<Vec<u64>>,
     observer: Option<Box<dyn Observer>>,
+    hang: Option<crate::hang::HangWatch>,
 }
 
 impl Bench {
@@ -1175,6 +1362,16 @@ impl Bench {
             adc_mv: u32::MAX,
             battery_divider: options.battery_divider,
             actions: Vec::new(),
+            enc_base: [[false; 2]; 2],
+            glitches: Vec::new(),
+            host_bytes: 0,
+            supply: options.supply,
+            startup_cycles: clock.cycles_in(Seconds(options.supply.startup_s)),
+            bod: Bod::Released,
+            vcc_v: f64::NAN,
+            bod_release_pending: false,
+            brownouts: Vec::new(),
+            leds: Vec::new(),
             triggered: Vec::new(),
             turns_started: 0,
             legs_started: 0,
@@ -1209,6 +1406,8 @@ impl Bench {
         let ddr = avr.port_direction(port)?;
         avr.watch_irq(reg, TAG_PORT_REG);
         avr.watch_irq(ddr, TAG_PORT_DDR);
+        let leds = avr.port_register(wiring.battery_leds.green.port)?;
+        avr.watch_irq(leds, TAG_LED_PORT);
         let adc0 = avr.adc_input(0)?;
         avr.handler_mut().adc0 = Some(adc0);
         // B lines may be raised lazily, before reads of their PIN registers;
@@ -1232,6 +1431,7 @@ impl Bench {
         }
         avr.with_core(|core, c| {
             core.enc_irq = enc_irq;
+            core.update_supply(c, 0);
             core.update_adc(c);
             // Encoder lines start at the plant's levels.
             for side in SIDES {
@@ -1243,6 +1443,7 @@ impl Bench {
                     }
                 }
                 core.enc_level[i] = [a, b];
+                core.enc_base[i] = [a, b];
             }
             core.update_lazy_b(c, 0);
             core.plan_edges(0);
@@ -1257,6 +1458,7 @@ impl Bench {
             sleep_cycles: 0,
             profile: None,
             observer: None,
+            hang: None,
         })
     }
 
@@ -1295,6 +1497,13 @@ impl Bench {
     /// Take the observer back.
     pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
         self.observer.take()
+    }
+
+    /// From now on, stop with [`BenchError::Hang`] when the firmware is busy
+    /// in a test without progress for `after_s` of robot time (None: never).
+    pub fn set_hang_after(&mut self, after_s: Option<f64>) {
+        self.hang = after_s
+            .map(|s| crate::hang::HangWatch::new(&self.firmware, self.clock.cycles_in(Seconds(s))));
     }
 
     /// Record every encoder pin change from now on. A lazily raised B line
@@ -1448,19 +1657,32 @@ impl Bench {
         let ms = self.clock.cycles_per_ms();
         let mut n: u32 = 0;
         let mut check_at = self.avr.cycle();
+        let mut hang_check_at = check_at;
         // Instruction-level detail costs speed: only when someone looks.
         let watch = self.profile.is_some() || self.observer.is_some();
         let mut sleeping = self.avr.state() == CpuState::Sleeping;
         if !watch {
             // The same steps and checks as the loop below, in bursts that
-            // stay inside the simulator module between checks.
+            // stay inside the simulator module between checks. (Holding or
+            // releasing the reset always raises attention, which ends a
+            // burst, so a burst never runs through a brown-out.)
             loop {
-                let burst = self.avr.run_burst(64 - n % 64, check_at, &mut sleeping);
-                n = n.wrapping_add(burst.steps);
-                self.sleep_cycles += burst.slept;
-                if !matches!(burst.state, CpuState::Running | CpuState::Sleeping) {
+                let state = if self.avr.handler().held_in_reset() {
+                    let before = self.avr.cycle();
+                    self.avr.hold_step();
+                    self.sleep_cycles += self.avr.cycle() - before;
+                    sleeping = true;
+                    n = n.wrapping_add(1);
+                    CpuState::Running
+                } else {
+                    let burst = self.avr.run_burst(64 - n % 64, check_at, &mut sleeping);
+                    n = n.wrapping_add(burst.steps);
+                    self.sleep_cycles += burst.slept;
+                    burst.state
+                };
+                if !matches!(state, CpuState::Running | CpuState::Sleeping) {
                     let at = self.location();
-                    return Err(if burst.state == CpuState::Crashed {
+                    return Err(if state == CpuState::Crashed {
                         BenchError::Crashed { at }
                     } else {
                         BenchError::Stopped { at }
@@ -1476,6 +1698,10 @@ impl Bench {
                     if done(self) {
                         return Ok(true);
                     }
+                    if now >= hang_check_at {
+                        hang_check_at = now + ms;
+                        self.check_hang()?;
+                    }
                     if now >= limit {
                         return Ok(false);
                     }
@@ -1489,11 +1715,19 @@ impl Bench {
             } else {
                 (0, 0, false)
             };
-            let state = self.avr.step();
+            // Held in reset by the brown-out detector: no instruction runs,
+            // the plant and the bench's events go on.
+            let held = self.avr.handler().held_in_reset();
+            let state = if held {
+                self.avr.hold_step();
+                CpuState::Running
+            } else {
+                self.avr.step()
+            };
             let now = self.avr.cycle();
             // simavr jumps over a sleep in the same step that executes the
             // `sleep` instruction, and again in each step while asleep.
-            let asleep = state == CpuState::Sleeping;
+            let asleep = state == CpuState::Sleeping || held;
             let slept = sleeping || asleep;
             sleeping = asleep;
             if slept {
@@ -1527,10 +1761,31 @@ impl Bench {
                 if done(self) {
                     return Ok(true);
                 }
+                if now >= hang_check_at {
+                    hang_check_at = now + ms;
+                    self.check_hang()?;
+                }
                 if now >= limit {
                     return Ok(false);
                 }
             }
+        }
+    }
+
+    /// Stop a hung firmware (checked once per millisecond of robot time).
+    fn check_hang(&mut self) -> Result<(), BenchError> {
+        let Some(mut watch) = self.hang.take() else {
+            return Ok(());
+        };
+        let still = watch.check(self);
+        self.hang = Some(watch);
+        match still {
+            Some(cycles) => Err(BenchError::Hang(crate::hang::HangReport {
+                still_s: self.clock.seconds(cycles).0,
+                at: self.location(),
+                callers: crate::hang::callers(self, 4),
+            })),
+            None => Ok(()),
         }
     }
 
@@ -1540,6 +1795,13 @@ impl Bench {
         core.attention = false;
         if std::mem::take(&mut core.reset_requested) {
             self.reset_mcu();
+        }
+        if std::mem::take(&mut self.avr.handler_mut().bod_release_pending) {
+            // The detector lets go: the MCU starts from its reset vector,
+            // with BORF set in MCUSR as the datasheet says.
+            self.reset_mcu();
+            let mcusr = self.avr.data(MCUSR);
+            self.avr.set_data(MCUSR, mcusr | MCUSR_BORF);
         }
         let core = self.avr.handler_mut();
         if std::mem::take(&mut core.failed) {
@@ -1613,6 +1875,44 @@ impl Bench {
                 at: self.location(),
             })
         }
+    }
+
+    /// The simulated MCU, for a debugger's register and memory access.
+    pub fn mcu(&self) -> &Avr<BenchCore> {
+        &self.avr
+    }
+
+    pub fn mcu_mut(&mut self) -> &mut Avr<BenchCore> {
+        &mut self.avr
+    }
+
+    /// Execute one instruction (while asleep or held in reset: jump to the
+    /// next event) with the bench's bookkeeping, for a debugger's step and
+    /// continue. Hang detection and observers are the run loop's, not this.
+    pub fn step_instruction(&mut self) -> Result<(), BenchError> {
+        let before = self.avr.cycle();
+        let held = self.avr.handler().held_in_reset();
+        let state = if held {
+            self.avr.hold_step();
+            CpuState::Sleeping
+        } else {
+            self.avr.step()
+        };
+        if state == CpuState::Sleeping {
+            self.sleep_cycles += self.avr.cycle() - before;
+        }
+        if !matches!(state, CpuState::Running | CpuState::Sleeping) {
+            let at = self.location();
+            return Err(if state == CpuState::Crashed {
+                BenchError::Crashed { at }
+            } else {
+                BenchError::Stopped { at }
+            });
+        }
+        if self.avr.handler().attention {
+            self.attend()?;
+        }
+        Ok(())
     }
 
     /// Run for `seconds` of robot time.

@@ -130,7 +130,10 @@ impl Firmware {
                 is_data,
             };
             if sym.kind() == SymbolKind::Text && !is_data {
-                functions.insert(addr, (name.to_owned(), sym.size()));
+                // Rust's mangled names are unreadable in a report; `{:#}`
+                // leaves out the hash suffix.
+                let readable = format!("{:#}", rustc_demangle::demangle(name));
+                functions.insert(addr, (readable, sym.size()));
             }
             symbols.entry(name.to_owned()).or_insert(s);
         }

@@ -10,8 +10,8 @@
 use plant_model::RobotConfig;
 
 use crate::bench::{
-    Action, Bench, BenchError, BenchOptions, DriveEvent, Motion, MotionEvent, Observer, PinEvent,
-    Sample, ScheduledFault, SideName, Snapshot,
+    Action, Bench, BenchError, BenchOptions, DriveEvent, LedEvent, Motion, MotionEvent, Observer,
+    PinEvent, Sample, ScheduledFault, SideName, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::ready_bench;
@@ -99,6 +99,9 @@ pub struct TestOptions {
     pub framed: bool,
     /// Parameters to set over the protocol before the start (implies framed).
     pub params: Vec<(crate::link::Param, f32)>,
+    /// Stop the run as hung after this much robot time without progress
+    /// (see [`crate::hang`]); None: only `limit_s` ends an unfinished run.
+    pub hang_after_s: Option<f64>,
 }
 
 impl Default for TestOptions {
@@ -111,6 +114,7 @@ impl Default for TestOptions {
             faults: Vec::new(),
             framed: false,
             params: Vec::new(),
+            hang_after_s: None,
         }
     }
 }
@@ -128,6 +132,10 @@ pub struct Leg {
     /// Firmware counts over the leg, at the motors' cut-off.
     pub firmware_count_left: i32,
     pub firmware_count_right: i32,
+    /// Net A edges the plant made over the same span: what a perfect
+    /// decoder would have counted.
+    pub plant_edges_left: i64,
+    pub plant_edges_right: i64,
     pub start_cycle: u64,
     pub cutoff_cycle: u64,
 }
@@ -165,6 +173,9 @@ pub struct TestRun {
     pub completed: bool,
     /// Why it did not complete (a hang, a fault): a finding, not an error.
     pub finding: Option<String>,
+    /// Where the firmware was when the bench found it hung (see
+    /// [`TestOptions::hang_after_s`]).
+    pub hang: Option<crate::hang::HangReport>,
     pub legs: Vec<Leg>,
     pub turns: Vec<Turn>,
     pub final_pose: FinalPose,
@@ -191,6 +202,12 @@ pub struct TestRun {
     pub drive: Vec<DriveEvent>,
     #[serde(skip)]
     pub uart: Vec<(u64, u8, u8)>,
+    /// Battery LED changes.
+    #[serde(skip)]
+    pub leds: Vec<LedEvent>,
+    /// Brown-out resets: robot times (s) the detector pulled the reset and
+    /// let it go (None: still held at the end).
+    pub brownouts: Vec<(f64, Option<f64>)>,
 }
 
 /// Run `test` from a fresh reset.
@@ -217,6 +234,44 @@ pub fn run_test_observed(
         ready_bench(firmware, robot, opts.bench, opts.leg_mm)?;
     let vars = *bench.vars();
     bench.set_observer(observer);
+    start(&mut bench, test, opts);
+    let limit = limit_s(test, opts);
+    bench.set_hang_after(opts.hang_after_s);
+    let outcome = bench.run_until(limit, |b| {
+        b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
+    });
+    bench.set_hang_after(None);
+    // A hang is what the firmware did: a finding of the run, not an error.
+    let (completed, hang) = match outcome {
+        Ok(done) => (done, None),
+        Err(BenchError::Hang(report)) => (false, Some(report)),
+        Err(e) => return Err(e),
+    };
+    let finding = match &hang {
+        Some(h) => Some(format!(
+            "hung: busy in the test without progress for {:.1} s of robot time, {h}",
+            h.still_s
+        )),
+        None => (!completed).then(|| {
+            format!(
+                "did not complete within {limit:.0} s of robot time; the firmware is {}",
+                bench.location()
+            )
+        }),
+    };
+    // Let the last coast and the UART drain.
+    if completed {
+        bench.run_for(0.1)?;
+    }
+    let observer = bench.take_observer();
+    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    run.hang = hang;
+    Ok((run, observer))
+}
+
+/// Faults scheduled, recording on, and the host's start command sent: what
+/// follows the firmware's ready state.
+fn start(bench: &mut Bench, test: Test, opts: &TestOptions) {
     for f in &opts.faults {
         bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
     }
@@ -233,28 +288,88 @@ pub fn run_test_observed(
     } else {
         bench.send(1, &[test.command_byte()]);
     }
+}
+
+/// Robot time allowed from the start command to the end of the test.
+fn limit_s(test: Test, opts: &TestOptions) -> f64 {
     let (legs, turns, _) = test.shape();
     // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
     // braking and waits per segment: generous, so a slow robot is not a hang.
-    let limit = opts
-        .limit_s
-        .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0);
-    let completed = bench.run_until(limit, |b| {
-        b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
-    })?;
+    opts.limit_s
+        .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0)
+}
+
+/// Run `test` under a debugger: the MCU paused at its reset vector until
+/// the debugger continues. The bench plays the host as [`run_test`] does
+/// (the start command once the firmware is idle); after a detach the run
+/// goes on to its end without the debugger. None when the debugger killed
+/// the run.
+pub fn run_test_debugged(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    test: Test,
+    opts: &TestOptions,
+    server: crate::gdb::GdbServer,
+) -> Result<Option<TestRun>, crate::gdb::GdbError> {
+    use crate::gdb::{Flow, SessionEnd};
+    let name = firmware.name();
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    let vars = *bench.vars();
+    let limit = limit_s(test, opts);
+    // (HT_DONE_COUNT before the start, the start's cycle), once started.
+    let mut started: Option<(u16, u64)> = None;
+    let host = |b: &mut Bench, started: &mut Option<(u16, u64)>| -> Flow {
+        match *started {
+            None if b.read_u8(vars.state) == 1 => {
+                b.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
+                *started = Some((b.read_u16(vars.done_count), b.cycle()));
+                start(b, test, opts);
+                Flow::Continue
+            }
+            Some((done_before, at))
+                if (b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1)
+                    || b.cycle() >= at + b.clock().cycles_in(plant_model::Seconds(limit)) =>
+            {
+                Flow::Finished
+            }
+            _ => Flow::Continue,
+        }
+    };
+    let end = server.serve(&mut bench, &mut |b: &mut Bench| host(b, &mut started))?;
+    if end == SessionEnd::Killed {
+        return Ok(None);
+    }
+    if end == SessionEnd::Detached {
+        if started.is_none() {
+            crate::line::wait_ready(&mut bench)?;
+            host(&mut bench, &mut started);
+        }
+        let left = |b: &Bench, at: u64| limit - b.clock().seconds(b.cycle() - at).0;
+        if let Some((done_before, at)) = started {
+            let remaining = left(&bench, at).max(0.0);
+            bench.run_until(remaining, |b| {
+                b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
+            })?;
+        }
+    }
+    let (done_before, start_cycle) = started.unwrap_or((0, bench.cycle()));
+    let completed =
+        bench.read_u16(vars.done_count) != done_before && bench.read_u8(vars.state) == 1;
     let finding = (!completed).then(|| {
         format!(
             "did not complete within {limit:.0} s of robot time; the firmware is {}",
             bench.location()
         )
     });
-    // Let the last coast and the UART drain.
-    if completed {
-        bench.run_for(0.1)?;
-    }
-    let observer = bench.take_observer();
-    let run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
-    Ok((run, observer))
+    Ok(Some(analyse(
+        &bench,
+        test,
+        name,
+        opts,
+        start_cycle,
+        completed,
+        finding,
+    )))
 }
 
 fn analyse(
@@ -296,6 +411,8 @@ fn analyse(
                 plant_heading_change_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
                 firmware_count_left: stop.left_count - start.left_count,
                 firmware_count_right: stop.right_count - start.right_count,
+                plant_edges_left: stop.left_edges - start.left_edges,
+                plant_edges_right: stop.right_edges - start.right_edges,
                 start_cycle: start.cycle,
                 cutoff_cycle: stop.cycle,
             }),
@@ -334,6 +451,7 @@ fn analyse(
         seed: opts.bench.seed,
         completed,
         finding,
+        hang: None,
         legs,
         turns,
         final_pose: FinalPose {
@@ -357,6 +475,15 @@ fn analyse(
         edges: core.recording.clone().unwrap_or_default(),
         drive: core.drive_log.clone(),
         uart: core.uart_log.clone(),
+        leds: core.leds.clone(),
+        brownouts: core
+            .brownouts
+            .iter()
+            .map(|(on, off)| {
+                let s = |c: u64| bench.clock().seconds(c).0;
+                (s(*on), off.map(s))
+            })
+            .collect(),
     }
 }
 

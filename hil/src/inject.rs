@@ -31,8 +31,17 @@ pub enum EncoderFault {
     MissPairs { every: u32 },
 }
 
+/// One of an encoder's two channels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Channel {
+    A,
+    B,
+}
+
 /// What the Bluetooth link does to bytes from the host.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
 pub struct LinkFault {
     /// Probability that a byte is lost.
     pub loss: f64,
@@ -88,6 +97,9 @@ pub struct Injection {
     holding: [bool; 2],
     /// A motor's bridge outputs are disconnected: the motor coasts.
     pub motor_disconnected: [bool; 2],
+    /// A glitch pulse is on an encoder's channel now: the pin shows the
+    /// inverse of its level, by side and channel (A, B).
+    pub glitch: [[bool; 2]; 2],
     pub link: LinkFault,
     pub dice: Dice,
 }
@@ -99,6 +111,7 @@ impl Injection {
             a_edges_seen: [0; 2],
             holding: [false; 2],
             motor_disconnected: [false; 2],
+            glitch: [[false; 2]; 2],
             link: LinkFault::default(),
             dice: Dice::new(seed),
         }

@@ -207,6 +207,14 @@ enum Command {
         /// List the faults and their expected reactions.
         #[arg(long)]
         list: bool,
+        /// Run the faults of a scenario file (TOML or JSON) against both
+        /// builds instead of the library (reported, not judged).
+        #[arg(long, value_name = "FILE")]
+        scenario: Option<PathBuf>,
+        /// Robot seconds without progress after which a busy firmware is
+        /// reported hung, with its PC and symbol.
+        #[arg(long, value_name = "S", default_value_t = hil::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
+        hang_after: f64,
         #[command(flatten)]
         common: Common,
     },
@@ -289,6 +297,17 @@ enum Command {
         /// Leg length in millimetres.
         #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
         leg_mm: f64,
+        /// Inject the faults of a scenario file (TOML or JSON).
+        #[arg(long, value_name = "FILE")]
+        scenario: Option<PathBuf>,
+        /// Stop and report a hang (PC and symbol) after this many robot
+        /// seconds without progress while the firmware is busy in the test.
+        #[arg(long, value_name = "S", value_parser = parse_seconds)]
+        hang_after: Option<f64>,
+        /// Serve gdb's remote protocol on 127.0.0.1:PORT, the run paused at
+        /// reset until the debugger continues (`target remote :PORT`).
+        #[arg(long, value_name = "PORT")]
+        gdb: Option<u16>,
         #[command(flatten)]
         common: Common,
     },
@@ -313,6 +332,16 @@ fn parse_length(s: &str) -> Result<f64, String> {
         return Err(format!(
             "{s} mm is out of range: give a length above 0 and up to 100000 mm"
         ));
+    }
+    Ok(v)
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of seconds"))?;
+    if !v.is_finite() || v <= 0.0 {
+        return Err(format!("{s} s is out of range: give a positive robot time"));
     }
     Ok(v)
 }
@@ -670,9 +699,21 @@ fn run(cli: Cli) -> Result<()> {
             all,
             only,
             list,
+            scenario,
+            hang_after,
             common,
         } => {
-            let library = hil::faults::library();
+            let options = hil::faults::FaultOptions {
+                seed: common.seed,
+                hang_after_s: hang_after,
+            };
+            let library = match &scenario {
+                Some(path) => vec![hil::faults::from_scenario(
+                    path,
+                    &hil::scenario::Scenario::load(path)?,
+                )],
+                None => hil::faults::library(),
+            };
             if list {
                 for f in &library {
                     println!(
@@ -682,12 +723,17 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 return Ok(());
             }
+            if let Some(unknown) = only.iter().find(|o| library.iter().all(|f| f.name != *o)) {
+                anyhow::bail!("no fault is called {unknown:?}: `hil faults --list` names them");
+            }
             let selected: Vec<_> = library
                 .into_iter()
-                .filter(|f| all || only.iter().any(|o| o == f.name))
+                .filter(|f| all || scenario.is_some() || only.iter().any(|o| o == f.name))
                 .collect();
             if selected.is_empty() {
-                anyhow::bail!("no fault selected: give --all, --fault NAME or --list");
+                anyhow::bail!(
+                    "no fault selected: give --all, --fault NAME (see --list) or --scenario FILE"
+                );
             }
             let robot = load_robot(common.robot.as_ref())?;
             let robust = load_firmware(&common)?;
@@ -699,7 +745,7 @@ fn run(cli: Cli) -> Result<()> {
             let rows = selected
                 .par_iter()
                 .map(|case| {
-                    hil::faults::run_fault(case, &robust, thesis.as_ref(), &robot, common.seed)
+                    hil::faults::run_fault(case, &robust, thesis.as_ref(), &robot, &options)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let failed = rows.iter().filter(|r| !r.pass).count();
@@ -903,13 +949,40 @@ fn run(cli: Cli) -> Result<()> {
         Command::Run {
             test,
             leg_mm,
+            scenario,
+            hang_after,
+            gdb,
             common,
         } => {
             let robot = load_robot(common.robot.as_ref())?;
             let firmware = load_firmware(&common)?;
-            let opts = common.test_options(leg_mm);
+            let mut opts = common.test_options(leg_mm);
+            opts.hang_after_s = hang_after;
+            if let Some(path) = &scenario {
+                let s = hil::scenario::Scenario::load(path)?;
+                opts.faults = s.scheduled();
+                opts.framed = s.framed;
+            }
             let wall = Instant::now();
-            let run = run_test(firmware, &robot, test, &opts)?;
+            let run = match gdb {
+                Some(port) => {
+                    let server = hil::gdb::GdbServer::bind(port)?;
+                    eprintln!(
+                        "gdb: paused at reset; connect with avr-gdb {} -ex 'target remote {}'",
+                        firmware.path.display(),
+                        server.local_addr()?
+                    );
+                    match hil::experiment::run_test_debugged(firmware, &robot, test, &opts, server)?
+                    {
+                        Some(run) => run,
+                        None => {
+                            eprintln!("gdb: the debugger killed the run");
+                            return Ok(());
+                        }
+                    }
+                }
+                None => run_test(firmware, &robot, test, &opts)?,
+            };
             if let Some(path) = &common.vcd {
                 write_vcd(path, &run, common.vcd_pwm)?;
             }

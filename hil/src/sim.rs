@@ -136,6 +136,19 @@ impl Core {
         unsafe { ffi::avr_raise_irq(irq.0.as_ptr(), value) }
     }
 
+    /// Set the supply the analog parts see (VCC, AVCC and AREF are one rail
+    /// on the Mega), in millivolts: the ADC converts against it.
+    pub fn set_supply_mv(&mut self, mv: u32) {
+        // SAFETY: plain field writes on the live MCU; simavr's ADC reads them
+        // at each conversion.
+        unsafe {
+            let a = self.avr.as_ptr();
+            (*a).vcc = mv;
+            (*a).avcc = mv;
+            (*a).aref = mv;
+        }
+    }
+
     /// (Re)schedule the bench's cycle timer at absolute cycle `at` (a cycle
     /// already past fires at the next instruction boundary; `u64::MAX`
     /// cancels). Must not be called from [`Handler::timer`] (return the cycle
@@ -465,6 +478,19 @@ impl<H: Handler> Avr<H> {
         }
     }
 
+    /// Let time pass without executing: run the cycle timers that are due,
+    /// then jump to the next one (as while the MCU is held in reset, when no
+    /// instruction runs but the world goes on).
+    pub fn hold_step(&mut self) {
+        // SAFETY: as in `step`; the timers re-enter the handler through
+        // `shared`, which nothing else borrows during the call.
+        unsafe {
+            let a = self.avr.as_ptr();
+            let until_next = ffi::avr_cycle_timer_process(a);
+            (*a).cycle += until_next.max(1);
+        }
+    }
+
     pub fn state(&self) -> CpuState {
         // SAFETY: plain field read.
         decode_state(unsafe { (*self.avr.as_ptr()).state })
@@ -500,6 +526,100 @@ impl<H: Handler> Avr<H> {
                 *(*a).flash.add(addr as usize + 1),
             ])
         }
+    }
+
+    /// The status register, composed from simavr's per-flag copy (the byte
+    /// at SREG's data address is not kept up to date while running).
+    pub fn sreg(&self) -> u8 {
+        // SAFETY: plain read of simavr's split SREG array (8 entries).
+        let bits = unsafe { (*self.avr.as_ptr()).sreg };
+        bits.iter()
+            .enumerate()
+            .fold(0u8, |acc, (i, b)| acc | (u8::from(*b != 0) << i))
+    }
+
+    /// Set the status register (a debugger's register write).
+    pub fn set_sreg(&mut self, value: u8) {
+        // SAFETY: plain writes of simavr's split SREG array and its data
+        // byte (0x5F), which simavr keeps in step at each SREG write.
+        unsafe {
+            let a = self.avr.as_ptr();
+            for i in 0..8 {
+                (*a).sreg[i] = (value >> i) & 1;
+            }
+            *(*a).data.add(0x5f) = value;
+        }
+    }
+
+    /// Set the program counter (a byte address in flash).
+    pub fn set_pc(&mut self, pc: u32) {
+        // SAFETY: plain field write; simavr fetches from `pc` at the next
+        // instruction and reports a crash for an address past the code.
+        unsafe { (*self.avr.as_ptr()).pc = pc }
+    }
+
+    /// Set the stack pointer (SPH:SPL).
+    pub fn set_sp(&mut self, sp: u16) {
+        let [lo, hi] = sp.to_le_bytes();
+        self.set_data(0x5d, lo);
+        self.set_data(0x5e, hi);
+    }
+
+    /// Bytes of data space (registers, IO, SRAM) from `addr`; None when the
+    /// range passes RAMEND.
+    pub fn read_data(&self, addr: u32, len: usize) -> Option<Vec<u8>> {
+        let end = addr as u64 + len as u64;
+        // SAFETY: plain field read.
+        let ramend = unsafe { (*self.avr.as_ptr()).ramend } as u64;
+        (end <= ramend + 1).then(|| {
+            (addr..addr + len as u32)
+                .map(|a| self.data(a as u16))
+                .collect()
+        })
+    }
+
+    /// Store bytes in data space; false (and nothing written) when the range
+    /// passes RAMEND.
+    pub fn write_data(&mut self, addr: u32, bytes: &[u8]) -> bool {
+        // SAFETY: plain field read.
+        let ramend = unsafe { (*self.avr.as_ptr()).ramend } as u64;
+        if addr as u64 + bytes.len() as u64 > ramend + 1 {
+            return false;
+        }
+        self.write_bytes(addr as u16, bytes);
+        true
+    }
+
+    /// Bytes of flash from byte address `addr`; None when the range passes
+    /// the end of flash.
+    pub fn read_flash(&self, addr: u32, len: usize) -> Option<Vec<u8>> {
+        // SAFETY: `flash` holds flashend + 1 bytes; the range is checked
+        // against it first.
+        unsafe {
+            let a = self.avr.as_ptr();
+            if addr as u64 + len as u64 > (*a).flashend as u64 + 1 {
+                return None;
+            }
+            Some(std::slice::from_raw_parts((*a).flash.add(addr as usize), len).to_vec())
+        }
+    }
+
+    /// Store bytes in flash (a debugger loading code); false (and nothing
+    /// written) when the range passes the end of flash.
+    pub fn write_flash(&mut self, addr: u32, bytes: &[u8]) -> bool {
+        // SAFETY: as in `read_flash`; the destination range is checked.
+        unsafe {
+            let a = self.avr.as_ptr();
+            if addr as u64 + bytes.len() as u64 > (*a).flashend as u64 + 1 {
+                return false;
+            }
+            std::ptr::copy_nonoverlapping(
+                bytes.as_ptr(),
+                (*a).flash.add(addr as usize),
+                bytes.len(),
+            );
+        }
+        true
     }
 
     /// Stack pointer (SPH:SPL).

@@ -230,6 +230,7 @@ pub fn execute(
                     .iter()
                     .filter_map(|&(id, v)| crate::link::Param::from_u8(id).map(|p| (p, v)))
                     .collect(),
+                hang_after_s: None,
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;

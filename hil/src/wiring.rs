@@ -89,6 +89,14 @@ pub struct EncoderWiring {
     pub b: Pin,
 }
 
+/// The battery-level LEDs (thesis `Nivel_Bateria`), each lit by a high pin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct LedWiring {
+    pub green: Pin,
+    pub blue: Pin,
+    pub red: Pin,
+}
+
 /// The whole robot's wiring.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Wiring {
@@ -100,6 +108,7 @@ pub struct Wiring {
     pub bluetooth_uart: u8,
     /// USART carrying the debug/telemetry link (USB serial).
     pub debug_uart: u8,
+    pub battery_leds: LedWiring,
 }
 
 const fn pin(port: char, bit: u8, arduino: u8) -> Pin {
@@ -141,6 +150,12 @@ pub const HENRYTWO: Wiring = Wiring {
     },
     bluetooth_uart: 1,
     debug_uart: 0,
+    // D10 green, D11 blue, D12 red (firmware/src/battery.rs).
+    battery_leds: LedWiring {
+        green: pin('B', 4, 10),
+        blue: pin('B', 5, 11),
+        red: pin('B', 6, 12),
+    },
 };
 
 impl Wiring {
@@ -174,6 +189,12 @@ impl Wiring {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn battery_leds_share_one_port() {
+        let l = HENRYTWO.battery_leds;
+        assert!([l.blue.port, l.red.port].iter().all(|p| *p == l.green.port));
+    }
 
     #[test]
     fn bridge_inputs_are_all_on_port_h_and_distinct() {

@@ -15,15 +15,24 @@ use crate::bench::{BenchError, BenchOptions, ScheduledFault};
 use crate::elf::Firmware;
 use crate::experiment::{run_test, Test, TestOptions, TestRun};
 
+mod battery_below_adc_thresholds;
+mod battery_brownout_reset;
+mod bluetooth_link_drop;
 mod encoder_dropout;
+mod encoder_glitch_burst;
 mod encoder_stuck_b;
 mod encoder_swapped;
 mod link_corruption;
 mod missed_counts;
 mod motor_disconnected;
+mod motor_load_step;
+mod motor_overload;
 mod motor_stall;
 mod reset_mid_test;
+mod robot_wedged;
 mod turn_slip_burst;
+mod uart_byte_loss;
+mod uart_garbage;
 
 /// One fault of the library.
 pub struct FaultCase {
@@ -50,12 +59,39 @@ pub fn library() -> Vec<FaultCase> {
         encoder_stuck_b::case(),
         encoder_swapped::case(),
         missed_counts::case(),
+        encoder_glitch_burst::case(),
         motor_disconnected::case(),
         motor_stall::case(),
+        motor_load_step::case(),
+        motor_overload::case(),
+        robot_wedged::case(),
         turn_slip_burst::case(),
+        battery_below_adc_thresholds::case(),
+        battery_brownout_reset::case(),
         link_corruption::case(),
+        uart_byte_loss::case(),
+        uart_garbage::case(),
+        bluetooth_link_drop::case(),
         reset_mid_test::case(),
     ]
+}
+
+/// How `hil faults` runs the library.
+#[derive(Debug, Clone, Copy)]
+pub struct FaultOptions {
+    pub seed: u64,
+    /// Robot time without progress after which a busy firmware is hung
+    /// (see [`crate::hang`]).
+    pub hang_after_s: f64,
+}
+
+impl Default for FaultOptions {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            hang_after_s: crate::hang::DEFAULT_HANG_AFTER_S,
+        }
+    }
 }
 
 /// The watchdog's expected reaction: all motors off within `max_s` of the
@@ -94,7 +130,28 @@ pub struct Observed {
     pub first_leg_plant_mm: Option<f64>,
     /// First leg: mean wheel arc by the plant.
     pub first_leg_arc_mm: Option<f64>,
+    /// First leg: firmware count minus the plant's edges, per wheel (left,
+    /// right): counts gained (+) or lost (-) between the wheel and the MCU.
+    pub first_leg_count_error: Option<(i64, i64)>,
+    /// First leg: robot time from its start to the motors' cut-off.
+    pub first_leg_drive_s: Option<f64>,
+    /// First leg: heading change, degrees (positive to the left).
+    pub first_leg_heading_deg: Option<f64>,
     pub bluetooth_reply_bytes: usize,
+    /// Replies and notifications on the Bluetooth link, and how many of
+    /// them carry an error status.
+    pub replies: usize,
+    pub error_replies: usize,
+    /// Where the bench found the firmware hung (see [`crate::hang`]).
+    pub hang: Option<crate::hang::HangReport>,
+    /// Battery LED changes: robot time (s since reset) and the colour shown.
+    pub led_changes: Vec<(f64, String)>,
+    /// The battery LED at the end.
+    pub led_at_end: String,
+    /// Robot time of the first fault action.
+    pub fault_at_s: Option<f64>,
+    /// Brown-out resets: robot times (s) the reset was pulled and released.
+    pub brownouts: Vec<(f64, Option<f64>)>,
 }
 
 impl Observed {
@@ -113,6 +170,12 @@ impl Observed {
             None
         });
         let leg = run.legs.first();
+        let replies = crate::link::replies(&run.bluetooth_out);
+        let led_changes = run
+            .leds
+            .iter()
+            .map(|e| (e.cycle as f64 / clock_hz as f64, e.colour().to_string()))
+            .collect();
         Self {
             completed: run.completed,
             finding: run.finding.clone(),
@@ -128,17 +191,33 @@ impl Observed {
                 .map(|l| (l.firmware_count_left + l.firmware_count_right) as f64 / 2.0),
             first_leg_plant_mm: leg.map(|l| l.plant_distance_mm),
             first_leg_arc_mm: leg.map(|l| l.plant_arc_mm),
+            first_leg_heading_deg: leg.map(|l| l.plant_heading_change_deg),
+            first_leg_drive_s: leg
+                .map(|l| (l.cutoff_cycle - l.start_cycle) as f64 / clock_hz as f64),
+            first_leg_count_error: leg.map(|l| {
+                (
+                    l.firmware_count_left as i64 - l.plant_edges_left,
+                    l.firmware_count_right as i64 - l.plant_edges_right,
+                )
+            }),
+            fault_at_s: fault_cycle.map(|c| c as f64 / clock_hz as f64),
             bluetooth_reply_bytes: run.bluetooth_out.len(),
+            replies: replies.len(),
+            error_replies: replies.iter().filter(|r| !r.ok).count(),
+            hang: run.hang.clone(),
+            led_changes,
+            led_at_end: run.leds.last().map_or("off", |e| e.colour()).into(),
+            brownouts: run.brownouts.clone(),
         }
     }
 
     /// One line for a person.
     pub fn describe(&self) -> String {
         let mut parts = Vec::new();
-        parts.push(if self.completed {
-            "completed".to_string()
-        } else {
-            "did not complete (hang or runaway)".to_string()
+        parts.push(match (&self.hang, self.completed) {
+            (Some(h), _) => format!("HUNG (no progress for {:.1} s) {h}", h.still_s),
+            (None, true) => "completed".to_string(),
+            (None, false) => "did not complete".to_string(),
         });
         match self.motors_off_after_s {
             Some(t) => parts.push(format!("motors off {:.0} ms after the fault", t * 1e3)),
@@ -148,12 +227,42 @@ impl Observed {
             parts.push(format!("fault code {c}"));
         }
         parts.push(format!("{} legs, {} turns", self.legs, self.turns));
+        // The LED only when it changed after the fault (the first change is
+        // the boot's).
+        let fault_at = self.fault_at_s.unwrap_or(0.0);
+        let changed = self.led_changes.iter().skip(1).last();
+        if let Some((t, c)) = changed.filter(|(t, _)| *t > fault_at) {
+            parts.push(format!("battery LED {c} from {t:.3} s"));
+        }
+        if let Some((l, r)) = self.first_leg_count_error.filter(|e| *e != (0, 0)) {
+            parts.push(format!("first leg counts off by {l:+} left, {r:+} right"));
+        }
+        for (on, off) in &self.brownouts {
+            parts.push(match off {
+                Some(off) => format!("held in brown-out reset {on:.3}-{off:.3} s"),
+                None => format!("held in brown-out reset from {on:.3} s"),
+            });
+        }
+        if self.error_replies > 0 {
+            parts.push(format!("{} error replies", self.error_replies));
+        }
         parts.push(format!(
             "ended {:.0} cm from the start",
             self.end_distance_cm
         ));
         parts.join(", ")
     }
+}
+
+/// Counts per second of each wheel at the robust build's set-point: 14.47
+/// thesis RPM for both wheels (`firmware/src/robot.rs`, `ROBUST_SETPOINT`)
+/// at 1.107 RPM per count in a 15 ms period.
+pub const SETPOINT_COUNTS_PER_S: f64 = 14.47 / 1.107 / 0.015;
+
+/// How much longer than at the set-points the first leg took (0.1: 10 %).
+pub fn leg_overrun(o: &Observed) -> Option<f64> {
+    let nominal = o.first_leg_counts? / SETPOINT_COUNTS_PER_S;
+    Some(o.first_leg_drive_s? / nominal - 1.0)
 }
 
 /// One row of `hil faults`.
@@ -174,12 +283,12 @@ fn run_case(
     fw: &Firmware,
     robot: &RobotConfig,
     case: &FaultCase,
-    seed: u64,
+    options: &FaultOptions,
 ) -> Result<Observed, BenchError> {
     let opts = TestOptions {
         leg_mm: case.leg_mm,
         bench: BenchOptions {
-            seed,
+            seed: options.seed,
             ..Default::default()
         },
         limit_s: Some(case.limit_s),
@@ -187,6 +296,7 @@ fn run_case(
         faults: case.faults.clone(),
         framed: case.framed,
         params: Vec::new(),
+        hang_after_s: Some(options.hang_after_s),
     };
     let run = run_test(fw.clone(), robot, case.test, &opts)?;
     Ok(Observed::from_run(&run, opts.bench.clock.hz()))
@@ -198,16 +308,16 @@ pub fn run_fault(
     robust: &Firmware,
     thesis: Option<&Firmware>,
     robot: &RobotConfig,
-    seed: u64,
+    options: &FaultOptions,
 ) -> Result<FaultRow, BenchError> {
-    let r = run_case(robust, robot, case, seed)?;
+    let r = run_case(robust, robot, case, options)?;
     let (pass, why) = match (case.check)(&r) {
         Ok(why) => (true, why),
         Err(why) => (false, why),
     };
     // The thesis build may do anything: whatever the bench sees is a finding.
     let t = match thesis {
-        Some(fw) => match run_case(fw, robot, case, seed) {
+        Some(fw) => match run_case(fw, robot, case, options) {
             Ok(o) => Some(Ok(o)),
             Err(e) => Some(Err(e.to_string())),
         },
@@ -245,4 +355,31 @@ pub fn render(rows: &[FaultRow]) -> String {
     let passed = rows.iter().filter(|r| r.pass).count();
     let _ = writeln!(s, "{passed} passed, {} failed", rows.len() - passed);
     s
+}
+
+/// A scenario file as a fault case: run against both builds and reported,
+/// not judged (a scenario file states no expectation). The case's texts
+/// live as long as the process: a CLI run loads one scenario.
+pub fn from_scenario(path: &std::path::Path, s: &crate::scenario::Scenario) -> FaultCase {
+    let leak = |s: String| -> &'static str { Box::leak(s.into_boxed_str()) };
+    let name = s.name.clone().unwrap_or_else(|| {
+        path.file_stem()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scenario".into())
+    });
+    FaultCase {
+        name: leak(name),
+        what: leak(format!(
+            "{} fault(s) from the scenario {}",
+            s.faults.len(),
+            path.display()
+        )),
+        expected: "not stated (a scenario file has no expectation)",
+        test: s.test.unwrap_or(Test::Line),
+        leg_mm: s.leg_mm.unwrap_or(2000.0),
+        faults: s.scheduled(),
+        limit_s: s.limit_s.unwrap_or(60.0),
+        framed: s.framed,
+        check: |_| Ok("not judged: the scenario states no expectation".into()),
+    }
 }
