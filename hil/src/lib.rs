@@ -23,6 +23,7 @@ pub mod perf;
 pub mod pwm;
 pub mod report;
 pub mod sim;
+pub mod station;
 pub mod time;
 pub mod timing;
 pub mod umbmark;

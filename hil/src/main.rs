@@ -15,6 +15,8 @@ use hil::umbmark::{execute, Partial, Plan, Shard};
 use plant_model::RobotConfig;
 use rayon::prelude::*;
 
+mod station_cli;
+
 #[derive(Parser)]
 #[command(
     name = "hil",
@@ -284,6 +286,19 @@ enum Command {
         /// Write the plant trace (10 ms samples) as CSV.
         #[arg(long, value_name = "FILE")]
         trace_csv: Option<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Run the emulated robot paced to real time (or N x real time) and
+    /// expose its Bluetooth UART (USART1) as a pseudo-terminal, for any
+    /// serial client.
+    Serve {
+        /// Expose USART1 on a pseudo-terminal (its path is printed).
+        #[arg(long, required = true)]
+        pty: bool,
+        /// Robot seconds per wall-clock second.
+        #[arg(long, default_value_t = 1.0)]
+        speed: f64,
         #[command(flatten)]
         common: Common,
     },
@@ -944,6 +959,15 @@ fn run(cli: Cli) -> Result<()> {
             } else {
                 print!("{}", run.summary.render());
             }
+        }
+        Command::Serve {
+            pty: _,
+            speed,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            station_cli::serve(firmware, &robot, common.seed, speed)?;
         }
     }
     Ok(())
