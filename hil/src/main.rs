@@ -302,6 +302,25 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// The operator's station: a web page on 127.0.0.1 to pick a robot
+    /// (emulated or on a serial port), run tests, watch telemetry, enter end
+    /// points and send the correction.
+    Ui {
+        /// A serial port to offer first (a real robot, or `hil serve --pty`).
+        #[arg(long, value_name = "DEVICE")]
+        port: Option<String>,
+        /// Baud rate of the serial port (the HC-05's is 9600).
+        #[arg(long, default_value_t = 9600)]
+        baud: u32,
+        /// TCP port of the page on 127.0.0.1 (0: any free port).
+        #[arg(long, default_value_t = 8317)]
+        listen_port: u16,
+        /// Folder of the session files, one per robot.
+        #[arg(long, value_name = "DIR", default_value = "station-sessions")]
+        sessions: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
 }
 
 fn parse_length(s: &str) -> Result<f64, String> {
@@ -968,6 +987,16 @@ fn run(cli: Cli) -> Result<()> {
             let robot = load_robot(common.robot.as_ref())?;
             let firmware = load_firmware(&common)?;
             station_cli::serve(firmware, &robot, common.seed, speed)?;
+        }
+        Command::Ui {
+            port,
+            baud,
+            listen_port,
+            sessions,
+            common,
+        } => {
+            let firmware = load_firmware(&common)?;
+            station_cli::ui(firmware, port, baud, listen_port, sessions, common.seed)?;
         }
     }
     Ok(())

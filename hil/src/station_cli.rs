@@ -47,3 +47,34 @@ pub fn serve(firmware: Firmware, robot: &RobotConfig, seed: u64, speed: f64) -> 
     }
 }
 
+/// Run the station's web page on loopback until interrupted.
+pub fn ui(
+    firmware: Firmware,
+    port: Option<String>,
+    baud: u32,
+    listen_port: u16,
+    sessions: std::path::PathBuf,
+    seed: u64,
+) -> Result<()> {
+    let options = hil::station::ui::UiOptions {
+        sessions_dir: sessions,
+        robots_dir: hil::paths::workspace_root().join("fixtures/robots"),
+        firmware,
+        port,
+        baud,
+        seed,
+    };
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    runtime.block_on(async {
+        let server = hil::station::ui::serve(options, listen_port, |addr| {
+            // The address first and alone on stdout, for scripts and tests.
+            println!("http://{addr}/");
+            let _ = std::io::stdout().flush();
+            eprintln!("the station listens on http://{addr}/ (loopback only); Ctrl-C stops it");
+        });
+        tokio::select! {
+            r = server => r.context("the station's web server"),
+            _ = tokio::signal::ctrl_c() => Ok(()),
+        }
+    })
+}

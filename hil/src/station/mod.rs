@@ -5,3 +5,5 @@
 
 pub mod client;
 pub mod emulated;
+pub mod session;
+pub mod ui;
