@@ -283,6 +283,22 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     assert_ne!(robot_cl_after, robot_cl);
     assert_eq!(text(&c, "round-no").await, "1");
 
+    // A field that is not a number is marked and named, and saved as typed.
+    type_into(&c, "r1-cw-1-x", "12,5x").await;
+    let errors = wait_text(&c, "field-errors", 10, |t| t.contains("r1-cw-1-x")).await;
+    assert!(errors.contains("not a number"), "{errors}");
+    let class = c
+        .find(Locator::Id("r1-cw-1-x"))
+        .await
+        .unwrap()
+        .attr("class")
+        .await
+        .unwrap()
+        .unwrap_or_default();
+    assert!(class.contains("invalid"), "{class}");
+    let apply = c.find(Locator::Id("apply")).await.unwrap();
+    assert!(!apply.is_enabled().await.unwrap());
+
     // Nothing typed is lost: a reloaded page shows round 1 and the rounds
     // table with round 0's result; the file on disk holds the ten points.
     c.refresh().await.unwrap();
@@ -293,6 +309,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     let saved: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
     assert_eq!(saved["rounds"][0]["ccw"][4]["y"], "-3.3");
+    assert_eq!(saved["rounds"][1]["cw"][0]["x"], "12,5x");
     assert_eq!(saved["rounds"][1]["params"]["c_left"], robot_cl_after);
     screenshot(&c, "station-ui-applied.png").await;
 

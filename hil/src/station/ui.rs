@@ -374,16 +374,24 @@ async fn poll(
             .to_string(),
         );
         for n in notices {
-            let end = match (n, &view) {
-                (Notice::TestDone { .. }, Some(v)) => {
-                    let start = app.start.lock().ok().and_then(|mut s| s.take());
-                    start.map(|s| end_error(&s, v.x_mm, v.y_mm))
+            let start = match (n, &view) {
+                (Notice::TestDone { .. }, Some(_)) => {
+                    app.start.lock().ok().and_then(|mut s| s.take())
                 }
                 _ => None,
             };
-            let _ = app
-                .events
-                .send(json!({ "kind": "notice", "notice": n, "end_error_cm": end }).to_string());
+            let end = start
+                .zip(view.as_ref())
+                .map(|(s, v)| end_error(&s, v.x_mm, v.y_mm));
+            let _ = app.events.send(
+                json!({
+                    "kind": "notice",
+                    "notice": n,
+                    "end_error_cm": end,
+                    "leg_mm": start.map(|s| s.leg_mm),
+                })
+                .to_string(),
+            );
         }
         if let Some(e) = view.and_then(|v| v.error) {
             let _ = app.events.send(

@@ -377,7 +377,7 @@ function onEvent(ev) {
       if (ev.end_error_cm && session) {
         const [x, y] = ev.end_error_cm;
         text += `; the emulator's floor says x ${x.toFixed(2)} cm, y ${y.toFixed(2)} cm`;
-        fillEndPoint(TESTS[n.test], x, y);
+        fillEndPoint(TESTS[n.test], x, y, ev.leg_mm);
       }
       $("notice").textContent = text;
     } else {
@@ -389,11 +389,21 @@ function onEvent(ev) {
 }
 
 // The emulated robot's end point goes into the next empty row of its
-// direction, as the operator with the tape measure would type it.
-function fillEndPoint(test, x, y) {
+// direction, as the operator with the tape measure would type it; a line's
+// gives the commanded and measured lengths for Es, when not typed yet.
+function fillEndPoint(test, x, y, legMm) {
+  const k = lastRound();
+  if (test === "line" && legMm) {
+    const round = session.rounds[k];
+    if (String(round.line_commanded_cm).trim() || String(round.line_measured_cm).trim()) return;
+    round.line_commanded_cm = (legMm / 10).toFixed(2);
+    round.line_measured_cm = (legMm / 10 + x).toFixed(2);
+    $("line_commanded_cm").value = round.line_commanded_cm;
+    $("line_measured_cm").value = round.line_measured_cm;
+    return save();
+  }
   const dir = test === "umbmark-cw" ? "cw" : test === "umbmark-ccw" ? "ccw" : null;
   if (!dir) return;
-  const k = lastRound();
   const rows = session.rounds[k][dir];
   const i = rows.findIndex((p) => !String(p.x).trim() && !String(p.y).trim());
   if (i < 0) return;
