@@ -170,7 +170,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     let (c, _driver) = browser(&sessions.join("chromium-profile")).await;
 
     c.goto(&url).await.unwrap();
-    // The emulated ideal robot at 20x real time.
+    // The emulated ideal robot at 10x real time.
     c.wait()
         .at_most(Duration::from_secs(10))
         .for_element(Locator::Css(
@@ -181,7 +181,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
         .click()
         .await
         .unwrap();
-    type_into(&c, "speed", "20").await;
+    type_into(&c, "speed", "10").await;
     c.find(Locator::Id("connect"))
         .await
         .unwrap()
@@ -198,7 +198,11 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
         .click()
         .await
         .unwrap();
-    wait_text(&c, "state", 20, |t| t.contains("driving")).await;
+    // Running: driving a segment, or braking and waiting between two.
+    wait_text(&c, "state", 20, |t| {
+        t.contains("driving") || t.contains("braking")
+    })
+    .await;
     let done = wait_text(&c, "notice", 60, |t| t.contains("umbmark-cw done")).await;
     assert!(done.contains("floor says"), "{done}");
     // The emulator's end point went into the first CW row, as typed.

@@ -20,7 +20,7 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use henrytwo_protocol::frame::{encode_frame, Event, Parser, MAX_FRAME, MAX_PAYLOAD};
+use henrytwo_protocol::frame::{Event, Parser};
 use henrytwo_protocol::message::{
     Command, FaultNotice, Reply, StateReport, Status, Telemetry, TestDoneNotice, FRAME_ERROR_ID,
     NOTIFY_FAULT, NOTIFY_TEST_DONE,
@@ -164,15 +164,6 @@ fn hint(status: Status) -> &'static str {
     }
 }
 
-/// The frame carrying `cmd`.
-fn encode(cmd: &Command) -> Vec<u8> {
-    let mut payload = [0u8; MAX_PAYLOAD];
-    let n = cmd.encode(&mut payload).unwrap_or(0);
-    let mut out = [0u8; MAX_FRAME];
-    let len = encode_frame(&payload[..n], &mut out).unwrap_or(0);
-    out[..len].to_vec()
-}
-
 impl Link {
     /// Open a serial port (or a pseudo-terminal) at `baud`, 8N1.
     pub fn open_serial(path: &str, baud: u32, options: LinkOptions) -> Result<Self, LinkError> {
@@ -309,7 +300,7 @@ impl Link {
 
     /// Send `cmd` and return its reply's data; retried per [`is_idempotent`].
     pub async fn request(&mut self, cmd: Command) -> Result<Vec<u8>, LinkError> {
-        let frame = encode(&cmd);
+        let frame = crate::link::frame(&cmd);
         let want = cmd.id().reply_id();
         let attempts = if is_idempotent(&cmd) {
             self.options.attempts.max(1)
@@ -436,6 +427,7 @@ impl Link {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use henrytwo_protocol::frame::{encode_frame, MAX_FRAME, MAX_PAYLOAD};
     use henrytwo_protocol::message::{CommandId, Test};
     use tokio::io::DuplexStream;
 

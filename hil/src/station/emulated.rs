@@ -34,7 +34,7 @@ pub enum EmulatorError {
     Pty(nix::Error),
     #[error("the emulator thread ended before the firmware was ready")]
     Lost,
-    #[error("--speed {0}: give a factor above 0 (1 = real time)")]
+    #[error("speed {0}: give a factor above 0 (1 = real time, 10 = ten times faster)")]
     Speed(f64),
 }
 

@@ -147,14 +147,13 @@ pub fn load(path: &Path) -> Result<Option<Session>, SessionError> {
 /// Write `session` to `path` atomically (a crash leaves the old file or the
 /// new one, never half of one).
 pub fn save(path: &Path, session: &Session) -> Result<(), SessionError> {
-    let text = serde_json::to_string_pretty(session).map_err(|source| SessionError::Parse {
+    let write = |source| SessionError::Write {
         path: path.into(),
         source,
-    })?;
-    crate::output::write_atomic(path, text.as_bytes()).map_err(|source| SessionError::Write {
-        path: path.into(),
-        source,
-    })
+    };
+    let text =
+        serde_json::to_string_pretty(session).map_err(|e| write(std::io::Error::other(e)))?;
+    crate::output::write_atomic(path, text.as_bytes()).map_err(write)
 }
 
 /// What to send to the robot after a round.
