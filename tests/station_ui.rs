@@ -309,6 +309,15 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     wait_text(&c, "round-no", 10, |t| t == "1").await;
     let rows = c.find_all(Locator::Css("#rounds tbody tr")).await.unwrap();
     assert_eq!(rows.len(), 2);
+    // ...and the robot's parameters, read again.
+    let until = Instant::now() + Duration::from_secs(10);
+    while value_of(&c, "robot-cl").await != Some(robot_cl_after) {
+        assert!(
+            Instant::now() < until,
+            "robot parameters not shown after a reload"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
     let file = sessions.join("emulated-henrytwo-ideal.json");
     let saved: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();

@@ -474,19 +474,25 @@ async fn read_params(State(app): State<Shared>) -> Result<Json<Params>, UiError>
 struct SessionReply {
     session: Session,
     evaluation: Evaluation,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    session_file: Option<PathBuf>,
 }
 
 fn reply(s: &Session) -> Json<SessionReply> {
     Json(SessionReply {
         session: s.clone(),
         evaluation: session::evaluate(s),
+        session_file: None,
     })
 }
 
+/// The connected robot's session, for a page opened (again) after Connect.
 async fn get_session(State(app): State<Shared>) -> Result<Json<SessionReply>, UiError> {
     let guard = app.session.lock().await;
-    let (_, s) = guard.as_ref().ok_or(UiError::NotConnected)?;
-    Ok(reply(s))
+    let (file, s) = guard.as_ref().ok_or(UiError::NotConnected)?;
+    let mut r = reply(s);
+    r.session_file = Some(file.clone());
+    Ok(r)
 }
 
 /// The page sends the whole session as typed; it is saved before the reply.

@@ -51,7 +51,7 @@ async function loadRobots() {
   if (r.default_port) sel.value = "serial:" + r.default_port;
   else if (r.emulated.includes("henrytwo")) sel.value = "emulated:henrytwo";
   $("baud").value = r.baud;
-  if (r.connected) status("connected to " + r.connected + " (reconnect to load its session)");
+  if (r.connected) status("connected: " + r.connected);
 }
 
 async function connect() {
@@ -441,5 +441,11 @@ window.addEventListener("load", () => {
   listen();
   loadRobots().catch((e) => status(e.message, true));
   // A reopened tab picks up the session of the robot still connected.
-  api("GET", "/api/session").then((r) => setSession(r.session, r.evaluation)).catch(() => {});
+  api("GET", "/api/session")
+    .then((r) => {
+      $("session-file").textContent = r.session_file;
+      setSession(r.session, r.evaluation);
+      return api("GET", "/api/params").then(showRobotParams);
+    })
+    .catch(() => {});
 });
