@@ -97,6 +97,37 @@ async fn a_served_robot_answers_on_its_pty_like_a_serial_port() {
     assert!(e.to_string().contains("reconnect"), "{e}");
 }
 
+/// Clients come and go: one starts a test and leaves, the robot finishes it
+/// and talks to nobody, the next client opens the same pty (serial
+/// libraries open it exclusively) and gets its own replies, not the stale
+/// notification.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_second_client_opens_the_pty_after_the_first() {
+    let (child, path) = serve("10");
+    let _kill = Killed(child);
+    {
+        let mut a = Link::open_serial(&path, 9600, LinkOptions::default()).unwrap();
+        a.set_param(Param::LegLengthMm, 200.0).await.unwrap();
+        a.start(Test::Line).await.unwrap();
+    }
+    // 200 mm and the braking take about 3 s of robot time: 0.3 s here.
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    let mut b = Link::open_serial(&path, 9600, LinkOptions::default()).unwrap();
+    assert_eq!(b.ping().await.unwrap(), VERSION);
+    assert_eq!(b.get_param(Param::LegLengthMm).await.unwrap(), 200.0);
+    let s = b.state().await.unwrap();
+    assert_eq!((s.state, s.tests_done), (RunState::Idle as u8, 1));
+}
+
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 #[test]
 fn serve_refuses_a_speed_of_zero_in_one_line() {
     let elf = support::firmware_path("robust");

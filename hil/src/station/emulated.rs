@@ -114,11 +114,8 @@ pub struct EmulatedRobot {
 }
 
 /// A pty in raw mode (no echo, no line editing, no CR/LF translation: the
-/// framed protocol is binary): its master and the slave's path. The slave is
-/// closed again: a client that opens it exclusively (as serial libraries do)
-/// must be the only one, and the next client must be able to open it after.
-/// While no client has it open, the master reads EIO: an idle line.
-fn open_pty() -> Result<(File, PathBuf), EmulatorError> {
+/// framed protocol is binary): its master, its slave and the slave's path.
+fn open_pty() -> Result<(File, Slave, PathBuf), EmulatorError> {
     use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
     let pty = nix::pty::openpty(None, None).map_err(EmulatorError::Pty)?;
     let mut t = tcgetattr(&pty.slave).map_err(EmulatorError::Pty)?;
@@ -129,7 +126,26 @@ fn open_pty() -> Result<(File, PathBuf), EmulatorError> {
     use nix::fcntl::{fcntl, FcntlArg, OFlag};
     fcntl(pty.master.as_raw_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK))
         .map_err(EmulatorError::Pty)?;
-    Ok((File::from(pty.master), path))
+    Ok((File::from(pty.master), Slave(pty.slave), path))
+}
+
+/// The emulator's own handle on the pty's slave side, never read. Holding it
+/// keeps the line settings and lets the emulator undo a client's exclusive
+/// mode: serial libraries open ports with TIOCEXCL, which outlives their
+/// close while the tty lives, so without this the next client (not root)
+/// would get EBUSY and `hil serve` would serve one client only.
+struct Slave(std::os::fd::OwnedFd);
+
+impl Slave {
+    /// Allow the next client to open the slave, whoever opened it last.
+    fn allow_reopen(&self) {
+        // SAFETY: TIOCNXCL takes no argument and only clears a flag of the
+        // tty behind this descriptor, which `self` keeps open; a failure
+        // (not a tty) changes nothing and is harmless to ignore.
+        unsafe {
+            nix::libc::ioctl(self.0.as_raw_fd(), nix::libc::TIOCNXCL);
+        }
+    }
 }
 
 impl EmulatedRobot {
@@ -142,7 +158,7 @@ impl EmulatedRobot {
         if !(options.speed.is_finite() && options.speed > 0.0) {
             return Err(EmulatorError::Speed(options.speed));
         }
-        let (master, path) = open_pty()?;
+        let (master, slave, path) = open_pty()?;
         let view = Arc::new(Mutex::new(EmulatorView::default()));
         let stop = Arc::new(AtomicBool::new(false));
         let (ready_tx, ready_rx) = std::sync::mpsc::channel();
@@ -165,7 +181,7 @@ impl EmulatedRobot {
                             return;
                         }
                     };
-                    let result = serve_loop(bench, master, options, &view, &stop);
+                    let result = serve_loop(bench, master, &slave, options, &view, &stop);
                     if let Err(e) = result {
                         if let Ok(mut v) = view.lock() {
                             v.error = Some(e.to_string());
@@ -227,6 +243,7 @@ const MAX_PENDING: usize = 4096;
 fn serve_loop(
     mut bench: Bench,
     mut master: File,
+    slave: &Slave,
     options: ServeOptions,
     view: &Mutex<EmulatorView>,
     stop: &AtomicBool,
@@ -242,10 +259,12 @@ fn serve_loop(
             match master.read(&mut buf) {
                 Ok(0) => break,
                 Ok(n) => bench.send(1, &buf[..n]),
-                // Nothing waiting (WouldBlock), or no client (EIO): idle line.
+                // Nothing waiting (WouldBlock): an idle line.
                 Err(_) => break,
             }
         }
+        // Clients come and go between slices; one syscall per slice.
+        slave.allow_reopen();
         bench.run_for(options.slice_s)?;
         let out = bench.uart_output(1);
         pending.extend(&out[sent..]);
