@@ -117,6 +117,8 @@ pub struct Link {
     parser: Parser,
     epoch: Instant,
     notices: VecDeque<Notice>,
+    /// Replies parsed but not yet handed out (several may come in one read).
+    replies: VecDeque<Frame>,
     /// Every command frame written, for tests that check what went out.
     sent: Vec<Command>,
 }
@@ -192,6 +194,7 @@ impl Link {
             parser: Parser::new(50),
             epoch: Instant::now(),
             notices: VecDeque::new(),
+            replies: VecDeque::new(),
             sent: Vec::new(),
         }
     }
@@ -229,13 +232,15 @@ impl Link {
     ) -> Result<Option<Frame>, LinkError> {
         let mut buf = [0u8; 64];
         loop {
+            if let Some(r) = self.replies.pop_front() {
+                return Ok(Some(r));
+            }
             let n = match tokio::time::timeout_at(deadline, self.port.read(&mut buf)).await {
                 Err(_) => return Ok(None),
                 Ok(Ok(0)) => return Err(self.gone("end of stream")),
                 Ok(Ok(n)) => n,
                 Ok(Err(e)) => return Err(self.gone(e)),
             };
-            let mut got = None;
             for &b in &buf[..n] {
                 let now = self.now_ms();
                 let _ = self.parser.poll(now);
@@ -264,21 +269,15 @@ impl Link {
                                 });
                             }
                         }
-                        _ if got.is_none() => {
-                            got = Some(Frame {
-                                id: r.id,
-                                status: r.status,
-                                data: r.data.to_vec(),
-                            })
-                        }
-                        // A second reply in the same read is stale by
-                        // construction (one command at a time): dropped.
-                        _ => {}
+                        // A late reply to an earlier attempt may come in
+                        // the same read as ours: the caller sorts them.
+                        _ => self.replies.push_back(Frame {
+                            id: r.id,
+                            status: r.status,
+                            data: r.data.to_vec(),
+                        }),
                     }
                 }
-            }
-            if got.is_some() {
-                return Ok(got);
             }
         }
     }
@@ -432,7 +431,9 @@ mod tests {
     use tokio::io::DuplexStream;
 
     /// A robot on the other end of a pipe that answers PING, GET_PARAM and
-    /// START_TEST, and drops the replies whose numbers are in `drop`.
+    /// START_TEST, and drops the replies whose numbers are in `drop`; a
+    /// command numbered 0 in `drop` makes it send a stale STOP reply just
+    /// before each reply, in the same write.
     async fn fake_robot(mut end: DuplexStream, drop: Vec<usize>) {
         let mut parser = Parser::new(u32::MAX);
         let mut buf = [0u8; 64];
@@ -470,7 +471,15 @@ mod tests {
                 .unwrap();
                 let mut f = [0u8; MAX_FRAME];
                 let m = encode_frame(&payload[..len], &mut f).unwrap();
-                if end.write_all(&f[..m]).await.is_err() {
+                let mut out = Vec::new();
+                if drop.contains(&0) {
+                    let stale = [CommandId::Stop.reply_id(), Status::Ok as u8];
+                    let mut g = [0u8; MAX_FRAME];
+                    let k = encode_frame(&stale, &mut g).unwrap();
+                    out.extend(&g[..k]);
+                }
+                out.extend(&f[..m]);
+                if end.write_all(&out).await.is_err() {
                     return;
                 }
             }
@@ -495,6 +504,13 @@ mod tests {
         let mut l = link(vec![1]);
         assert_eq!(l.get_param(Param::CorrLeft).await.unwrap(), 1.25);
         assert_eq!(l.sent().len(), 2, "{:?}", l.sent());
+    }
+
+    #[tokio::test]
+    async fn a_late_reply_in_the_same_read_does_not_hide_ours() {
+        let mut l = link(vec![0]);
+        assert_eq!(l.get_param(Param::KpLeft).await.unwrap(), 1.25);
+        assert_eq!(l.sent().len(), 1, "{:?}", l.sent());
     }
 
     #[tokio::test]
