@@ -996,7 +996,15 @@ fn run(cli: Cli) -> Result<()> {
             common,
         } => {
             let firmware = load_firmware(&common)?;
-            station_cli::ui(firmware, port, baud, listen_port, sessions, common.seed)?;
+            station_cli::ui(
+                firmware,
+                common.robot.clone(),
+                port,
+                baud,
+                listen_port,
+                sessions,
+                common.seed,
+            )?;
         }
     }
     Ok(())

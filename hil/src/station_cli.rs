@@ -50,6 +50,7 @@ pub fn serve(firmware: Firmware, robot: &RobotConfig, seed: u64, speed: f64) -> 
 /// Run the station's web page on loopback until interrupted.
 pub fn ui(
     firmware: Firmware,
+    robot: Option<std::path::PathBuf>,
     port: Option<String>,
     baud: u32,
     listen_port: u16,
@@ -58,7 +59,10 @@ pub fn ui(
 ) -> Result<()> {
     let options = hil::station::ui::UiOptions {
         sessions_dir: sessions,
-        robots_dir: hil::paths::workspace_root().join("fixtures/robots"),
+        robots: hil::station::ui::robot_configs(
+            &hil::paths::workspace_root().join("fixtures/robots"),
+            robot,
+        ),
         firmware,
         port,
         baud,

@@ -72,18 +72,46 @@ impl IntoResponse for UiError {
 }
 
 /// Where `hil ui` finds things.
+///
+/// [`robot_configs`] lists a folder of configs for [`UiOptions::robots`].
 #[derive(Debug, Clone)]
 pub struct UiOptions {
     /// Session files, one per robot.
     pub sessions_dir: PathBuf,
-    /// Robot configs offered as emulated robots (`*.toml`).
-    pub robots_dir: PathBuf,
+    /// Robot configs offered as emulated robots: the name shown, the file.
+    /// The first is offered first.
+    pub robots: Vec<(String, PathBuf)>,
     /// The firmware the emulated robots run.
     pub firmware: Firmware,
     /// A serial port offered first (`--port`).
     pub port: Option<String>,
     pub baud: u32,
     pub seed: u64,
+}
+
+/// The robot configs in `dir` (`*.toml`), by name, sorted; `first` (a
+/// config given on the command line) leads the list.
+pub fn robot_configs(dir: &std::path::Path, first: Option<PathBuf>) -> Vec<(String, PathBuf)> {
+    let name = |p: &std::path::Path| {
+        p.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let mut all: Vec<(String, PathBuf)> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .map(|p| (name(&p), p))
+                .collect()
+        })
+        .unwrap_or_default();
+    all.sort();
+    if let Some(f) = first {
+        all.retain(|(n, _)| *n != name(&f));
+        all.insert(0, (name(&f), f));
+    }
+    all
 }
 
 struct Connection {
@@ -185,16 +213,7 @@ struct Robots {
 }
 
 async fn robots(State(app): State<Shared>) -> Json<Robots> {
-    let mut emulated: Vec<String> = std::fs::read_dir(&app.options.robots_dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok())
-                .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-                .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
-                .collect()
-        })
-        .unwrap_or_default();
-    emulated.sort();
+    let emulated = app.options.robots.iter().map(|(n, _)| n.clone()).collect();
     let ports = tokio_serial::available_ports()
         .map(|v| v.into_iter().map(|p| p.port_name).collect())
         .unwrap_or_default();
@@ -232,16 +251,18 @@ async fn connect(
     *app.conn.lock().await = None;
     let (key, label, path, baud, emulator) = match req {
         ConnectRequest::Emulated { config, speed } => {
-            if config.is_empty()
-                || !config
-                    .chars()
-                    .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-            {
-                return Err(UiError::Input(format!(
-                    "{config:?} is not one of the robot configs offered"
-                )));
-            }
-            let file = app.options.robots_dir.join(format!("{config}.toml"));
+            // Only the configs offered: the page names no files.
+            let file = app
+                .options
+                .robots
+                .iter()
+                .find(|(n, _)| *n == config)
+                .map(|(_, f)| f.clone())
+                .ok_or_else(|| {
+                    UiError::Input(format!(
+                        "{config:?} is not one of the robot configs offered"
+                    ))
+                })?;
             let robot = plant_model::RobotConfig::load(&file)
                 .map_err(|e| UiError::Input(format!("robot config {}: {e}", file.display())))?;
             let options = ServeOptions {
@@ -591,6 +612,22 @@ async fn event_stream(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_config_given_on_the_command_line_leads_the_list() {
+        let dir = std::env::temp_dir().join(format!("station-robots-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for f in ["b.toml", "a.toml", "notes.txt"] {
+            std::fs::write(dir.join(f), "").unwrap();
+        }
+        let names = |v: Vec<(String, PathBuf)>| v.into_iter().map(|(n, _)| n).collect::<Vec<_>>();
+        assert_eq!(names(robot_configs(&dir, None)), ["a", "b"]);
+        assert_eq!(
+            names(robot_configs(&dir, Some(dir.join("b.toml")))),
+            ["b", "a"]
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn end_errors_are_in_the_start_frame() {

@@ -48,8 +48,10 @@ async function loadRobots() {
   const ports = r.default_port ? [r.default_port, ...r.ports.filter((p) => p !== r.default_port)] : r.ports;
   for (const p of ports) sel.add(new Option("serial: " + p, "serial:" + p));
   sel.add(new Option("serial: the port typed on the right", "serial:"));
+  // A port given on the command line first, else the first config (the
+  // one given with --robot, if any).
   if (r.default_port) sel.value = "serial:" + r.default_port;
-  else if (r.emulated.includes("henrytwo")) sel.value = "emulated:henrytwo";
+  else if (r.emulated.length) sel.value = "emulated:" + r.emulated[0];
   $("baud").value = r.baud;
   if (r.connected) status("connected: " + r.connected);
 }
