@@ -715,29 +715,14 @@ pub fn table10(rounds: &[CalibrationRound]) -> Vec<(String, calib::Round)> {
         .iter()
         .skip(1)
         .map(|r| {
-            let round = table10_row(
-                &first.report.result,
-                first.wheelbase_mm,
-                &r.report.result,
-                r.wheelbase_mm,
-            );
+            let mut round = calib::improvement(&first.report.result, &r.report.result);
+            // The wheelbase "after" is the one the firmware used in that round.
+            round.wheelbase_after_mm = r.wheelbase_mm;
+            round.wheelbase_correction_pct =
+                (r.wheelbase_mm - first.wheelbase_mm) / first.wheelbase_mm * 100.0;
             (format!("umbmark round {}", r.round), round)
         })
         .collect()
-}
-
-/// One round against the first, each with the wheelbase the firmware used.
-pub fn table10_row(
-    first: &calib::UmbmarkResult,
-    first_wheelbase_mm: f64,
-    round: &calib::UmbmarkResult,
-    wheelbase_mm: f64,
-) -> calib::Round {
-    let mut row = calib::improvement(first, round);
-    // The wheelbase "after" is the one the firmware used in that round.
-    row.wheelbase_after_mm = wheelbase_mm;
-    row.wheelbase_correction_pct = (wheelbase_mm - first_wheelbase_mm) / first_wheelbase_mm * 100.0;
-    row
 }
 
 /// Where a plan's partial result goes by default.

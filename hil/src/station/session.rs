@@ -326,27 +326,19 @@ pub fn evaluate(session: &Session) -> Evaluation {
             send,
         });
     }
-    let table = match (session.rounds.first(), rounds.first()) {
-        (
-            Some(first),
-            Some(RoundEval {
-                result: Some(r0), ..
-            }),
-        ) => session
-            .rounds
+    // Each round against the first, as the calib crate defines a round: the
+    // wheelbase the first ran with, the one the later round measured.
+    let table = match rounds.first() {
+        Some(RoundEval {
+            result: Some(r0), ..
+        }) => rounds
             .iter()
-            .zip(&rounds)
             .enumerate()
             .skip(1)
-            .filter_map(|(k, (entry, ev))| {
+            .filter_map(|(k, ev)| {
                 ev.result.as_ref().map(|rk| TableRow {
                     round: k,
-                    row: crate::umbmark::table10_row(
-                        r0,
-                        first.params.wheelbase_mm,
-                        rk,
-                        entry.params.wheelbase_mm,
-                    ),
+                    row: calib::improvement(r0, rk),
                 })
             })
             .collect(),
@@ -489,7 +481,7 @@ mod tests {
         let r1 = ev.rounds[1].result.as_ref().unwrap();
         assert_eq!(ev.rounds[1].send.unwrap().c_left, applied.c_left * r1.cl);
         assert_eq!(ev.table.len(), 1);
-        assert_eq!(ev.table[0].row.wheelbase_after_mm, applied.wheelbase_mm);
+        assert_eq!(ev.table[0].row, calib::improvement(r, r1));
     }
 
     #[test]
