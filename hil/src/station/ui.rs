@@ -307,6 +307,11 @@ async fn connect(
     // The session of this robot, or a new one starting from its parameters.
     let file = app.options.sessions_dir.join(session::file_name(&key));
     let sess = match session::load(&file)? {
+        // A file edited by hand may have lost its rounds: start one.
+        Some(mut s) if s.rounds.is_empty() => {
+            s.rounds.push(RoundEntry::new(params));
+            s
+        }
         Some(s) => s,
         None => {
             let s = Session::new(&key, params);
