@@ -299,3 +299,25 @@ fn serve_loop(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pacer_holds_robot_time_to_speed_times_wall_time() {
+        let pacer = Pacer::new(10.0);
+        let t0 = Instant::now();
+        // 0.5 s of robot time at 10x: due 50 ms after the start.
+        assert_eq!(pacer.wait(0.5), 0.0);
+        let waited = t0.elapsed();
+        assert!(
+            waited >= Duration::from_millis(50) && waited < Duration::from_secs(2),
+            "{waited:?}"
+        );
+        // Asking for a time long past reports the lag instead of sleeping.
+        std::thread::sleep(Duration::from_millis(100));
+        let lag = pacer.wait(0.5);
+        assert!(lag >= 1.0 - 1e-9, "lag {lag}");
+    }
+}
