@@ -6,6 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(gcc-avr avr-libc binutils-avr libelf-dev libclang-dev clang pkg-config zlib1g-dev libzstd-dev)
+# The station's browser test drives Debian's Chromium through chromedriver.
+packages+=(chromium chromium-driver)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -5,7 +5,8 @@
 //! the physics says the edges happen, and sees the H-bridge inputs through the
 //! bench's own model of the PWM timers ([`pwm`]), wired as the robot is wired
 //! ([`wiring`]). [`bench`] ties them together on one event queue; [`line`] is
-//! the straight-line test.
+//! the straight-line test. [`station`] is the operator's side: the protocol
+//! client for real and emulated robots, `hil serve` and the `hil ui` page.
 
 pub mod bench;
 pub mod calibrate;
@@ -26,6 +27,7 @@ pub mod pwm;
 pub mod report;
 pub mod scenario;
 pub mod sim;
+pub mod station;
 pub mod supply;
 pub mod time;
 pub mod timing;

@@ -15,6 +15,8 @@ use hil::umbmark::{execute, Partial, Plan, Shard};
 use plant_model::RobotConfig;
 use rayon::prelude::*;
 
+mod station_cli;
+
 #[derive(Parser)]
 #[command(
     name = "hil",
@@ -319,6 +321,38 @@ enum Command {
         /// Write the plant trace (10 ms samples) as CSV.
         #[arg(long, value_name = "FILE")]
         trace_csv: Option<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Run the emulated robot paced to real time (or N x real time) and
+    /// expose its Bluetooth UART (USART1) as a pseudo-terminal, for any
+    /// serial client.
+    Serve {
+        /// Expose USART1 on a pseudo-terminal (its path is printed).
+        #[arg(long, required = true)]
+        pty: bool,
+        /// Robot seconds per wall-clock second.
+        #[arg(long, default_value_t = 1.0)]
+        speed: f64,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// The operator's station: a web page on 127.0.0.1 to pick a robot
+    /// (emulated or on a serial port), run tests, watch telemetry, enter end
+    /// points and send the correction.
+    Ui {
+        /// A serial port to offer first (a real robot, or `hil serve --pty`).
+        #[arg(long, value_name = "DEVICE")]
+        port: Option<String>,
+        /// Baud rate of the serial port (the HC-05's is 9600).
+        #[arg(long, default_value_t = 9600)]
+        baud: u32,
+        /// TCP port of the page on 127.0.0.1 (0: any free port).
+        #[arg(long, default_value_t = 8317)]
+        listen_port: u16,
+        /// Folder of the session files, one per robot.
+        #[arg(long, value_name = "DIR", default_value = "station-sessions")]
+        sessions: PathBuf,
         #[command(flatten)]
         common: Common,
     },
@@ -1045,6 +1079,33 @@ fn run(cli: Cli) -> Result<()> {
             } else {
                 print!("{}", run.summary.render());
             }
+        }
+        Command::Serve {
+            pty: _,
+            speed,
+            common,
+        } => {
+            let robot = load_robot(common.robot.as_ref())?;
+            let firmware = load_firmware(&common)?;
+            station_cli::serve(firmware, &robot, common.seed, speed)?;
+        }
+        Command::Ui {
+            port,
+            baud,
+            listen_port,
+            sessions,
+            common,
+        } => {
+            let firmware = load_firmware(&common)?;
+            station_cli::ui(
+                firmware,
+                common.robot.clone(),
+                port,
+                baud,
+                listen_port,
+                sessions,
+                common.seed,
+            )?;
         }
     }
     Ok(())

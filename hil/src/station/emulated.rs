@@ -1,0 +1,323 @@
+//! The emulated robot behind a pseudo-terminal, paced to the wall clock:
+//! `hil serve --pty` and the emulated robots of `hil ui`.
+//!
+//! The bench itself stays a pure function of the ELF, the config and the
+//! seed: it runs in slices of robot time, and only [`Pacer`], outside it,
+//! looks at the host clock and sleeps between slices. What the host writes
+//! to the pty reaches USART1 (the HC-05's UART) at the start of the next
+//! slice, at 9600 baud in robot time; what the firmware sends goes out on
+//! the pty after each slice. Which slice a host byte lands in depends on the
+//! wall clock, so a served session is not reproducible bit for bit; a run of
+//! `hil run` or `hil umbmark` still is.
+
+use std::fs::File;
+use std::io::{ErrorKind, Read, Write};
+use std::os::fd::AsRawFd;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use plant_model::RobotConfig;
+use thiserror::Error;
+
+use crate::bench::{Bench, BenchError, BenchOptions};
+use crate::elf::Firmware;
+use crate::line::wait_ready;
+
+#[derive(Debug, Error)]
+pub enum EmulatorError {
+    #[error(transparent)]
+    Bench(#[from] BenchError),
+    #[error("cannot create a pseudo-terminal: {0}; check /dev/ptmx is there and usable")]
+    Pty(nix::Error),
+    #[error("the emulator thread ended before the firmware was ready")]
+    Lost,
+    #[error("speed {0}: give a factor above 0 (1 = real time, 10 = ten times faster)")]
+    Speed(f64),
+}
+
+/// What `hil serve` runs.
+#[derive(Debug, Clone, Copy)]
+pub struct ServeOptions {
+    /// Robot seconds per wall-clock second.
+    pub speed: f64,
+    /// Robot time per slice: how often host bytes are taken in and the
+    /// firmware's bytes sent out. Short against the firmware's 50 ms
+    /// inter-byte timeout, so a frame written in two pieces is not torn.
+    pub slice_s: f64,
+    pub bench: BenchOptions,
+}
+
+impl Default for ServeOptions {
+    fn default() -> Self {
+        Self {
+            speed: 1.0,
+            slice_s: 0.005,
+            bench: BenchOptions::default(),
+        }
+    }
+}
+
+/// What the emulator shows of itself while it runs (the plant's pose is
+/// what a camera over the floor would see; a real robot has none).
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct EmulatorView {
+    pub robot_time_s: f64,
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_rad: f64,
+    /// How far robot time is behind the requested pace, in robot seconds
+    /// (the host is too slow for the speed asked).
+    pub lag_s: f64,
+    /// Why the emulator stopped, when it did.
+    pub error: Option<String>,
+}
+
+/// Keeps a slice loop at `speed` times real time: the one reader of the
+/// host clock, outside the simulation.
+pub struct Pacer {
+    start: Instant,
+    speed: f64,
+}
+
+impl Pacer {
+    pub fn new(speed: f64) -> Self {
+        Self {
+            start: Instant::now(),
+            speed,
+        }
+    }
+
+    /// Sleep until `robot_elapsed_s` is due; returns the lag in robot
+    /// seconds when the loop is behind (0 when on time).
+    pub fn wait(&self, robot_elapsed_s: f64) -> f64 {
+        let due = Duration::from_secs_f64(robot_elapsed_s / self.speed);
+        let now = self.start.elapsed();
+        if due > now {
+            std::thread::sleep(due - now);
+            0.0
+        } else {
+            (now - due).as_secs_f64() * self.speed
+        }
+    }
+}
+
+/// An emulated robot running on its own thread (the simulator is not
+/// `Send`), its USART1 on a pseudo-terminal. Stops when dropped.
+pub struct EmulatedRobot {
+    path: PathBuf,
+    view: Arc<Mutex<EmulatorView>>,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+/// A pty in raw mode (no echo, no line editing, no CR/LF translation: the
+/// framed protocol is binary): its master, its slave and the slave's path.
+fn open_pty() -> Result<(File, Slave, PathBuf), EmulatorError> {
+    use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
+    let pty = nix::pty::openpty(None, None).map_err(EmulatorError::Pty)?;
+    let mut t = tcgetattr(&pty.slave).map_err(EmulatorError::Pty)?;
+    cfmakeraw(&mut t);
+    tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(EmulatorError::Pty)?;
+    let path = nix::unistd::ttyname(&pty.slave).map_err(EmulatorError::Pty)?;
+    // The slice loop must never block on the host.
+    use nix::fcntl::{fcntl, FcntlArg, OFlag};
+    fcntl(pty.master.as_raw_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK))
+        .map_err(EmulatorError::Pty)?;
+    Ok((File::from(pty.master), Slave(pty.slave), path))
+}
+
+/// The emulator's own handle on the pty's slave side, never read. Holding it
+/// keeps the line settings and lets the emulator undo a client's exclusive
+/// mode: serial libraries open ports with TIOCEXCL, which outlives their
+/// close while the tty lives, so without this the next client (not root)
+/// would get EBUSY and `hil serve` would serve one client only.
+struct Slave(std::os::fd::OwnedFd);
+
+impl Slave {
+    /// Allow the next client to open the slave, whoever opened it last.
+    fn allow_reopen(&self) {
+        // SAFETY: TIOCNXCL takes no argument and only clears a flag of the
+        // tty behind this descriptor, which `self` keeps open; a failure
+        // (not a tty) changes nothing and is harmless to ignore.
+        unsafe {
+            nix::libc::ioctl(self.0.as_raw_fd(), nix::libc::TIOCNXCL);
+        }
+    }
+}
+
+impl EmulatedRobot {
+    /// Boot the firmware on the bench and serve its USART1 on a new pty.
+    pub fn spawn(
+        firmware: Firmware,
+        robot: &RobotConfig,
+        options: ServeOptions,
+    ) -> Result<Self, EmulatorError> {
+        if !(options.speed.is_finite() && options.speed > 0.0) {
+            return Err(EmulatorError::Speed(options.speed));
+        }
+        let (master, slave, path) = open_pty()?;
+        let view = Arc::new(Mutex::new(EmulatorView::default()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (ready_tx, ready_rx) = std::sync::mpsc::channel();
+        let robot = robot.clone();
+        let thread = {
+            let view = view.clone();
+            let stop = stop.clone();
+            std::thread::Builder::new()
+                .name("emulated-robot".into())
+                .spawn(move || {
+                    let bench = Bench::new(firmware, &robot, options.bench)
+                        .and_then(|mut b| wait_ready(&mut b).map(|_| b));
+                    let bench = match bench {
+                        Ok(b) => {
+                            let _ = ready_tx.send(Ok(()));
+                            b
+                        }
+                        Err(e) => {
+                            let _ = ready_tx.send(Err(e));
+                            return;
+                        }
+                    };
+                    let result = serve_loop(bench, master, &slave, options, &view, &stop);
+                    if let Err(e) = result {
+                        if let Ok(mut v) = view.lock() {
+                            v.error = Some(e.to_string());
+                        }
+                    }
+                })
+                .map_err(|_| EmulatorError::Lost)?
+        };
+        match ready_rx.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(e.into()),
+            Err(_) => return Err(EmulatorError::Lost),
+        }
+        Ok(Self {
+            path,
+            view,
+            stop,
+            thread: Some(thread),
+        })
+    }
+
+    /// The pty to open as a serial port.
+    pub fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+
+    /// The latest view of the emulator.
+    pub fn view(&self) -> EmulatorView {
+        self.view.lock().map(|v| v.clone()).unwrap_or_default()
+    }
+
+    /// True once the emulator stopped on its own (see `view().error`).
+    pub fn finished(&self) -> bool {
+        self.thread.as_ref().is_none_or(|t| t.is_finished())
+    }
+
+    /// Wait for the emulator to stop on its own (an error).
+    pub fn join(mut self) -> Option<String> {
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+        self.view().error
+    }
+}
+
+impl Drop for EmulatedRobot {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// Bytes from the firmware waiting for the host; beyond this the oldest are
+/// dropped, as a UART without a listener loses them.
+const MAX_PENDING: usize = 4096;
+
+fn serve_loop(
+    mut bench: Bench,
+    mut master: File,
+    slave: &Slave,
+    options: ServeOptions,
+    view: &Mutex<EmulatorView>,
+    stop: &AtomicBool,
+) -> Result<(), BenchError> {
+    let t0 = bench.robot_time_s();
+    let mut sent = bench.uart_output(1).len();
+    let mut pending: std::collections::VecDeque<u8> = Default::default();
+    let mut buf = [0u8; 256];
+    let pacer = Pacer::new(options.speed);
+    while !stop.load(Ordering::Relaxed) {
+        // Host to robot: everything written since the last slice.
+        loop {
+            match master.read(&mut buf) {
+                Ok(0) => break,
+                Ok(n) => bench.send(1, &buf[..n]),
+                // Nothing waiting (WouldBlock): an idle line.
+                Err(_) => break,
+            }
+        }
+        // Clients come and go between slices; one syscall per slice.
+        slave.allow_reopen();
+        bench.run_for(options.slice_s)?;
+        let out = bench.uart_output(1);
+        pending.extend(&out[sent..]);
+        sent = out.len();
+        while !pending.is_empty() {
+            let (a, _) = pending.as_slices();
+            match master.write(a) {
+                Ok(n) if n > 0 => {
+                    pending.drain(..n);
+                }
+                Ok(_) => break,
+                Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+                Err(_) => break,
+            }
+        }
+        if pending.len() > MAX_PENDING {
+            let extra = pending.len() - MAX_PENDING;
+            pending.drain(..extra);
+        }
+        let elapsed = bench.robot_time_s() - t0;
+        let pose = bench.core().robot.pose();
+        if let Ok(mut v) = view.lock() {
+            v.robot_time_s = bench.robot_time_s();
+            v.x_mm = pose.x().0;
+            v.y_mm = pose.y().0;
+            v.theta_rad = pose.theta().0;
+        }
+        let lag = pacer.wait(elapsed);
+        if let Ok(mut v) = view.lock() {
+            v.lag_s = lag;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pacer_holds_robot_time_to_speed_times_wall_time() {
+        let pacer = Pacer::new(10.0);
+        let t0 = Instant::now();
+        // 0.5 s of robot time at 10x: due 50 ms after the start.
+        assert_eq!(pacer.wait(0.5), 0.0);
+        let waited = t0.elapsed();
+        assert!(
+            waited >= Duration::from_millis(50) && waited < Duration::from_secs(2),
+            "{waited:?}"
+        );
+        // Asking for a time long past reports the lag instead of sleeping.
+        std::thread::sleep(Duration::from_millis(100));
+        let lag = pacer.wait(0.5);
+        assert!(lag >= 1.0 - 1e-9, "lag {lag}");
+    }
+}

@@ -1,0 +1,453 @@
+// The station page: picks a robot, starts tests, shows telemetry, keeps the
+// typed end points in the server's session file, and shows what the calib
+// crate computes from them. No number is computed here: the page only draws.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+let session = null;      // the session as the server saved it (plus local edits)
+let evaluation = null;   // the server's evaluation of it
+let saving = false, dirty = false;
+const speeds = [];       // recent telemetry for the chart
+const trail = [];        // emulated robot's pose trail (mm)
+
+async function api(method, path, body) {
+  const r = await fetch(path, {
+    method,
+    headers: body === undefined ? {} : { "content-type": "application/json" },
+    body: body === undefined ? undefined : JSON.stringify(body),
+  });
+  const data = await r.json().catch(() => ({ error: r.statusText }));
+  if (!r.ok) throw new Error(data.error || r.statusText);
+  return data;
+}
+
+function status(text, error) {
+  $("status").textContent = text;
+  $("status").className = error ? "error" : "";
+}
+
+// Headings accumulate over turns; people read them within ±180°.
+const wrapDeg = (d) => ((((d + 180) % 360) + 360) % 360) - 180;
+const fmt = (v, d) => (v === null || v === undefined || !isFinite(v) ? "-" : v.toFixed(d));
+
+function setVal(id, v, d) {
+  const el = $(id);
+  el.textContent = fmt(v, d);
+  // The exact value, for checks that compare with the library.
+  if (v === null || v === undefined) el.removeAttribute("data-value");
+  else el.setAttribute("data-value", String(v));
+}
+
+async function loadRobots() {
+  const r = await api("GET", "/api/robots");
+  const sel = $("robot-select");
+  sel.innerHTML = "";
+  for (const name of r.emulated) {
+    sel.add(new Option("emulated: " + name, "emulated:" + name));
+  }
+  const ports = r.default_port ? [r.default_port, ...r.ports.filter((p) => p !== r.default_port)] : r.ports;
+  for (const p of ports) sel.add(new Option("serial: " + p, "serial:" + p));
+  sel.add(new Option("serial: the port typed on the right", "serial:"));
+  // A port given on the command line first, else the first config (the
+  // one given with --robot, if any).
+  if (r.default_port) sel.value = "serial:" + r.default_port;
+  else if (r.emulated.length) sel.value = "emulated:" + r.emulated[0];
+  $("baud").value = r.baud;
+  if (r.connected) status("connected: " + r.connected);
+}
+
+async function connect() {
+  const choice = $("robot-select").value;
+  let req;
+  if (choice.startsWith("emulated:")) {
+    req = { kind: "emulated", config: choice.slice(9), speed: Number($("speed").value) };
+  } else {
+    const port = choice.slice(7) || $("port-input").value.trim();
+    if (!port) return status("type the serial port's path first", true);
+    req = { kind: "serial", port, baud: Number($("baud").value) };
+  }
+  status("connecting…");
+  $("connect").disabled = true;
+  try {
+    const r = await api("POST", "/api/connect", req);
+    status("connected: " + r.robot + ", protocol " + r.protocol_version);
+    $("session-file").textContent = r.session_file;
+    $("leg-mm").value = r.leg_mm;
+    showRobotParams(r.params);
+    trail.length = 0;
+    speeds.length = 0;
+    setSession(r.session, r.evaluation);
+  } catch (e) {
+    status(e.message, true);
+  } finally {
+    $("connect").disabled = false;
+  }
+}
+
+function showRobotParams(p) {
+  setVal("robot-cl", p.c_left, 6);
+  setVal("robot-cr", p.c_right, 6);
+  setVal("robot-wheelbase", p.wheelbase_mm, 2);
+}
+
+// --- the end points ---------------------------------------------------------
+
+const lastRound = () => session.rounds.length - 1;
+
+function setSession(s, ev) {
+  session = s;
+  const k = lastRound();
+  const round = s.rounds[k];
+  $("round-no").textContent = k;
+  $("round-cl").textContent = fmt(round.params.c_left, 6);
+  $("round-cr").textContent = fmt(round.params.c_right, 6);
+  $("round-b").textContent = fmt(round.params.wheelbase_mm, 2);
+  $("side_cm").value = s.side_cm;
+  $("line_commanded_cm").value = round.line_commanded_cm;
+  $("line_measured_cm").value = round.line_measured_cm;
+  const body = $("points").tBodies[0];
+  body.innerHTML = "";
+  const n = Math.max(round.cw.length, round.ccw.length);
+  for (let i = 0; i < n; i++) {
+    const tr = body.insertRow();
+    tr.insertCell().textContent = i + 1;
+    for (const dir of ["cw", "ccw"]) {
+      for (const axis of ["x", "y"]) {
+        const td = tr.insertCell();
+        if (i >= round[dir].length) continue;
+        const input = document.createElement("input");
+        input.className = "num";
+        input.id = `r${k}-${dir}-${i + 1}-${axis}`;
+        input.value = round[dir][i][axis];
+        input.addEventListener("input", () => {
+          session.rounds[lastRound()][dir][i][axis] = input.value;
+          save();
+        });
+        td.appendChild(input);
+      }
+    }
+  }
+  showEvaluation(ev);
+}
+
+function edited(field) {
+  return () => {
+    const round = session.rounds[lastRound()];
+    if (field === "side_cm") session.side_cm = $("side_cm").value;
+    else round[field] = $(field).value;
+    save();
+  };
+}
+
+// Every change is sent at once; while a save is under way the next one waits
+// and then sends the latest state, so nothing typed is lost or reordered.
+async function save() {
+  if (!session) return;
+  dirty = true;
+  if (saving) return;
+  saving = true;
+  try {
+    while (dirty) {
+      dirty = false;
+      $("save-state").textContent = "saving…";
+      const r = await api("PUT", "/api/session", session);
+      evaluation = r.evaluation;
+      if (!dirty) showEvaluation(r.evaluation);
+      $("save-state").textContent = "saved";
+      $("save-state").className = "ok";
+    }
+  } catch (e) {
+    $("save-state").textContent = "NOT saved: " + e.message;
+    $("save-state").className = "msg";
+  } finally {
+    saving = false;
+  }
+}
+
+function fieldId(serverId) {
+  const k = lastRound();
+  if (serverId === `r${k}-line_commanded_cm`) return "line_commanded_cm";
+  if (serverId === `r${k}-line_measured_cm`) return "line_measured_cm";
+  return serverId;
+}
+
+function showEvaluation(ev) {
+  evaluation = ev;
+  for (const el of document.querySelectorAll("input.invalid")) {
+    el.classList.remove("invalid");
+    el.title = "";
+  }
+  const msgs = [];
+  for (const [id, msg] of Object.entries(ev.errors)) {
+    const el = $(fieldId(id));
+    if (el) {
+      el.classList.add("invalid");
+      el.title = msg;
+    }
+    if (id === "side_cm" || id.startsWith(`r${lastRound()}-`)) msgs.push(`${id}: ${msg}`);
+  }
+  $("field-errors").textContent = msgs.join("; ");
+  const cur = ev.rounds[lastRound()];
+  const r = cur.result;
+  setVal("cl", r ? r.cl : null, 6);
+  setVal("cr", r ? r.cr : null, 6);
+  setVal("wheelbase", r ? r.wheelbase_mm : null, 2);
+  setVal("es", r ? r.es : null, 6);
+  $("ed-eb").textContent = r ? `${fmt(r.ed, 6)}, ${fmt(r.eb, 6)}` : "-";
+  $("emax").textContent = r ? fmt(r.e_max_cm, 2) : "-";
+  const s = cur.send;
+  setVal("send-cl", s ? s.c_left : null, 6);
+  setVal("send-cr", s ? s.c_right : null, 6);
+  setVal("send-wheelbase", s ? s.wheelbase_mm : null, 2);
+  $("apply").disabled = !s;
+  $("warnings").textContent = r ? r.warnings.join(" ") : `${cur.complete_cw} of CW and ${cur.complete_ccw} of CCW runs complete`;
+  drawScatter();
+  showRounds();
+}
+
+function showRounds() {
+  const body = $("rounds").tBodies[0];
+  body.innerHTML = "";
+  session.rounds.forEach((round, k) => {
+    const r = evaluation.rounds[k].result;
+    const tr = body.insertRow();
+    for (const v of [k, fmt(round.params.c_left, 6), fmt(round.params.c_right, 6), fmt(round.params.wheelbase_mm, 2),
+      r ? fmt(r.r_cg_cw_cm, 2) : "-", r ? fmt(r.r_cg_ccw_cm, 2) : "-", r ? fmt(r.e_max_cm, 2) : "-"]) {
+      tr.insertCell().textContent = v;
+    }
+  });
+  const t10 = $("table10").tBodies[0];
+  t10.innerHTML = "";
+  for (const row of evaluation.table) {
+    const tr = t10.insertRow();
+    for (const v of [row.round, fmt(row.wheelbase_before_mm, 2), fmt(row.wheelbase_after_mm, 2), fmt(row.wheelbase_correction_pct, 2),
+      fmt(row.error_before_cm, 2), fmt(row.error_after_cm, 2), fmt(row.position_correction_pct, 2)]) {
+      tr.insertCell().textContent = v;
+    }
+  }
+}
+
+async function importCsv() {
+  const file = $("csv-file").files[0];
+  if (!file) return ($("field-errors").textContent = "choose a CSV file first");
+  const exp = $("csv-experiment").value.trim();
+  try {
+    const r = await api("POST", "/api/import", { text: await file.text(), experiment: exp ? Number(exp) : null });
+    setSession(r.session, r.evaluation);
+  } catch (e) {
+    $("field-errors").textContent = e.message;
+  }
+}
+
+async function apply() {
+  $("apply").disabled = true;
+  $("apply-result").textContent = "sending…";
+  try {
+    const r = await api("POST", "/api/apply");
+    showRobotParams(r.read_back);
+    $("apply-result").textContent = "sent; read back: cL " + fmt(r.read_back.c_left, 6) + ", cR " +
+      fmt(r.read_back.c_right, 6) + ", b " + fmt(r.read_back.wheelbase_mm, 2) + " mm";
+    $("apply-result").className = "ok";
+    setSession(r.session, r.evaluation);
+  } catch (e) {
+    $("apply-result").textContent = e.message;
+    $("apply-result").className = "msg";
+    $("apply").disabled = false;
+  }
+}
+
+// --- drawing ----------------------------------------------------------------
+
+function drawScatter() {
+  const c = $("scatter"), g = c.getContext("2d");
+  g.clearRect(0, 0, c.width, c.height);
+  if (!session) return;
+  const k = lastRound();
+  const round = session.rounds[k];
+  const pts = (dir) => round[dir].map((p) => [parseFloat(String(p.x).replace(",", ".")), parseFloat(String(p.y).replace(",", "."))])
+    .filter(([x, y]) => isFinite(x) && isFinite(y));
+  const cw = pts("cw"), ccw = pts("ccw");
+  const r = evaluation && evaluation.rounds[k].result;
+  const cents = r ? [[r.centroid_cw.x_cm, r.centroid_cw.y_cm], [r.centroid_ccw.x_cm, r.centroid_ccw.y_cm]] : [];
+  const all = [[0, 0], ...cw, ...ccw, ...cents];
+  let span = 5;
+  for (const [x, y] of all) span = Math.max(span, Math.abs(x), Math.abs(y));
+  span *= 1.15;
+  const s = Math.min(c.width, c.height) / (2 * span);
+  const X = (x) => c.width / 2 + x * s, Y = (y) => c.height / 2 - y * s;
+  g.strokeStyle = "#bbb";
+  g.beginPath(); g.moveTo(0, Y(0)); g.lineTo(c.width, Y(0)); g.moveTo(X(0), 0); g.lineTo(X(0), c.height); g.stroke();
+  g.fillStyle = "#777";
+  g.font = "12px sans-serif";
+  g.fillText(`x (cm), ±${span.toFixed(1)} cm`, c.width - 120, Y(0) - 4);
+  g.fillText("y (cm)", X(0) + 4, 12);
+  g.lineWidth = 2;
+  for (const [x, y] of cw) { g.strokeStyle = "#c81e1e"; g.beginPath(); g.arc(X(x), Y(y), 5, 0, 7); g.stroke(); }
+  for (const [x, y] of ccw) {
+    g.strokeStyle = "#000"; g.beginPath();
+    g.moveTo(X(x) - 5, Y(y) - 5); g.lineTo(X(x) + 5, Y(y) + 5); g.moveTo(X(x) + 5, Y(y) - 5); g.lineTo(X(x) - 5, Y(y) + 5); g.stroke();
+  }
+  // Centroids and the vectors from the start to them, as the thesis GUI drew them.
+  cents.forEach(([x, y], i) => {
+    g.strokeStyle = i === 0 ? "#c81e1e" : "#000";
+    g.setLineDash([6, 4]);
+    g.beginPath(); g.moveTo(X(0), Y(0)); g.lineTo(X(x), Y(y)); g.stroke();
+    g.setLineDash([]);
+    g.fillStyle = g.strokeStyle;
+    g.beginPath(); g.arc(X(x), Y(y), 4, 0, 7); g.fill();
+    g.fillText(i === 0 ? "CW centroid" : "CCW centroid", X(x) + 6, Y(y) - 6);
+  });
+  g.lineWidth = 1;
+}
+
+function drawSpeeds() {
+  const c = $("speeds"), g = c.getContext("2d");
+  g.clearRect(0, 0, c.width, c.height);
+  if (!speeds.length) return;
+  let top = 5;
+  for (const t of speeds) top = Math.max(top, Math.abs(t.speed_left), Math.abs(t.speed_right), t.setpoint_left, t.setpoint_right);
+  top *= 1.2;
+  const X = (i) => (i / 119) * c.width, Y = (v) => c.height / 2 - (v / top) * (c.height / 2 - 4);
+  g.strokeStyle = "#ddd"; g.beginPath(); g.moveTo(0, Y(0)); g.lineTo(c.width, Y(0)); g.stroke();
+  const line = (key, color, dash) => {
+    g.strokeStyle = color; g.setLineDash(dash); g.beginPath();
+    speeds.forEach((t, i) => (i ? g.lineTo(X(i), Y(t[key])) : g.moveTo(X(i), Y(t[key]))));
+    g.stroke(); g.setLineDash([]);
+  };
+  line("setpoint_left", "#1f6feb", [5, 4]);
+  line("setpoint_right", "#d9480f", [5, 4]);
+  line("speed_left", "#1f6feb", []);
+  line("speed_right", "#d9480f", []);
+  g.fillStyle = "#1f6feb"; g.fillText("left", 6, 12);
+  g.fillStyle = "#d9480f"; g.fillText("right (dashed: set-points)", 40, 12);
+}
+
+function drawFloor(pose) {
+  const c = $("floor"), g = c.getContext("2d");
+  g.clearRect(0, 0, c.width, c.height);
+  if (!trail.length) return;
+  let x0 = -300, x1 = 300, y0 = -300, y1 = 300;
+  for (const [x, y] of trail) { x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y); }
+  const pad = 150;
+  const s = Math.min(c.width / (x1 - x0 + 2 * pad), c.height / (y1 - y0 + 2 * pad));
+  const X = (x) => (x - x0 + pad) * s, Y = (y) => c.height - (y - y0 + pad) * s;
+  g.strokeStyle = "#eee";
+  for (let gx = Math.ceil(x0 / 500) * 500; gx <= x1; gx += 500) { g.beginPath(); g.moveTo(X(gx), 0); g.lineTo(X(gx), c.height); g.stroke(); }
+  for (let gy = Math.ceil(y0 / 500) * 500; gy <= y1; gy += 500) { g.beginPath(); g.moveTo(0, Y(gy)); g.lineTo(c.width, Y(gy)); g.stroke(); }
+  g.strokeStyle = "#1f6feb"; g.beginPath();
+  trail.forEach(([x, y], i) => (i ? g.lineTo(X(x), Y(y)) : g.moveTo(X(x), Y(y))));
+  g.stroke();
+  const r = 130 * s; // the robot, about its wheelbase across
+  const th = pose.theta_rad;
+  g.fillStyle = "#283845"; g.beginPath();
+  g.moveTo(X(pose.x_mm) + Math.cos(th) * r, Y(pose.y_mm) - Math.sin(th) * r);
+  g.lineTo(X(pose.x_mm) + Math.cos(th + 2.5) * r * 0.7, Y(pose.y_mm) - Math.sin(th + 2.5) * r * 0.7);
+  g.lineTo(X(pose.x_mm) + Math.cos(th - 2.5) * r * 0.7, Y(pose.y_mm) - Math.sin(th - 2.5) * r * 0.7);
+  g.fill();
+  g.fillStyle = "#777"; g.fillText("grid 500 mm", 6, 12);
+}
+
+// --- live telemetry -----------------------------------------------------------
+
+const STATES = ["booting", "idle", "driving", "braking"];
+const PHASES = ["idle", "leg", "turn", "braking", "fault"];
+const TESTS = { 2: "umbmark-cw", 3: "umbmark-ccw", 4: "line", 5: "triangle" };
+
+function onEvent(ev) {
+  if (ev.kind === "telemetry") {
+    $("state").textContent = `${STATES[ev.state] || ev.state} / ${PHASES[ev.phase] || ev.phase}` +
+      (ev.test ? `, ${TESTS[ev.test] || ev.test} segment ${ev.segment}` : "") + (ev.fault ? `, FAULT ${ev.fault}` : "");
+    $("tests-done").textContent = ev.tests_done;
+    $("pwm-left").textContent = ev.duty_left;
+    $("pwm-right").textContent = ev.duty_right;
+    $("speed-left").textContent = fmt(ev.speed_left, 2);
+    $("speed-right").textContent = fmt(ev.speed_right, 2);
+    speeds.push(ev);
+    if (speeds.length > 120) speeds.shift();
+    drawSpeeds();
+    if (ev.pose) {
+      const last = trail[trail.length - 1];
+      if (!last || Math.hypot(last[0] - ev.pose.x_mm, last[1] - ev.pose.y_mm) > 2) trail.push([ev.pose.x_mm, ev.pose.y_mm]);
+      if (trail.length > 5000) trail.shift();
+      $("pose").textContent = `x ${fmt(ev.pose.x_mm, 0)} mm, y ${fmt(ev.pose.y_mm, 0)} mm, heading ${fmt(wrapDeg(ev.pose.theta_rad * 180 / Math.PI), 1)}°, robot time ${fmt(ev.pose.robot_time_s, 1)} s`;
+      drawFloor(ev.pose);
+    }
+  } else if (ev.kind === "notice") {
+    const n = ev.notice;
+    if (n.kind === "test_done") {
+      let text = `${TESTS[n.test] || n.test} done`;
+      if (ev.end_error_cm && session) {
+        const [x, y] = ev.end_error_cm;
+        text += `; the emulator's floor says x ${x.toFixed(2)} cm, y ${y.toFixed(2)} cm`;
+        fillEndPoint(TESTS[n.test], x, y, ev.leg_mm);
+      }
+      $("notice").textContent = text;
+    } else {
+      $("notice").textContent = `FAULT ${n.fault} in test ${n.test}, segment ${n.segment}`;
+    }
+  } else if (ev.kind === "error") {
+    status(ev.message, true);
+  }
+}
+
+// The emulated robot's end point goes into the next empty row of its
+// direction, as the operator with the tape measure would type it; a line's
+// gives the commanded and measured lengths for Es, when not typed yet.
+function fillEndPoint(test, x, y, legMm) {
+  const k = lastRound();
+  if (test === "line" && legMm) {
+    const round = session.rounds[k];
+    if (String(round.line_commanded_cm).trim() || String(round.line_measured_cm).trim()) return;
+    round.line_commanded_cm = (legMm / 10).toFixed(2);
+    round.line_measured_cm = (legMm / 10 + x).toFixed(2);
+    $("line_commanded_cm").value = round.line_commanded_cm;
+    $("line_measured_cm").value = round.line_measured_cm;
+    return save();
+  }
+  const dir = test === "umbmark-cw" ? "cw" : test === "umbmark-ccw" ? "ccw" : null;
+  if (!dir) return;
+  const rows = session.rounds[k][dir];
+  const i = rows.findIndex((p) => !String(p.x).trim() && !String(p.y).trim());
+  if (i < 0) return;
+  rows[i] = { x: x.toFixed(2), y: y.toFixed(2) };
+  $(`r${k}-${dir}-${i + 1}-x`).value = rows[i].x;
+  $(`r${k}-${dir}-${i + 1}-y`).value = rows[i].y;
+  save();
+}
+
+function listen() {
+  const es = new EventSource("/api/events");
+  es.onmessage = (m) => onEvent(JSON.parse(m.data));
+}
+
+async function startTest(test) {
+  try {
+    const leg = Number($("leg-mm").value);
+    const r = await api("POST", "/api/start", { test, leg_mm: leg });
+    $("notice").textContent = `${r.started} started, ${r.leg_mm} mm legs`;
+  } catch (e) {
+    $("notice").textContent = e.message;
+  }
+}
+
+window.addEventListener("load", () => {
+  $("connect").onclick = connect;
+  for (const b of document.querySelectorAll("button[data-test]")) b.onclick = () => startTest(b.dataset.test);
+  $("stop").onclick = () => api("POST", "/api/stop").catch((e) => ($("notice").textContent = e.message));
+  $("side_cm").addEventListener("input", edited("side_cm"));
+  $("line_commanded_cm").addEventListener("input", edited("line_commanded_cm"));
+  $("line_measured_cm").addEventListener("input", edited("line_measured_cm"));
+  $("import").onclick = importCsv;
+  $("apply").onclick = apply;
+  $("read-params").onclick = () => api("GET", "/api/params").then(showRobotParams).catch((e) => ($("apply-result").textContent = e.message));
+  listen();
+  loadRobots().catch((e) => status(e.message, true));
+  // A reopened tab picks up the session of the robot still connected.
+  api("GET", "/api/session")
+    .then((r) => {
+      $("session-file").textContent = r.session_file;
+      setSession(r.session, r.evaluation);
+      return api("GET", "/api/params").then(showRobotParams);
+    })
+    .catch(() => {});
+});

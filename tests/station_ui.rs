@@ -1,0 +1,397 @@
+//! The station's page in headless Chromium, as an operator uses it: connect
+//! the emulated robot, run a UMBmark CW to its end (the emulator's end point
+//! lands in the table), type ten end points, check the factors shown are the
+//! calib crate's for those points, send them and read the firmware's
+//! parameters back over the protocol; the session survives a reload. The
+//! screenshots are kept under target/ as artifacts.
+
+#[path = "support/mod.rs"]
+mod support;
+
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use calib::{umbmark_correction, Endpoint, UmbmarkParams, UmbmarkRuns};
+use fantoccini::{Client, ClientBuilder, Locator};
+
+/// Kills a child process when the test ends, passed or not.
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| hil::paths::workspace_root().join("target"))
+}
+
+const CW: [(f64, f64); 5] = [
+    (-12.3, -9.8),
+    (-10.9, -11.2),
+    (-13.4, -8.7),
+    (-11.8, -10.1),
+    (-12.9, -9.5),
+];
+const CCW: [(f64, f64); 5] = [
+    (5.2, -3.1),
+    (6.4, -2.2),
+    (4.8, -3.9),
+    (5.9, -2.6),
+    (6.1, -3.3),
+];
+
+async fn text(c: &Client, id: &str) -> String {
+    c.find(Locator::Id(id)).await.unwrap().text().await.unwrap()
+}
+
+async fn value_of(c: &Client, id: &str) -> Option<f64> {
+    c.find(Locator::Id(id))
+        .await
+        .unwrap()
+        .attr("data-value")
+        .await
+        .unwrap()
+        .map(|v| v.parse().unwrap())
+}
+
+/// Poll `id`'s text until `ok` holds, for up to `secs` seconds.
+async fn wait_text(c: &Client, id: &str, secs: u64, ok: impl Fn(&str) -> bool) -> String {
+    let until = Instant::now() + Duration::from_secs(secs);
+    loop {
+        let t = text(c, id).await;
+        if ok(&t) {
+            return t;
+        }
+        assert!(Instant::now() < until, "#{id} still {t:?} after {secs} s");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}
+
+async fn type_into(c: &Client, id: &str, v: &str) {
+    let e = c.find(Locator::Id(id)).await.unwrap();
+    e.clear().await.unwrap();
+    e.send_keys(v).await.unwrap();
+}
+
+async fn screenshot(c: &Client, name: &str) {
+    let png = c.screenshot().await.unwrap();
+    let path = target_dir().join(name);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, png).unwrap();
+    eprintln!("screenshot: {}", path.display());
+}
+
+/// Headless Chromium under chromedriver; the guard stops chromedriver.
+async fn browser(profile: &std::path::Path) -> (Client, Killed) {
+    let port = free_port();
+    let driver = Command::new("chromedriver")
+        .arg(format!("--port={port}"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("chromedriver runs (tools/setup.sh installs chromium and chromium-driver)");
+    let driver = Killed(driver);
+    let mut caps = serde_json::Map::new();
+    caps.insert(
+        "goog:chromeOptions".into(),
+        serde_json::json!({
+            "binary": "/usr/bin/chromium",
+            "args": [
+                "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                "--no-first-run", "--disable-background-networking",
+                "--disable-component-update", "--disable-sync",
+                "--window-size=1400,1900",
+                format!("--user-data-dir={}", profile.display()),
+            ],
+        }),
+    );
+    let mut client = None;
+    for _ in 0..100 {
+        match ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+            .capabilities(caps.clone())
+            .connect(&format!("http://127.0.0.1:{port}"))
+            .await
+        {
+            Ok(c) => {
+                client = Some(c);
+                break;
+            }
+            Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+        }
+    }
+    let c = client.expect("chromedriver accepts a session");
+    (c, driver)
+}
+
+/// `hil ui` with its sessions in `sessions`, extra arguments `args`; its URL.
+fn ui(sessions: &std::path::Path, args: &[&str]) -> (Killed, String) {
+    let elf = support::firmware_path("robust");
+    let mut ui = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(["ui", "--listen-port", "0", "--sessions"])
+        .arg(sessions)
+        .arg("--elf")
+        .arg(&elf)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("hil ui starts");
+    let mut url = String::new();
+    BufReader::new(ui.stdout.take().unwrap())
+        .read_line(&mut url)
+        .unwrap();
+    let url = url.trim().to_string();
+    assert!(url.starts_with("http://127.0.0.1:"), "{url:?}");
+    (Killed(ui), url)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
+    let sessions = std::env::temp_dir().join(format!("station-ui-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&sessions);
+
+    let (_ui, url) = ui(&sessions, &[]);
+
+    let (c, _driver) = browser(&sessions.join("chromium-profile")).await;
+
+    c.goto(&url).await.unwrap();
+    // The emulated ideal robot at 10x real time.
+    c.wait()
+        .at_most(Duration::from_secs(10))
+        .for_element(Locator::Css(
+            "#robot-select option[value='emulated:henrytwo-ideal']",
+        ))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    type_into(&c, "speed", "10").await;
+    c.find(Locator::Id("connect"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    wait_text(&c, "status", 30, |t| t.starts_with("connected:")).await;
+
+    // A UMBmark CW with 300 mm legs, watched to its end.
+    type_into(&c, "leg-mm", "300").await;
+    c.find(Locator::Css("button[data-test='umbmark-cw']"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    // Running: driving a segment, or braking and waiting between two.
+    wait_text(&c, "state", 20, |t| {
+        t.contains("driving") || t.contains("braking")
+    })
+    .await;
+    let done = wait_text(&c, "notice", 60, |t| t.contains("umbmark-cw done")).await;
+    assert!(done.contains("floor says"), "{done}");
+    // The emulator's end point went into the first CW row, as typed.
+    let first = c
+        .find(Locator::Id("r0-cw-1-x"))
+        .await
+        .unwrap()
+        .prop("value")
+        .await
+        .unwrap()
+        .unwrap_or_default();
+    assert!(first.parse::<f64>().is_ok(), "{first:?}");
+
+    // Ten end points as the operator measured them.
+    for (dir, points) in [("cw", CW), ("ccw", CCW)] {
+        for (i, (x, y)) in points.iter().enumerate() {
+            type_into(&c, &format!("r0-{dir}-{}-x", i + 1), &x.to_string()).await;
+            type_into(&c, &format!("r0-{dir}-{}-y", i + 1), &y.to_string()).await;
+        }
+    }
+    wait_text(&c, "save-state", 10, |t| t == "saved").await;
+
+    // The factors shown are the library's for those points, with the
+    // wheelbase the robot ran with.
+    let b = value_of(&c, "robot-wheelbase").await.unwrap();
+    let runs = UmbmarkRuns::new(
+        CW.iter().map(|&(x, y)| Endpoint::new(x, y)).collect(),
+        CCW.iter().map(|&(x, y)| Endpoint::new(x, y)).collect(),
+    )
+    .unwrap();
+    let want = umbmark_correction(
+        &runs,
+        &UmbmarkParams {
+            side_cm: 200.0,
+            wheelbase_mm: b,
+            ..Default::default()
+        },
+    );
+    let until = Instant::now() + Duration::from_secs(10);
+    while value_of(&c, "cl").await != Some(want.cl) {
+        assert!(
+            Instant::now() < until,
+            "cL shown {:?}, library {}",
+            value_of(&c, "cl").await,
+            want.cl
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    assert_eq!(value_of(&c, "cr").await, Some(want.cr));
+    assert_eq!(value_of(&c, "wheelbase").await, Some(want.wheelbase_mm));
+    assert_eq!(text(&c, "cl").await, format!("{:.6}", want.cl));
+    assert_eq!(text(&c, "cr").await, format!("{:.6}", want.cr));
+    assert_eq!(
+        text(&c, "wheelbase").await,
+        format!("{:.2}", want.wheelbase_mm)
+    );
+    assert_eq!(text(&c, "es").await, "-");
+    let robot_cl = value_of(&c, "robot-cl").await.unwrap();
+    let send_cl = value_of(&c, "send-cl").await.unwrap();
+    assert_eq!(send_cl, robot_cl * want.cl);
+    screenshot(&c, "station-ui.png").await;
+
+    // Send them; the firmware's parameters, read back with GET_PARAM, changed.
+    c.find(Locator::Id("apply"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    wait_text(&c, "apply-result", 10, |t| t.contains("read back")).await;
+    c.find(Locator::Id("read-params"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    tokio::time::sleep(Duration::from_millis(500)).await;
+    let robot_cl_after = value_of(&c, "robot-cl").await.unwrap();
+    let robot_b_after = value_of(&c, "robot-wheelbase").await.unwrap();
+    assert_eq!(robot_cl_after, send_cl as f32 as f64);
+    assert_eq!(robot_b_after, want.wheelbase_mm as f32 as f64);
+    assert_ne!(robot_cl_after, robot_cl);
+    assert_eq!(text(&c, "round-no").await, "1");
+
+    // A field that is not a number is marked and named, and saved as typed.
+    type_into(&c, "r1-cw-1-x", "12,5x").await;
+    let errors = wait_text(&c, "field-errors", 10, |t| t.contains("r1-cw-1-x")).await;
+    assert!(errors.contains("not a number"), "{errors}");
+    let class = c
+        .find(Locator::Id("r1-cw-1-x"))
+        .await
+        .unwrap()
+        .attr("class")
+        .await
+        .unwrap()
+        .unwrap_or_default();
+    assert!(class.contains("invalid"), "{class}");
+    let apply = c.find(Locator::Id("apply")).await.unwrap();
+    assert!(!apply.is_enabled().await.unwrap());
+
+    // Nothing typed is lost: a reloaded page shows round 1 and the rounds
+    // table with round 0's result; the file on disk holds the ten points.
+    c.refresh().await.unwrap();
+    wait_text(&c, "round-no", 10, |t| t == "1").await;
+    let rows = c.find_all(Locator::Css("#rounds tbody tr")).await.unwrap();
+    assert_eq!(rows.len(), 2);
+    // ...and the robot's parameters, read again.
+    let until = Instant::now() + Duration::from_secs(10);
+    while value_of(&c, "robot-cl").await != Some(robot_cl_after) {
+        assert!(
+            Instant::now() < until,
+            "robot parameters not shown after a reload"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let file = sessions.join("emulated-henrytwo-ideal.json");
+    let saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(saved["rounds"][0]["ccw"][4]["y"], "-3.3");
+    assert_eq!(saved["rounds"][1]["cw"][0]["x"], "12,5x");
+    assert_eq!(saved["rounds"][1]["params"]["c_left"], robot_cl_after);
+    screenshot(&c, "station-ui-applied.png").await;
+
+    c.close().await.unwrap();
+    let _ = std::fs::remove_dir_all(&sessions);
+}
+
+/// The same page drives a robot on a serial port: here `hil serve --pty`,
+/// offered with `hil ui --port`, opened by the page like a real device.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_drives_a_robot_on_a_serial_port() {
+    let elf = support::firmware_path("robust");
+    let mut serve = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(["serve", "--pty", "--speed", "10", "--elf"])
+        .arg(&elf)
+        .arg("--robot")
+        .arg(hil::paths::robot_config("henrytwo-ideal"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("hil serve starts");
+    let mut line = String::new();
+    BufReader::new(serve.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let serve = Killed(serve);
+    let pty = line.trim().strip_prefix("pty: ").unwrap().to_string();
+    let sessions = std::env::temp_dir().join(format!("station-serial-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&sessions);
+    let (_ui, url) = ui(&sessions, &["--port", &pty]);
+    let (c, _driver) = browser(&sessions.join("chromium-profile")).await;
+    c.goto(&url).await.unwrap();
+    // --port preselects the device.
+    c.wait()
+        .at_most(Duration::from_secs(10))
+        .for_element(Locator::Css("#robot-select option"))
+        .await
+        .unwrap();
+    let selected = c
+        .find(Locator::Id("robot-select"))
+        .await
+        .unwrap()
+        .prop("value")
+        .await
+        .unwrap();
+    assert_eq!(selected.as_deref(), Some(format!("serial:{pty}").as_str()));
+    c.find(Locator::Id("connect"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    wait_text(&c, "status", 30, |t| t.starts_with("connected:")).await;
+    type_into(&c, "leg-mm", "200").await;
+    c.find(Locator::Css("button[data-test='line']"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    wait_text(&c, "notice", 60, |t| t.contains("line done")).await;
+    // A serial robot shows no pose: the page says to measure the floor.
+    assert!(text(&c, "pose").await.contains("measure"));
+    let file = hil::station::session::file_name(&format!("serial-{pty}"));
+    assert!(sessions.join(&file).exists(), "no session file {file}");
+
+    // The port vanishes: the page says so.
+    drop(serve);
+    wait_text(&c, "status", 20, |t| t.contains("is gone")).await;
+    c.close().await.unwrap();
+    let _ = std::fs::remove_dir_all(&sessions);
+}
