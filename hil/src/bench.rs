@@ -1681,12 +1681,7 @@ impl Bench {
                     burst.state
                 };
                 if !matches!(state, CpuState::Running | CpuState::Sleeping) {
-                    let at = self.location();
-                    return Err(if state == CpuState::Crashed {
-                        BenchError::Crashed { at }
-                    } else {
-                        BenchError::Stopped { at }
-                    });
+                    return Err(self.stop_error(state));
                 }
                 if self.avr.handler().attention {
                     self.attend()?;
@@ -1742,12 +1737,7 @@ impl Bench {
                 }
             }
             if !matches!(state, CpuState::Running | CpuState::Sleeping) {
-                let at = self.location();
-                return Err(if state == CpuState::Crashed {
-                    BenchError::Crashed { at }
-                } else {
-                    BenchError::Stopped { at }
-                });
+                return Err(self.stop_error(state));
             }
             if self.avr.handler().attention {
                 self.attend()?;
@@ -1769,6 +1759,16 @@ impl Bench {
                     return Ok(false);
                 }
             }
+        }
+    }
+
+    /// The error for a CPU that stopped running and sleeping.
+    fn stop_error(&self, state: CpuState) -> BenchError {
+        let at = self.location();
+        if state == CpuState::Crashed {
+            BenchError::Crashed { at }
+        } else {
+            BenchError::Stopped { at }
         }
     }
 
@@ -1902,12 +1902,7 @@ impl Bench {
             self.sleep_cycles += self.avr.cycle() - before;
         }
         if !matches!(state, CpuState::Running | CpuState::Sleeping) {
-            let at = self.location();
-            return Err(if state == CpuState::Crashed {
-                BenchError::Crashed { at }
-            } else {
-                BenchError::Stopped { at }
-            });
+            return Err(self.stop_error(state));
         }
         if self.avr.handler().attention {
             self.attend()?;
