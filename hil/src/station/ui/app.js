@@ -218,7 +218,8 @@ function showEvaluation(ev) {
   $("correction-title").textContent = `Correction (calib, ${tri ? "Triangular Path" : "Borenstein"}, ` +
     `${session.solution === "exact" ? "exact solution" : "first order"})`;
   $("ed-eb-label").textContent = tri ? "Ed (line), Eb (triangle)" : "Ed, Eb";
-  $("emax-label").textContent = tri ? "triangle centroid r (cm)" : "Emax,syst (cm)";
+  // Constant markup only (the subscript), never anything typed.
+  $("emax-label").innerHTML = tri ? "triangle centroid r (cm)" : "E<sub>max,syst</sub> (cm)";
   setVal("ed", r ? r.ed : null, 6);
   setVal("eb", r ? r.eb : null, 6);
   setVal("cl", r ? r.cl : null, 6);
