@@ -3,7 +3,9 @@
 //! lands in the table), type ten end points, check the factors shown are the
 //! calib crate's for those points, send them and read the firmware's
 //! parameters back over the protocol; the session survives a reload. The
-//! screenshots are kept under target/ as artifacts.
+//! next round is a Triangular Path: ten line and triangle end points, the
+//! library's factors shown, first order and exact. The screenshots are kept
+//! under target/ as artifacts.
 
 #[path = "support/mod.rs"]
 mod support;
@@ -13,7 +15,10 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use calib::{umbmark_correction, Endpoint, UmbmarkParams, UmbmarkRuns};
+use calib::{
+    triangle_correction, umbmark_correction, Endpoint, LineRuns, Solution, TriangleParams,
+    TriangleRuns, UmbmarkParams, UmbmarkRuns,
+};
 use fantoccini::{Client, ClientBuilder, Locator};
 
 /// Kills a child process when the test ends, passed or not.
@@ -54,6 +59,29 @@ const CCW: [(f64, f64); 5] = [
     (5.9, -2.6),
     (6.1, -3.3),
 ];
+
+// The thesis' Triangular Path experiment 1 (Tables 8-9), cm.
+const LINE: [(f64, f64); 5] = [(5.8, 1.0), (7.1, 1.9), (3.6, 1.8), (2.5, 1.5), (4.4, 1.8)];
+const TRIANGLE: [(f64, f64); 5] = [
+    (3.3, 1.9),
+    (-6.9, 13.2),
+    (-8.8, 19.0),
+    (-9.1, 22.0),
+    (-6.5, 4.7),
+];
+
+/// Wait until `id`'s exact value is `want`.
+async fn wait_value(c: &Client, id: &str, want: f64) {
+    let until = Instant::now() + Duration::from_secs(10);
+    while value_of(c, id).await != Some(want) {
+        assert!(
+            Instant::now() < until,
+            "#{id} shows {:?}, library {want}",
+            value_of(c, id).await
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}
 
 async fn text(c: &Client, id: &str) -> String {
     c.find(Locator::Id(id)).await.unwrap().text().await.unwrap()
@@ -325,6 +353,69 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     assert_eq!(saved["rounds"][1]["cw"][0]["x"], "12,5x");
     assert_eq!(saved["rounds"][1]["params"]["c_left"], robot_cl_after);
     screenshot(&c, "station-ui-applied.png").await;
+
+    // Round 1 checks the correction with the Triangular Path: five lines and
+    // five triangles typed; the factors shown are the library's, first order
+    // and then exact.
+    c.find(Locator::Css("#method option[value='triangle']"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    for (test, points) in [("line", LINE), ("triangle", TRIANGLE)] {
+        for (i, (x, y)) in points.iter().enumerate() {
+            type_into(&c, &format!("r1-{test}-{}-x", i + 1), &x.to_string()).await;
+            type_into(&c, &format!("r1-{test}-{}-y", i + 1), &y.to_string()).await;
+        }
+    }
+    wait_text(&c, "save-state", 10, |t| t == "saved").await;
+    let line = LineRuns::new(LINE.iter().map(|&(x, y)| Endpoint::new(x, y)).collect()).unwrap();
+    let tri = TriangleRuns::complete(TRIANGLE.iter().map(|&(x, y)| Endpoint::new(x, y)).collect())
+        .unwrap();
+    let want_tri = |solution| {
+        triangle_correction(
+            &line,
+            &tri,
+            &TriangleParams {
+                side_cm: 200.0,
+                wheelbase_mm: robot_b_after,
+                line_correction_applied: false,
+                solution,
+                ..Default::default()
+            },
+        )
+    };
+    let first = want_tri(Solution::FirstOrder);
+    wait_value(&c, "cl", first.cl).await;
+    assert_eq!(value_of(&c, "cr").await, Some(first.cr));
+    assert_eq!(value_of(&c, "ed").await, Some(first.ed));
+    assert_eq!(value_of(&c, "eb").await, Some(first.eb));
+    assert_eq!(value_of(&c, "wheelbase").await, Some(first.wheelbase_mm));
+    assert_eq!(
+        value_of(&c, "send-cl").await,
+        Some(robot_cl_after * first.cl)
+    );
+    c.find(Locator::Id("exact-solution"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    let exact = want_tri(Solution::Exact);
+    assert_ne!(exact.eb, first.eb);
+    wait_value(&c, "eb", exact.eb).await;
+    assert_eq!(value_of(&c, "cl").await, Some(exact.cl));
+    assert_eq!(value_of(&c, "wheelbase").await, Some(exact.wheelbase_mm));
+    let apply = c.find(Locator::Id("apply")).await.unwrap();
+    assert!(apply.is_enabled().await.unwrap());
+    screenshot(&c, "station-ui-triangle.png").await;
+    wait_text(&c, "save-state", 10, |t| t == "saved").await;
+    let saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(saved["solution"], "exact");
+    assert_eq!(saved["rounds"][1]["method"], "triangle");
+    assert_eq!(saved["rounds"][1]["triangle"][4]["y"], "4.7");
 
     c.close().await.unwrap();
     let _ = std::fs::remove_dir_all(&sessions);

@@ -10,11 +10,16 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use calib::{umbmark_correction, Endpoint, ScaleError, UmbmarkParams, UmbmarkResult, UmbmarkRuns};
+use calib::{
+    triangle_correction, umbmark_correction, Endpoint, LineRuns, PartialEndpoint, ScaleError,
+    Solution, TriangleParams, TriangleResult, TriangleRuns, UmbmarkParams, UmbmarkResult,
+    UmbmarkRuns,
+};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// Runs per direction in a fresh round (UMBmark asks for five).
+/// Runs per direction in a fresh round (UMBmark asks for five, and so does
+/// the Triangular Path for its line and its triangle).
 pub const RUNS_PER_DIRECTION: usize = 5;
 /// End errors farther than this from the start are taken as a unit slip.
 const MAX_ERROR_CM: f64 = 500.0;
@@ -38,8 +43,8 @@ pub enum SessionError {
     },
     #[error("the CSV: {0}")]
     Csv(#[from] calib::Error),
-    #[error("the CSV holds UMBmark experiments {0}: give the one to import")]
-    WhichExperiment(String),
+    #[error("the CSV holds {method} experiments {list}: give the one to import")]
+    WhichExperiment { method: &'static str, list: String },
 }
 
 /// One end point as typed, centimetres.
@@ -57,12 +62,46 @@ pub struct Params {
     pub wheelbase_mm: f64,
 }
 
+/// The test a round's end points come from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// Five CW and five CCW squares (Borenstein & Feng). Session files
+    /// written before the Triangular Path was offered hold only these.
+    #[default]
+    Umbmark,
+    /// Five straight lines, then five counter-clockwise triangles (Ruan, Li
+    /// & Zhu), as the thesis ran it.
+    Triangle,
+}
+
+impl Method {
+    fn name(self) -> &'static str {
+        match self {
+            Method::Umbmark => "UMBmark",
+            Method::Triangle => "Triangular Path",
+        }
+    }
+}
+
+fn empty_runs() -> Vec<PointText> {
+    vec![PointText::default(); RUNS_PER_DIRECTION]
+}
+
 /// One round: runs with `params`, then (maybe) a correction sent.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RoundEntry {
     pub params: Params,
+    #[serde(default)]
+    pub method: Method,
     pub cw: Vec<PointText>,
     pub ccw: Vec<PointText>,
+    /// Triangular Path: the straight lines and the triangles. Older files
+    /// have neither: they get empty rows to type into.
+    #[serde(default = "empty_runs")]
+    pub line: Vec<PointText>,
+    #[serde(default = "empty_runs")]
+    pub triangle: Vec<PointText>,
     /// The straight line for Es: commanded and measured length, cm (both
     /// empty when not measured).
     #[serde(default)]
@@ -79,8 +118,11 @@ impl RoundEntry {
     pub fn new(params: Params) -> Self {
         Self {
             params,
-            cw: vec![PointText::default(); RUNS_PER_DIRECTION],
-            ccw: vec![PointText::default(); RUNS_PER_DIRECTION],
+            method: Method::default(),
+            cw: empty_runs(),
+            ccw: empty_runs(),
+            line: empty_runs(),
+            triangle: empty_runs(),
             line_commanded_cm: String::new(),
             line_measured_cm: String::new(),
             applied: None,
@@ -93,8 +135,12 @@ impl RoundEntry {
 pub struct Session {
     /// Which robot (the session file's name).
     pub robot: String,
-    /// Side of the square, cm, as typed.
+    /// Side of the square (or of the line and the triangle), cm, as typed.
     pub side_cm: String,
+    /// First-order formulas or the exact solution of the same model, for
+    /// every round (older files: first order, as they were computed).
+    #[serde(default)]
+    pub solution: Solution,
     pub rounds: Vec<RoundEntry>,
 }
 
@@ -103,6 +149,7 @@ impl Session {
         Self {
             robot: robot.into(),
             side_cm: "200".into(),
+            solution: Solution::default(),
             rounds: vec![RoundEntry::new(params)],
         }
     }
@@ -170,11 +217,18 @@ pub struct Correction {
 /// One round, evaluated.
 #[derive(Debug, Clone, Serialize)]
 pub struct RoundEval {
-    /// Runs with both values typed and valid, per direction.
+    pub method: Method,
+    /// Runs with every needed value typed and valid, per direction (UMBmark)
+    /// or per test (Triangular Path).
     pub complete_cw: usize,
     pub complete_ccw: usize,
-    /// The calib crate's analysis, once every row is complete and valid.
+    pub complete_line: usize,
+    pub complete_triangle: usize,
+    /// The calib crate's UMBmark analysis, once every row is complete and
+    /// valid (UMBmark rounds).
     pub result: Option<UmbmarkResult>,
+    /// The calib crate's Triangular Path analysis (triangle rounds).
+    pub triangle: Option<TriangleResult>,
     pub send: Option<Correction>,
 }
 
@@ -190,7 +244,7 @@ pub struct TableRow {
 #[derive(Debug, Clone, Serialize)]
 pub struct Evaluation {
     /// Field id -> what is wrong with it. Ids: `side_cm`,
-    /// `r{round}-{cw|ccw}-{run}-{x|y}` (run from 1),
+    /// `r{round}-{cw|ccw|line|triangle}-{run}-{x|y}` (run from 1),
     /// `r{round}-line_commanded_cm`, `r{round}-line_measured_cm`.
     pub errors: BTreeMap<String, String>,
     pub rounds: Vec<RoundEval>,
@@ -248,17 +302,26 @@ pub fn evaluate(session: &Session) -> Evaluation {
     let mut rounds = Vec::new();
     for (k, round) in session.rounds.iter().enumerate() {
         let mut ok = true;
-        let mut dirs: [Vec<Endpoint>; 2] = Default::default();
-        for (d, (name, points)) in [("cw", &round.cw), ("ccw", &round.ccw)]
-            .into_iter()
-            .enumerate()
-        {
+        // Only the runs of the round's method count (and are checked): the
+        // other method's rows stay as typed, for a switch back.
+        let groups: [(&str, &Vec<PointText>); 2] = match round.method {
+            Method::Umbmark => [("cw", &round.cw), ("ccw", &round.ccw)],
+            Method::Triangle => [("line", &round.line), ("triangle", &round.triangle)],
+        };
+        let mut dirs: [Vec<PartialEndpoint>; 2] = Default::default();
+        for (d, (name, points)) in groups.into_iter().enumerate() {
+            // The thesis lost the y of one experiment's triangles (the
+            // library then works from x alone and says so): a triangle
+            // column with no y at all is taken as not measured.
+            let y_optional = name == "triangle" && points.iter().all(|p| p.y.trim().is_empty());
             for (i, p) in points.iter().enumerate() {
                 let id = |axis: &str| format!("r{k}-{name}-{}-{axis}", i + 1);
                 let x = end_error(&p.x).map_err(|e| errors.insert(id("x"), e));
                 let y = end_error(&p.y).map_err(|e| errors.insert(id("y"), e));
                 match (x, y) {
-                    (Ok(Some(x)), Ok(Some(y))) => dirs[d].push(Endpoint::new(x, y)),
+                    (Ok(Some(x)), Ok(y)) if y.is_some() || y_optional => {
+                        dirs[d].push(PartialEndpoint::new(x, y))
+                    }
                     (Ok(Some(_)), Ok(None)) => {
                         errors.insert(id("y"), "y is missing".into());
                         ok = false;
@@ -296,53 +359,94 @@ pub fn evaluate(session: &Session) -> Evaluation {
                 None
             }
         };
-        let [cw, ccw] = dirs;
-        let (complete_cw, complete_ccw) = (cw.len(), ccw.len());
-        let result = match (ok, side) {
-            (true, Some(side_cm)) => UmbmarkRuns::new(cw, ccw).ok().map(|runs| {
-                let params = UmbmarkParams {
-                    side_cm,
-                    wheelbase_mm: round.params.wheelbase_mm,
-                    scale,
-                    ..UmbmarkParams::default()
-                };
-                umbmark_correction(&runs, &params)
-            }),
-            _ => None,
-        };
-        let send = result.as_ref().map(|r| {
-            let scale = r.es.unwrap_or(1.0);
+        let [first, second] = dirs;
+        let complete = |v: &[PartialEndpoint]| v.iter().filter_map(|p| p.complete()).collect();
+        let (n_first, n_second) = (first.len(), second.len());
+        let (mut result, mut triangle) = (None, None);
+        if let (true, Some(side_cm)) = (ok, side) {
+            match round.method {
+                Method::Umbmark => {
+                    result = UmbmarkRuns::new(complete(&first), complete(&second))
+                        .ok()
+                        .map(|runs| {
+                            let params = UmbmarkParams {
+                                side_cm,
+                                wheelbase_mm: round.params.wheelbase_mm,
+                                scale,
+                                solution: session.solution,
+                                ..UmbmarkParams::default()
+                            };
+                            umbmark_correction(&runs, &params)
+                        })
+                }
+                Method::Triangle => {
+                    let runs = LineRuns::new(complete(&first))
+                        .and_then(|line| TriangleRuns::new(second.clone()).map(|tri| (line, tri)));
+                    triangle = runs.ok().map(|(line, tri)| {
+                        let params = TriangleParams {
+                            side_cm,
+                            wheelbase_mm: round.params.wheelbase_mm,
+                            scale,
+                            solution: session.solution,
+                            // One round runs its lines and triangles with the
+                            // same parameters (the page sends once, after
+                            // both), so the triangles' legs still carry the
+                            // line's curvature.
+                            line_correction_applied: false,
+                            ..TriangleParams::default()
+                        };
+                        triangle_correction(&line, &tri, &params)
+                    })
+                }
+            }
+        }
+        let factors = result
+            .as_ref()
+            .map(|r| (r.cl, r.cr, r.wheelbase_mm, r.es))
+            .or(triangle
+                .as_ref()
+                .map(|r| (r.cl, r.cr, r.wheelbase_mm, r.es)));
+        let send = factors.map(|(cl, cr, wheelbase_mm, es)| {
+            let scale = es.unwrap_or(1.0);
             Correction {
-                c_left: round.params.c_left * r.cl / scale,
-                c_right: round.params.c_right * r.cr / scale,
-                wheelbase_mm: r.wheelbase_mm,
-                es: r.es,
+                c_left: round.params.c_left * cl / scale,
+                c_right: round.params.c_right * cr / scale,
+                wheelbase_mm,
+                es,
             }
         });
+        let umbmark = round.method == Method::Umbmark;
+        let count = |on: bool, n: usize| if on { n } else { 0 };
         rounds.push(RoundEval {
-            complete_cw,
-            complete_ccw,
+            method: round.method,
+            complete_cw: count(umbmark, n_first),
+            complete_ccw: count(umbmark, n_second),
+            complete_line: count(!umbmark, n_first),
+            complete_triangle: count(!umbmark, n_second),
             result,
+            triangle,
             send,
         });
     }
     // Each round against the first, as the calib crate defines a round: the
     // wheelbase the first ran with, the one the later round measured.
+    // Only rounds of the first round's method compare with it (a triangle's
+    // error is not a square's); a triangle without y has no error to compare.
     let table = match rounds.first() {
-        Some(RoundEval {
-            result: Some(r0), ..
-        }) => rounds
+        Some(first) => rounds
             .iter()
             .enumerate()
             .skip(1)
             .filter_map(|(k, ev)| {
-                ev.result.as_ref().map(|rk| TableRow {
-                    round: k,
-                    row: calib::improvement(r0, rk),
-                })
+                let row = match (&first.result, &ev.result, &first.triangle, &ev.triangle) {
+                    (Some(r0), Some(rk), _, _) => Some(calib::improvement(r0, rk)),
+                    (_, _, Some(t0), Some(tk)) => calib::round::triangle_improvement(t0, tk).ok(),
+                    _ => None,
+                };
+                row.map(|row| TableRow { round: k, row })
             })
             .collect(),
-        _ => Vec::new(),
+        None => Vec::new(),
     };
     Evaluation {
         errors,
@@ -352,44 +456,74 @@ pub fn evaluate(session: &Session) -> Evaluation {
 }
 
 /// Replace the end points of `round` with experiment `experiment` of a
-/// UMBmark table (`experiment,direction,run,x_cm,y_cm`); `None` takes the
-/// table's only experiment.
+/// table in the round's method's layout: UMBmark
+/// (`experiment,direction,run,x_cm,y_cm`) or Triangular Path
+/// (`experiment,test,run,x_cm,y_cm`, the triangles' y may be empty). `None`
+/// takes the table's only experiment.
 pub fn import_csv(
     session: &mut Session,
     round: usize,
     text: &str,
     experiment: Option<u32>,
 ) -> Result<(), SessionError> {
+    let method = session
+        .rounds
+        .get(round)
+        .map(|r| r.method)
+        .unwrap_or_default();
     let experiment = match experiment {
         Some(e) => e,
         None => {
-            let all = calib::csv::umbmark_experiments(text)?;
+            let all = match method {
+                Method::Umbmark => calib::csv::umbmark_experiments(text)?,
+                Method::Triangle => calib::csv::triangle_experiments(text)?,
+            };
             match all.as_slice() {
                 [one] => *one,
                 _ => {
-                    return Err(SessionError::WhichExperiment(
-                        all.iter()
+                    return Err(SessionError::WhichExperiment {
+                        method: method.name(),
+                        list: all
+                            .iter()
                             .map(u32::to_string)
                             .collect::<Vec<_>>()
                             .join(", "),
-                    ))
+                    })
                 }
             }
         }
     };
-    let runs = calib::csv::read_umbmark_csv(text, experiment, &calib::csv::CsvOptions::default())?;
-    let text_of = |points: &[Endpoint]| {
+    let text_of = |points: Vec<PartialEndpoint>| {
         points
-            .iter()
+            .into_iter()
             .map(|p| PointText {
                 x: p.x_cm.to_string(),
-                y: p.y_cm.to_string(),
+                y: p.y_cm.map(|y| y.to_string()).unwrap_or_default(),
             })
             .collect()
     };
-    if let Some(r) = session.rounds.get_mut(round) {
-        r.cw = text_of(runs.cw());
-        r.ccw = text_of(runs.ccw());
+    let partial = |points: &[Endpoint]| points.iter().map(|&p| p.into()).collect();
+    let Some(r) = session.rounds.get_mut(round) else {
+        return Ok(());
+    };
+    match method {
+        Method::Umbmark => {
+            let opts = calib::csv::CsvOptions::default();
+            let runs = calib::csv::read_umbmark_csv(text, experiment, &opts)?;
+            r.cw = text_of(partial(runs.cw()));
+            r.ccw = text_of(partial(runs.ccw()));
+        }
+        Method::Triangle => {
+            // As `hil calibrate` reads the thesis' table: one experiment
+            // there lost its triangles' y.
+            let opts = calib::csv::CsvOptions {
+                triangle_y_optional: true,
+                ..Default::default()
+            };
+            let exp = calib::csv::read_triangle_csv(text, experiment, &opts)?;
+            r.line = text_of(partial(exp.line.runs()));
+            r.triangle = text_of(exp.triangle.runs().to_vec());
+        }
     }
     Ok(())
 }
@@ -522,5 +656,141 @@ mod tests {
         save(&path, &s).unwrap();
         assert_eq!(load(&path).unwrap(), Some(s));
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    const LINE: [(f64, f64); 5] = [(5.8, 1.0), (7.1, 1.9), (3.6, 1.8), (2.5, 1.5), (4.4, 1.8)];
+    const TRIANGLE: [(f64, f64); 5] = [
+        (3.3, 1.9),
+        (-6.9, 13.2),
+        (-8.8, 19.0),
+        (-9.1, 22.0),
+        (-6.5, 4.7),
+    ];
+
+    fn triangle_session(solution: Solution) -> Session {
+        let mut s = Session::new("t", NOMINAL);
+        s.solution = solution;
+        let r = &mut s.rounds[0];
+        r.method = Method::Triangle;
+        for (rows, points) in [(&mut r.line, LINE), (&mut r.triangle, TRIANGLE)] {
+            for (row, (x, y)) in rows.iter_mut().zip(points) {
+                row.x = x.to_string();
+                row.y = y.to_string();
+            }
+        }
+        s
+    }
+
+    fn library_triangle(solution: Solution) -> TriangleResult {
+        let line = LineRuns::new(LINE.iter().map(|&(x, y)| Endpoint::new(x, y)).collect());
+        let tri =
+            TriangleRuns::complete(TRIANGLE.iter().map(|&(x, y)| Endpoint::new(x, y)).collect());
+        triangle_correction(
+            &line.unwrap(),
+            &tri.unwrap(),
+            &TriangleParams {
+                side_cm: 200.0,
+                wheelbase_mm: 130.0,
+                line_correction_applied: false,
+                solution,
+                ..Default::default()
+            },
+        )
+    }
+
+    #[test]
+    fn ten_triangle_points_give_the_libraries_correction() {
+        for solution in [Solution::FirstOrder, Solution::Exact] {
+            let ev = evaluate(&triangle_session(solution));
+            assert!(ev.errors.is_empty(), "{:?}", ev.errors);
+            let round = &ev.rounds[0];
+            assert!(round.result.is_none());
+            assert_eq!((round.complete_line, round.complete_triangle), (5, 5));
+            let got = round.triangle.as_ref().unwrap();
+            let want = library_triangle(solution);
+            assert_eq!(got, &want);
+            assert_eq!(got.solution, solution);
+            let send = round.send.unwrap();
+            assert_eq!(send.c_left, want.cl);
+            assert_eq!(send.c_right, want.cr);
+            assert_eq!(send.wheelbase_mm, want.wheelbase_mm);
+        }
+        assert_ne!(
+            library_triangle(Solution::Exact).eb,
+            library_triangle(Solution::FirstOrder).eb
+        );
+    }
+
+    #[test]
+    fn triangle_fields_are_checked_and_the_y_column_may_be_unmeasured() {
+        let mut s = triangle_session(Solution::FirstOrder);
+        s.rounds[0].line[1].x = "7,1".into();
+        s.rounds[0].triangle[3].y = "".into();
+        s.rounds[0].line[4].y = "x".into();
+        let ev = evaluate(&s);
+        assert!(ev.errors["r0-triangle-4-y"].contains("missing"));
+        assert!(ev.errors["r0-line-5-y"].contains("not a number"));
+        assert!(!ev.errors.contains_key("r0-line-2-x"));
+        assert!(ev.rounds[0].triangle.is_none());
+        // No triangle y at all: x alone, as the library allows.
+        let mut s = triangle_session(Solution::FirstOrder);
+        for p in &mut s.rounds[0].triangle {
+            p.y.clear();
+        }
+        let ev = evaluate(&s);
+        assert!(ev.errors.is_empty(), "{:?}", ev.errors);
+        let r = ev.rounds[0].triangle.as_ref().unwrap();
+        assert_eq!(r.triangle_centroid.y_cm, None);
+        assert!(ev.rounds[0].send.is_some());
+    }
+
+    #[test]
+    fn triangle_csv_import_fills_the_round() {
+        let mut s = Session::new("t", NOMINAL);
+        s.rounds[0].method = Method::Triangle;
+        let mut text = String::from("experiment,test,run,x_cm,y_cm\n");
+        for (test, points) in [("line", LINE), ("triangle", TRIANGLE)] {
+            for (i, (x, y)) in points.iter().enumerate() {
+                text += &format!("1,{test},{},{x},{y}\n", i + 1);
+                // Experiment 2 as the thesis' table has it: no triangle y.
+                let y = if test == "line" {
+                    y.to_string()
+                } else {
+                    String::new()
+                };
+                text += &format!("2,{test},{},{x},{y}\n", i + 1);
+            }
+        }
+        let e = import_csv(&mut s, 0, &text, None).unwrap_err();
+        assert!(
+            e.to_string().contains("Triangular Path experiments 1, 2"),
+            "{e}"
+        );
+        import_csv(&mut s, 0, &text, Some(1)).unwrap();
+        assert_eq!(
+            evaluate(&s).rounds[0].triangle,
+            Some(library_triangle(Solution::FirstOrder))
+        );
+        import_csv(&mut s, 0, &text, Some(2)).unwrap();
+        assert_eq!(s.rounds[0].triangle[2].y, "");
+        let ev = evaluate(&s);
+        assert!(ev.errors.is_empty(), "{:?}", ev.errors);
+        assert!(ev.rounds[0].triangle.is_some());
+        // The UMBmark rows were left alone.
+        assert!(s.rounds[0].cw.iter().all(|p| p.x.is_empty()));
+    }
+
+    #[test]
+    fn a_session_from_before_the_triangle_loads_as_umbmark() {
+        let mut old = serde_json::to_value(filled()).unwrap();
+        old.as_object_mut().unwrap().remove("solution");
+        for key in ["method", "line", "triangle"] {
+            old["rounds"][0].as_object_mut().unwrap().remove(key);
+        }
+        let s: Session = serde_json::from_value(old).unwrap();
+        assert_eq!(s.rounds[0].method, Method::Umbmark);
+        assert_eq!(s.solution, Solution::FirstOrder);
+        assert_eq!(s.rounds[0].triangle.len(), RUNS_PER_DIRECTION);
+        assert_eq!(s, filled());
     }
 }

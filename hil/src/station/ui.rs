@@ -60,7 +60,7 @@ impl IntoResponse for UiError {
     fn into_response(self) -> Response {
         let status = match &self {
             UiError::Input(_) | UiError::Session(SessionError::Csv(_)) => StatusCode::BAD_REQUEST,
-            UiError::Session(SessionError::WhichExperiment(_)) => StatusCode::BAD_REQUEST,
+            UiError::Session(SessionError::WhichExperiment { .. }) => StatusCode::BAD_REQUEST,
             UiError::NotConnected => StatusCode::CONFLICT,
             UiError::Link(LinkError::Refused { .. } | LinkError::OutOfRange { .. }) => {
                 StatusCode::CONFLICT
@@ -586,7 +586,10 @@ async fn apply(State(app): State<Shared>) -> Result<Json<serde_json::Value>, UiE
     };
     let mut new = s.clone();
     new.rounds[last].applied = Some(readback);
-    new.rounds.push(RoundEntry::new(readback));
+    // The next round checks the correction with the same test.
+    let mut next = RoundEntry::new(readback);
+    next.method = new.rounds[last].method;
+    new.rounds.push(next);
     session::save(file, &new)?;
     *s = new;
     Ok(Json(json!({

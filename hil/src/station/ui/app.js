@@ -94,6 +94,15 @@ function showRobotParams(p) {
 
 const lastRound = () => session.rounds.length - 1;
 
+// The two groups of runs of a method, as the session names them, and how
+// the page labels them.
+const GROUPS = {
+  umbmark: [["cw", "CW"], ["ccw", "CCW"]],
+  triangle: [["line", "line"], ["triangle", "triangle"]],
+};
+const CSV_LAYOUT = { umbmark: "experiment,direction,run,x_cm,y_cm", triangle: "experiment,test,run,x_cm,y_cm" };
+const groupsOf = (round) => GROUPS[round.method || "umbmark"];
+
 function setSession(s, ev) {
   session = s;
   const k = lastRound();
@@ -105,13 +114,30 @@ function setSession(s, ev) {
   $("side_cm").value = s.side_cm;
   $("line_commanded_cm").value = round.line_commanded_cm;
   $("line_measured_cm").value = round.line_measured_cm;
+  $("method").value = round.method || "umbmark";
+  $("exact-solution").checked = s.solution === "exact";
+  showPoints();
+  showEvaluation(ev);
+}
+
+// The rows of the round's method; the other method's rows stay in the
+// session as typed.
+function showPoints() {
+  const k = lastRound();
+  const round = session.rounds[k];
+  const groups = groupsOf(round);
+  groups.forEach(([, label], g) => {
+    $(`head-${g}-x`).textContent = label + " x";
+    $(`head-${g}-y`).textContent = label + " y";
+  });
+  $("csv-layout").textContent = CSV_LAYOUT[round.method || "umbmark"];
   const body = $("points").tBodies[0];
   body.innerHTML = "";
-  const n = Math.max(round.cw.length, round.ccw.length);
+  const n = Math.max(...groups.map(([dir]) => round[dir].length));
   for (let i = 0; i < n; i++) {
     const tr = body.insertRow();
     tr.insertCell().textContent = i + 1;
-    for (const dir of ["cw", "ccw"]) {
+    for (const [dir] of groups) {
       for (const axis of ["x", "y"]) {
         const td = tr.insertCell();
         if (i >= round[dir].length) continue;
@@ -127,7 +153,6 @@ function setSession(s, ev) {
       }
     }
   }
-  showEvaluation(ev);
 }
 
 function edited(field) {
@@ -188,19 +213,28 @@ function showEvaluation(ev) {
   }
   $("field-errors").textContent = msgs.join("; ");
   const cur = ev.rounds[lastRound()];
-  const r = cur.result;
+  const tri = cur.method === "triangle";
+  const r = tri ? cur.triangle : cur.result;
+  $("correction-title").textContent = `Correction (calib, ${tri ? "Triangular Path" : "Borenstein"}, ` +
+    `${session.solution === "exact" ? "exact solution" : "first order"})`;
+  $("ed-eb-label").textContent = tri ? "Ed (line), Eb (triangle)" : "Ed, Eb";
+  // Constant markup only (the subscript), never anything typed.
+  $("emax-label").innerHTML = tri ? "triangle centroid r (cm)" : "E<sub>max,syst</sub> (cm)";
+  setVal("ed", r ? r.ed : null, 6);
+  setVal("eb", r ? r.eb : null, 6);
   setVal("cl", r ? r.cl : null, 6);
   setVal("cr", r ? r.cr : null, 6);
   setVal("wheelbase", r ? r.wheelbase_mm : null, 2);
   setVal("es", r ? r.es : null, 6);
-  $("ed-eb").textContent = r ? `${fmt(r.ed, 6)}, ${fmt(r.eb, 6)}` : "-";
-  $("emax").textContent = r ? fmt(r.e_max_cm, 2) : "-";
+  $("emax").textContent = r ? fmt(tri ? r.triangle_r_cm : r.e_max_cm, 2) : "-";
   const s = cur.send;
   setVal("send-cl", s ? s.c_left : null, 6);
   setVal("send-cr", s ? s.c_right : null, 6);
   setVal("send-wheelbase", s ? s.wheelbase_mm : null, 2);
   $("apply").disabled = !s;
-  $("warnings").textContent = r ? r.warnings.join(" ") : `${cur.complete_cw} of CW and ${cur.complete_ccw} of CCW runs complete`;
+  $("warnings").textContent = r ? r.warnings.join(" ") : tri
+    ? `${cur.complete_line} of the line and ${cur.complete_triangle} of the triangle runs complete`
+    : `${cur.complete_cw} of CW and ${cur.complete_ccw} of CCW runs complete`;
   drawScatter();
   showRounds();
 }
@@ -209,10 +243,13 @@ function showRounds() {
   const body = $("rounds").tBodies[0];
   body.innerHTML = "";
   session.rounds.forEach((round, k) => {
-    const r = evaluation.rounds[k].result;
+    const ev = evaluation.rounds[k];
+    const r = ev.result, t = ev.triangle;
+    const errs = r ? [fmt(r.r_cg_cw_cm, 2), fmt(r.r_cg_ccw_cm, 2), fmt(r.e_max_cm, 2)]
+      : t ? [fmt(Math.hypot(t.line_centroid.x_cm, t.line_centroid.y_cm), 2), fmt(t.triangle_r_cm, 2), "-"]
+      : ["-", "-", "-"];
     const tr = body.insertRow();
-    for (const v of [k, fmt(round.params.c_left, 6), fmt(round.params.c_right, 6), fmt(round.params.wheelbase_mm, 2),
-      r ? fmt(r.r_cg_cw_cm, 2) : "-", r ? fmt(r.r_cg_ccw_cm, 2) : "-", r ? fmt(r.e_max_cm, 2) : "-"]) {
+    for (const v of [k, fmt(round.params.c_left, 6), fmt(round.params.c_right, 6), fmt(round.params.wheelbase_mm, 2), ...errs]) {
       tr.insertCell().textContent = v;
     }
   });
@@ -264,12 +301,16 @@ function drawScatter() {
   if (!session) return;
   const k = lastRound();
   const round = session.rounds[k];
+  const groups = groupsOf(round);
   const pts = (dir) => round[dir].map((p) => [parseFloat(String(p.x).replace(",", ".")), parseFloat(String(p.y).replace(",", "."))])
     .filter(([x, y]) => isFinite(x) && isFinite(y));
-  const cw = pts("cw"), ccw = pts("ccw");
-  const r = evaluation && evaluation.rounds[k].result;
-  const cents = r ? [[r.centroid_cw.x_cm, r.centroid_cw.y_cm], [r.centroid_ccw.x_cm, r.centroid_ccw.y_cm]] : [];
-  const all = [[0, 0], ...cw, ...ccw, ...cents];
+  const cw = pts(groups[0][0]), ccw = pts(groups[1][0]);
+  const ev = evaluation && evaluation.rounds[k];
+  const r = ev && ev.result, t = ev && ev.triangle;
+  // A triangle centroid without y (not measured) is not drawn.
+  const cents = r ? [[r.centroid_cw.x_cm, r.centroid_cw.y_cm], [r.centroid_ccw.x_cm, r.centroid_ccw.y_cm]]
+    : t ? [[t.line_centroid.x_cm, t.line_centroid.y_cm], [t.triangle_centroid.x_cm, t.triangle_centroid.y_cm]] : [];
+  const all = [[0, 0], ...cw, ...ccw, ...cents.filter(([, y]) => y !== null && y !== undefined)];
   let span = 5;
   for (const [x, y] of all) span = Math.max(span, Math.abs(x), Math.abs(y));
   span *= 1.15;
@@ -289,13 +330,14 @@ function drawScatter() {
   }
   // Centroids and the vectors from the start to them, as the thesis GUI drew them.
   cents.forEach(([x, y], i) => {
+    if (y === null || y === undefined) return;
     g.strokeStyle = i === 0 ? "#c81e1e" : "#000";
     g.setLineDash([6, 4]);
     g.beginPath(); g.moveTo(X(0), Y(0)); g.lineTo(X(x), Y(y)); g.stroke();
     g.setLineDash([]);
     g.fillStyle = g.strokeStyle;
     g.beginPath(); g.arc(X(x), Y(y), 4, 0, 7); g.fill();
-    g.fillText(i === 0 ? "CW centroid" : "CCW centroid", X(x) + 6, Y(y) - 6);
+    g.fillText(groups[i][1] + " centroid", X(x) + 6, Y(y) - 6);
   });
   g.lineWidth = 1;
 }
@@ -395,7 +437,8 @@ function onEvent(ev) {
 // gives the commanded and measured lengths for Es, when not typed yet.
 function fillEndPoint(test, x, y, legMm) {
   const k = lastRound();
-  if (test === "line" && legMm) {
+  const tri = session.rounds[k].method === "triangle";
+  if (test === "line" && legMm && !tri) {
     const round = session.rounds[k];
     if (String(round.line_commanded_cm).trim() || String(round.line_measured_cm).trim()) return;
     round.line_commanded_cm = (legMm / 10).toFixed(2);
@@ -404,7 +447,9 @@ function fillEndPoint(test, x, y, legMm) {
     $("line_measured_cm").value = round.line_measured_cm;
     return save();
   }
-  const dir = test === "umbmark-cw" ? "cw" : test === "umbmark-ccw" ? "ccw" : null;
+  // In a Triangular Path round the line and the triangle are its runs.
+  const dir = tri ? (test === "line" || test === "triangle" ? test : null)
+    : test === "umbmark-cw" ? "cw" : test === "umbmark-ccw" ? "ccw" : null;
   if (!dir) return;
   const rows = session.rounds[k][dir];
   const i = rows.findIndex((p) => !String(p.x).trim() && !String(p.y).trim());
@@ -437,6 +482,15 @@ window.addEventListener("load", () => {
   $("side_cm").addEventListener("input", edited("side_cm"));
   $("line_commanded_cm").addEventListener("input", edited("line_commanded_cm"));
   $("line_measured_cm").addEventListener("input", edited("line_measured_cm"));
+  $("method").addEventListener("change", () => {
+    session.rounds[lastRound()].method = $("method").value;
+    showPoints();
+    save();
+  });
+  $("exact-solution").addEventListener("change", () => {
+    session.solution = $("exact-solution").checked ? "exact" : "first-order";
+    save();
+  });
   $("import").onclick = importCsv;
   $("apply").onclick = apply;
   $("read-params").onclick = () => api("GET", "/api/params").then(showRobotParams).catch((e) => ($("apply-result").textContent = e.message));
