@@ -110,6 +110,11 @@ async fn wait_text(c: &Client, id: &str, secs: u64, ok: impl Fn(&str) -> bool) -
     }
 }
 
+/// Click the element `at` (it must exist).
+async fn click(c: &Client, at: Locator<'_>) {
+    c.find(at).await.unwrap().click().await.unwrap();
+}
+
 async fn type_into(c: &Client, id: &str, v: &str) {
     let e = c.find(Locator::Id(id)).await.unwrap();
     e.clear().await.unwrap();
@@ -210,22 +215,12 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
         .await
         .unwrap();
     type_into(&c, "speed", "10").await;
-    c.find(Locator::Id("connect"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Id("connect")).await;
     wait_text(&c, "status", 30, |t| t.starts_with("connected:")).await;
 
     // A UMBmark CW with 300 mm legs, watched to its end.
     type_into(&c, "leg-mm", "300").await;
-    c.find(Locator::Css("button[data-test='umbmark-cw']"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Css("button[data-test='umbmark-cw']")).await;
     // Running: driving a segment, or braking and waiting between two.
     wait_text(&c, "state", 20, |t| {
         t.contains("driving") || t.contains("braking")
@@ -294,19 +289,9 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     screenshot(&c, "station-ui.png").await;
 
     // Send them; the firmware's parameters, read back with GET_PARAM, changed.
-    c.find(Locator::Id("apply"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Id("apply")).await;
     wait_text(&c, "apply-result", 10, |t| t.contains("read back")).await;
-    c.find(Locator::Id("read-params"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Id("read-params")).await;
     tokio::time::sleep(Duration::from_millis(500)).await;
     let robot_cl_after = value_of(&c, "robot-cl").await.unwrap();
     let robot_b_after = value_of(&c, "robot-wheelbase").await.unwrap();
@@ -357,12 +342,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     // Round 1 checks the correction with the Triangular Path: five lines and
     // five triangles typed; the factors shown are the library's, first order
     // and then exact.
-    c.find(Locator::Css("#method option[value='triangle']"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Css("#method option[value='triangle']")).await;
     for (test, points) in [("line", LINE), ("triangle", TRIANGLE)] {
         for (i, (x, y)) in points.iter().enumerate() {
             type_into(&c, &format!("r1-{test}-{}-x", i + 1), &x.to_string()).await;
@@ -396,12 +376,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
         value_of(&c, "send-cl").await,
         Some(robot_cl_after * first.cl)
     );
-    c.find(Locator::Id("exact-solution"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Id("exact-solution")).await;
     let exact = want_tri(Solution::Exact);
     assert_ne!(exact.eb, first.eb);
     wait_value(&c, "eb", exact.eb).await;
@@ -460,20 +435,10 @@ async fn the_page_drives_a_robot_on_a_serial_port() {
         .await
         .unwrap();
     assert_eq!(selected.as_deref(), Some(format!("serial:{pty}").as_str()));
-    c.find(Locator::Id("connect"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Id("connect")).await;
     wait_text(&c, "status", 30, |t| t.starts_with("connected:")).await;
     type_into(&c, "leg-mm", "200").await;
-    c.find(Locator::Css("button[data-test='line']"))
-        .await
-        .unwrap()
-        .click()
-        .await
-        .unwrap();
+    click(&c, Locator::Css("button[data-test='line']")).await;
     wait_text(&c, "notice", 60, |t| t.contains("line done")).await;
     // A serial robot shows no pose: the page says to measure the floor.
     assert!(text(&c, "pose").await.contains("measure"));
