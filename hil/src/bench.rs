@@ -1690,15 +1690,10 @@ impl Bench {
                 let now = self.avr.cycle();
                 if n % 64 == 0 || now >= check_at {
                     check_at = now + ms;
-                    if done(self) {
-                        return Ok(true);
-                    }
-                    if now >= hang_check_at {
-                        hang_check_at = now + ms;
-                        self.check_hang()?;
-                    }
-                    if now >= limit {
-                        return Ok(false);
+                    if let Some(end) =
+                        self.check_point(now, &mut done, &mut hang_check_at, ms, limit)?
+                    {
+                        return Ok(end);
                     }
                 }
             }
@@ -1748,18 +1743,33 @@ impl Bench {
             // of robot time while the CPU sleeps through long stretches.
             if n % 64 == 0 || now >= check_at {
                 check_at = now + ms;
-                if done(self) {
-                    return Ok(true);
-                }
-                if now >= hang_check_at {
-                    hang_check_at = now + ms;
-                    self.check_hang()?;
-                }
-                if now >= limit {
-                    return Ok(false);
+                if let Some(end) =
+                    self.check_point(now, &mut done, &mut hang_check_at, ms, limit)?
+                {
+                    return Ok(end);
                 }
             }
         }
+    }
+
+    /// `run_until`'s periodic check at cycle `now`: `done`, the hang watch
+    /// (once per `ms`), the time limit. Some(end) ends the run.
+    fn check_point(
+        &mut self,
+        now: u64,
+        done: &mut impl FnMut(&Bench) -> bool,
+        hang_check_at: &mut u64,
+        ms: u64,
+        limit: u64,
+    ) -> Result<Option<bool>, BenchError> {
+        if done(self) {
+            return Ok(Some(true));
+        }
+        if now >= *hang_check_at {
+            *hang_check_at = now + ms;
+            self.check_hang()?;
+        }
+        Ok((now >= limit).then_some(false))
     }
 
     /// The error for a CPU that stopped running and sleeping.
