@@ -302,6 +302,23 @@ pub struct RunRow {
     pub y_cm: f64,
 }
 
+/// The table rows of a complete set of runs: the first group (CW, or the
+/// lines) named `names[0]`, the second `names[1]`.
+fn run_rows(full: &Partial, names: [&'static str; 2]) -> Vec<RunRow> {
+    let n = full.plan.runs_per_direction;
+    full.runs
+        .iter()
+        .map(|r| RunRow {
+            run: r.spec.index % n + 1,
+            direction: names[usize::from(r.spec.index >= n)],
+            seed: r.spec.seed,
+            completed: r.completed,
+            x_cm: r.x_cm,
+            y_cm: r.y_cm,
+        })
+        .collect()
+}
+
 /// Borenstein's correction from a complete set of runs.
 pub fn report(
     full: &Partial,
@@ -332,22 +349,7 @@ pub fn report(
     let result = calib::umbmark_correction(&runs, &params);
     Ok(Report {
         plan: full.plan.clone(),
-        runs: full
-            .runs
-            .iter()
-            .map(|r| RunRow {
-                run: r.spec.index % n + 1,
-                direction: if r.spec.index < n {
-                    Direction::Cw.as_str()
-                } else {
-                    Direction::Ccw.as_str()
-                },
-                seed: r.spec.seed,
-                completed: r.completed,
-                x_cm: r.x_cm,
-                y_cm: r.y_cm,
-            })
-            .collect(),
+        runs: run_rows(full, [Direction::Cw.as_str(), Direction::Ccw.as_str()]),
         result,
         robot_time_s: full.runs.iter().map(|r| r.robot_time_s).sum(),
     })
@@ -556,7 +558,6 @@ pub fn triangle_report(
     wheelbase_mm: f64,
     solution: calib::Solution,
 ) -> Result<TriangleReport, UmbmarkError> {
-    let n = full.plan.runs_per_direction;
     let (line, tri) = triangle_runs(full)?;
     let params = calib::TriangleParams {
         side_cm: full.plan.leg_mm / 10.0,
@@ -570,18 +571,7 @@ pub fn triangle_report(
     let result = calib::triangle_correction(&line, &tri, &params);
     Ok(TriangleReport {
         plan: full.plan.clone(),
-        runs: full
-            .runs
-            .iter()
-            .map(|r| RunRow {
-                run: r.spec.index % n + 1,
-                direction: if r.spec.index < n { "line" } else { "triangle" },
-                seed: r.spec.seed,
-                completed: r.completed,
-                x_cm: r.x_cm,
-                y_cm: r.y_cm,
-            })
-            .collect(),
+        runs: run_rows(full, ["line", "triangle"]),
         result,
         robot_time_s: full.runs.iter().map(|r| r.robot_time_s).sum(),
     })

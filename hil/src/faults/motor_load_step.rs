@@ -5,6 +5,18 @@ use super::{leg_overrun, FaultCase, Observed};
 use crate::bench::{Action, ScheduledFault, SideName, Trigger};
 use crate::experiment::Test;
 
+/// A load of `torque_fraction` of the stall torque on the left wheel from
+/// 3 s into the run (this fault and `motor-overload`).
+pub(super) fn left_load_from_3_s(torque_fraction: f64) -> Vec<ScheduledFault> {
+    vec![ScheduledFault::new(
+        Trigger::Time { s: 3.0 },
+        Action::Motor {
+            side: SideName::Left,
+            fault: plant_model::MotorFault::LoadStep { torque_fraction },
+        },
+    )]
+}
+
 pub fn case() -> FaultCase {
     FaultCase {
         name: "motor-load-step",
@@ -12,15 +24,7 @@ pub fn case() -> FaultCase {
         expected: "the PID raises the left duty and holds the set-point (the load is within the motor's reserve): the line completes with no fault code, its leg no more than 2 % longer than at the set-points",
         test: Test::Line,
         leg_mm: 2000.0,
-        faults: vec![ScheduledFault::new(
-            Trigger::Time { s: 3.0 },
-            Action::Motor {
-                side: SideName::Left,
-                fault: plant_model::MotorFault::LoadStep {
-                    torque_fraction: 0.15,
-                },
-            },
-        )],
+        faults: left_load_from_3_s(0.15),
         limit_s: 30.0,
         framed: false,
         check,

@@ -2,7 +2,6 @@
 //! (30 % of its stall torque: the set-point would need more than full duty).
 
 use super::{leg_overrun, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
 use crate::experiment::Test;
 
 pub fn case() -> FaultCase {
@@ -14,15 +13,7 @@ pub fn case() -> FaultCase {
         expected: "the left duty saturates and the wheel runs slow, so the leg curves and takes over 10 % longer; the robust build has no saturation check: the line completes without a fault code",
         test: Test::Line,
         leg_mm: 2000.0,
-        faults: vec![ScheduledFault::new(
-            Trigger::Time { s: 3.0 },
-            Action::Motor {
-                side: SideName::Left,
-                fault: plant_model::MotorFault::LoadStep {
-                    torque_fraction: 0.3,
-                },
-            },
-        )],
+        faults: super::motor_load_step::left_load_from_3_s(0.3),
         limit_s: 30.0,
         framed: false,
         check,
