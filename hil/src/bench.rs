@@ -133,6 +133,23 @@ pub struct PinEvent {
     pub level: bool,
 }
 
+/// An analog input the bench drives, changed at `cycle` to `mv` millivolts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct AnalogEvent {
+    pub cycle: u64,
+    pub input: AnalogInput,
+    pub mv: u32,
+}
+
+/// The analog inputs the bench drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum AnalogInput {
+    /// A0: the battery through its divider.
+    Adc0,
+    /// VCC, AVCC and AREF (one rail on the Mega).
+    Supply,
+}
+
 /// The battery LEDs after a change (each lit by a high pin).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct LedEvent {
@@ -475,6 +492,9 @@ pub struct BenchCore {
     pub applied: Vec<(u64, Action)>,
     /// Encoder pin changes, when recording (for replays without the bench).
     pub recording: Option<Vec<PinEvent>>,
+    /// Every change of the analog inputs since cycle 0 (rare: the battery's
+    /// steps), for replays without the bench.
+    pub analog_log: Vec<AnalogEvent>,
     /// Callbacks from simavr into the bench (timer, IO, IRQ).
     pub callbacks: u64,
     error: Option<PendingError>,
@@ -720,7 +740,13 @@ impl BenchCore {
         let vcc = self.supply.vcc(self.robot.battery_voltage().0);
         if vcc != self.vcc_v {
             self.vcc_v = vcc;
-            core.set_supply_mv((vcc * 1000.0).round() as u32);
+            let mv = (vcc * 1000.0).round() as u32;
+            core.set_supply_mv(mv);
+            self.analog_log.push(AnalogEvent {
+                cycle,
+                input: AnalogInput::Supply,
+                mv,
+            });
         }
         let before = self.bod.holds_reset();
         self.bod = self.bod.next(&self.supply, vcc, cycle, self.startup_cycles);
@@ -982,7 +1008,7 @@ impl BenchCore {
     }
 
     /// Drive A0 with the battery's voltage when it changed.
-    fn update_adc(&mut self, core: &mut Core) {
+    fn update_adc(&mut self, core: &mut Core, cycle: u64) {
         // A pin cannot rise above VCC (its protection diodes clamp it).
         let mv = (self.robot.battery_voltage().0 * self.battery_divider * 1000.0)
             .round()
@@ -992,6 +1018,11 @@ impl BenchCore {
                 core.raise(irq, mv);
             }
             self.adc_mv = mv;
+            self.analog_log.push(AnalogEvent {
+                cycle,
+                input: AnalogInput::Adc0,
+                mv,
+            });
         }
     }
 
@@ -1212,7 +1243,7 @@ impl Handler for BenchCore {
         }
         self.raise_encoders(core, when);
         if self.next_step <= when {
-            self.update_adc(core);
+            self.update_adc(core, when);
             self.steps += 1;
             if self.steps % self.trace_every == 0 {
                 self.sample(when);
@@ -1378,6 +1409,7 @@ impl Bench {
             reset_requested: false,
             applied: Vec::new(),
             recording: None,
+            analog_log: Vec::new(),
             callbacks: 0,
             error: None,
             failed: false,
@@ -1432,7 +1464,7 @@ impl Bench {
         avr.with_core(|core, c| {
             core.enc_irq = enc_irq;
             core.update_supply(c, 0);
-            core.update_adc(c);
+            core.update_adc(c, 0);
             // Encoder lines start at the plant's levels.
             for side in SIDES {
                 let i = side_index(side);
@@ -1510,8 +1542,22 @@ impl Bench {
     /// is recorded as the firmware saw it (changes at the reads that noticed
     /// them): a replay gives the firmware the same inputs. For B's true edge
     /// times, call [`Bench::true_waveforms`] first.
+    /// The recording starts with the four lines' levels now.
     pub fn start_recording(&mut self) {
-        self.avr.handler_mut().recording = Some(Vec::new());
+        let cycle = self.avr.cycle();
+        let core = self.avr.handler_mut();
+        let levels = core
+            .enc_level
+            .iter()
+            .flatten()
+            .enumerate()
+            .map(|(line, &level)| PinEvent {
+                cycle,
+                line: line as u8,
+                level,
+            })
+            .collect();
+        core.recording = Some(levels);
     }
 
     /// Raise every encoder transition at its own cycle, B included (for

@@ -194,6 +194,16 @@ enum Command {
         /// Leg length in millimetres.
         #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
         leg_mm: f64,
+        /// Skip the thesis build's runs (the slowest: busy loops).
+        #[arg(long)]
+        without_thesis: bool,
+        /// Skip raw simavr with its own PWM timers (slow, and not what the
+        /// bench is compared with).
+        #[arg(long)]
+        without_simavr_pwm: bool,
+        /// Time each robust run this many times, interleaved; the fastest counts.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+        repeats: u32,
         #[command(flatten)]
         common: Common,
     },
@@ -697,36 +707,29 @@ fn run(cli: Cli) -> Result<()> {
         Command::Bench {
             test,
             leg_mm,
+            without_thesis,
+            without_simavr_pwm,
+            repeats,
             common,
         } => {
+            let repeats = repeats as usize;
             let robot = load_robot(common.robot.as_ref())?;
             let firmware = load_firmware(&common)?;
-            let rec = hil::perf::bench_run(&firmware, &robot, test, leg_mm)?;
-            let raw = hil::perf::raw_replay(&firmware, &rec, true)?;
-            let raw_np = hil::perf::raw_replay(&firmware, &rec, false)?;
             let thesis_path = hil::paths::firmware_elf("thesis");
-            let thesis = if thesis_path.exists() {
-                let fw = Firmware::load(&thesis_path)?;
-                Some(hil::perf::bench_run(&fw, &robot, test, leg_mm)?.measured)
+            let thesis = if !without_thesis && thesis_path.exists() {
+                Some(Firmware::load(&thesis_path)?)
             } else {
                 None
             };
-            let report = hil::perf::BenchReport {
-                test: test.name().into(),
-                rtf_robust_umbmark: rec.measured.rtf,
-                rtf_thesis: thesis.as_ref().map(|t| t.rtf),
-                rtf_raw_simavr: raw.rtf,
-                rtf_raw_simavr_without_pwm_timers: raw_np.rtf,
-                overhead_ratio: rec.measured.wall_s / raw_np.wall_s.max(1e-9),
-                awake_fraction: rec.awake_fraction,
-                callbacks_per_robot_s: rec.callbacks as f64 / rec.measured.robot_s,
-                robot_s: rec.measured.robot_s,
-                bench: rec.measured.clone(),
-                raw,
-                raw_without_pwm_timers: raw_np,
-                thesis,
-                completed: rec.completed,
-            };
+            let report = hil::perf::measure(&hil::perf::BenchPlan {
+                robust: &firmware,
+                thesis: thesis.as_ref(),
+                robot: &robot,
+                test,
+                leg_mm,
+                repeats,
+                raw_with_pwm_timers: !without_simavr_pwm,
+            })?;
             emit(common.json, &report, || report.render())?;
         }
         Command::Faults {

@@ -18,7 +18,7 @@ use std::time::Instant;
 use plant_model::RobotConfig;
 use serde::Serialize;
 
-use crate::bench::{BenchError, BenchOptions, PinEvent};
+use crate::bench::{AnalogEvent, AnalogInput, BenchError, BenchOptions, PinEvent};
 use crate::elf::Firmware;
 use crate::experiment::Test;
 use crate::line::ready_bench;
@@ -44,6 +44,14 @@ impl Measured {
     }
 }
 
+/// A replay, with whether it ended where the bench run did.
+pub struct Replayed {
+    pub measured: Measured,
+    /// The firmware's counters at the end equal the bench run's: the replay
+    /// executed the same program path, so the wall times compare.
+    pub faithful: bool,
+}
+
 /// A bench run recorded for replay.
 pub struct Recorded {
     pub measured: Measured,
@@ -51,9 +59,25 @@ pub struct Recorded {
     pub callbacks: u64,
     pub command_cycle: u64,
     pub command: u8,
+    /// RAM the bench wrote before the command (the leg length), written by
+    /// the replay at the command's cycle too.
+    pub pokes: Vec<(u16, u8)>,
     pub end_cycle: u64,
     pub edges: Vec<PinEvent>,
+    pub analog: Vec<AnalogEvent>,
     pub completed: bool,
+    /// SRAM at the end, which a faithful replay must reach.
+    pub fingerprint: Vec<u8>,
+}
+
+/// The ATmega2560's internal SRAM (data space addresses).
+const SRAM: std::ops::Range<u16> = 0x0200..0x2200;
+
+/// The state a replay must end in: all of SRAM, variables and stack alike
+/// (the IO registers differ with simavr's own PWM timers, which is the point
+/// of that replay).
+fn fingerprint(read: impl Fn(u16) -> u8) -> Vec<u8> {
+    SRAM.map(read).collect()
 }
 
 /// Run `test` on the bench, recording the encoder edges.
@@ -76,6 +100,7 @@ pub fn bench_run(
     })?;
     let wall_s = wall.elapsed().as_secs_f64();
     let end_cycle = bench.cycle();
+    let fingerprint = fingerprint(|a| bench.read_u8(a));
     let core = bench.core();
     Ok(Recorded {
         measured: Measured::new(bench.robot_time_s(), wall_s),
@@ -83,19 +108,60 @@ pub fn bench_run(
         callbacks: core.callbacks,
         command_cycle,
         command: test.command_byte(),
+        pokes: (vars.leg_length_mm..)
+            .zip((leg_mm as f32).to_le_bytes())
+            .collect(),
         end_cycle,
         edges: core.recording.clone().unwrap_or_default(),
+        analog: core.analog_log.clone(),
         completed,
+        fingerprint,
     })
 }
 
-/// Replays recorded pin changes; nothing else.
+/// Replays recorded inputs (encoder lines, analog inputs, the command
+/// byte); nothing else.
 struct Replay {
     edges: Vec<PinEvent>,
     next: usize,
+    analog: Vec<AnalogEvent>,
+    next_analog: usize,
     pins: [Option<Irq>; 4],
+    adc0: Option<Irq>,
     uart: Option<Irq>,
     command: Option<(u64, u8)>,
+    pokes: Vec<(u16, u8)>,
+}
+
+impl Replay {
+    fn apply_analog(&mut self, core: &mut Core, when: u64) {
+        while let Some(a) = self
+            .analog
+            .get(self.next_analog)
+            .filter(|a| a.cycle <= when)
+        {
+            match a.input {
+                AnalogInput::Adc0 => {
+                    if let Some(irq) = self.adc0 {
+                        core.raise(irq, a.mv);
+                    }
+                }
+                AnalogInput::Supply => core.set_supply_mv(a.mv),
+            }
+            self.next_analog += 1;
+        }
+    }
+
+    /// The cycle of the next input to replay (`u64::MAX`: none).
+    fn next_input(&self) -> u64 {
+        let edge = self.edges.get(self.next).map_or(u64::MAX, |e| e.cycle);
+        let analog = self
+            .analog
+            .get(self.next_analog)
+            .map_or(u64::MAX, |a| a.cycle);
+        let cmd = self.command.map_or(u64::MAX, |c| c.0);
+        edge.min(analog).min(cmd)
+    }
 }
 
 impl Handler for Replay {
@@ -109,8 +175,12 @@ impl Handler for Replay {
     }
 
     fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
+        self.apply_analog(core, when);
         if let Some((at, byte)) = self.command {
             if at <= when {
+                for &(addr, byte) in &self.pokes {
+                    core.set_data(addr, byte);
+                }
                 if let Some(irq) = self.uart {
                     core.raise(irq, byte as u32);
                 }
@@ -124,13 +194,9 @@ impl Handler for Replay {
             }
             self.next += 1;
         }
-        let edge = self.edges.get(self.next).map_or(u64::MAX, |e| e.cycle);
-        let cmd = self.command.map_or(u64::MAX, |c| c.0);
-        let n = edge.min(cmd);
-        if n == u64::MAX {
-            0
-        } else {
-            n
+        match self.next_input() {
+            u64::MAX => 0,
+            n => n,
         }
     }
 
@@ -143,15 +209,19 @@ pub fn raw_replay(
     fw: &Firmware,
     rec: &Recorded,
     simavr_pwm_timers: bool,
-) -> Result<Measured, BenchError> {
+) -> Result<Replayed, BenchError> {
     let wall = Instant::now();
     let clock = BenchOptions::default().clock;
     let handler = Replay {
-        edges: rec.edges.clone(),
+        edges: Vec::new(),
         next: 0,
+        analog: Vec::new(),
+        next_analog: 0,
         pins: [None; 4],
+        adc0: None,
         uart: None,
         command: Some((rec.command_cycle, rec.command)),
+        pokes: rec.pokes.clone(),
     };
     let mut avr = Avr::new("atmega2560", clock.hz(), handler)?;
     for (addr, bytes) in &fw.segments {
@@ -173,15 +243,30 @@ pub fn raw_replay(
     ];
     let (uart_in, _) = avr.uart(w.bluetooth_uart)?;
     let _ = avr.uart(w.debug_uart)?;
+    let adc0 = avr.adc_input(0)?;
     {
         let h = avr.handler_mut();
         h.pins = pins.map(Some);
         h.uart = Some(uart_in);
+        h.adc0 = Some(adc0);
     }
-    let first = rec
-        .edges
-        .first()
-        .map_or(rec.command_cycle, |e| e.cycle.min(rec.command_cycle));
+    // The bench raised the lines' levels at cycle 0, and the robot rests
+    // until the command: the recording's first levels are those since boot.
+    let start = rec.edges.first().map_or(0, |e| e.cycle);
+    let (initial, rest): (Vec<PinEvent>, Vec<PinEvent>) =
+        rec.edges.iter().partition(|e| e.cycle == start);
+    let analog = rec.analog.clone();
+    avr.with_core(|h, core| {
+        for e in initial {
+            if let Some(irq) = h.pins[e.line as usize] {
+                core.raise(irq, e.level as u32);
+            }
+        }
+        h.edges = rest;
+        h.analog = analog;
+        h.apply_analog(core, 0);
+    });
+    let first = avr.handler().next_input();
     avr.schedule(first);
     while avr.cycle() < rec.end_cycle {
         match avr.step() {
@@ -189,10 +274,135 @@ pub fn raw_replay(
             _ => break,
         }
     }
-    Ok(Measured::new(
-        clock.seconds(avr.cycle()).0,
-        wall.elapsed().as_secs_f64(),
-    ))
+    let measured = Measured::new(clock.seconds(avr.cycle()).0, wall.elapsed().as_secs_f64());
+    let faithful = fingerprint(|a| avr.data(a)) == rec.fingerprint;
+    Ok(Replayed { measured, faithful })
+}
+
+/// What `hil bench` runs.
+pub struct BenchPlan<'a> {
+    pub robust: &'a Firmware,
+    /// The thesis build, when it is to be timed too.
+    pub thesis: Option<&'a Firmware>,
+    pub robot: &'a RobotConfig,
+    pub test: Test,
+    pub leg_mm: f64,
+    /// Each robust run is timed this many times, interleaved; the fastest
+    /// counts (the least disturbed by the rest of the machine). The thesis
+    /// build's long runs are timed once.
+    pub repeats: usize,
+    /// Also time raw simavr with its own PWM timers (slow).
+    pub raw_with_pwm_timers: bool,
+}
+
+/// Errors of `hil bench`.
+#[derive(Debug, thiserror::Error)]
+pub enum PerfError {
+    #[error(transparent)]
+    Bench(#[from] BenchError),
+    #[error(
+        "the raw simavr replay of the {build} build did not end in the bench run's firmware \
+         state, so their times do not compare; the replay misses an input the bench gave"
+    )]
+    ReplayDiverged { build: String },
+}
+
+/// The bench and raw simavr on one build: fastest of the repeats each.
+#[derive(Debug, Clone, Serialize)]
+pub struct BuildSpeed {
+    pub bench: Measured,
+    pub raw_without_pwm_timers: Measured,
+    pub raw: Option<Measured>,
+    /// Bench wall time over raw simavr's (without its PWM timers) for the
+    /// same robot time and the same instructions.
+    pub overhead_ratio: f64,
+    pub awake_fraction: f64,
+    /// Callbacks from simavr into the bench per robot second.
+    pub callbacks_per_robot_s: f64,
+    pub completed: bool,
+}
+
+fn fastest(a: Measured, b: Measured) -> Measured {
+    if b.wall_s < a.wall_s {
+        b
+    } else {
+        a
+    }
+}
+
+/// Time one build: the bench run, then its replays, `repeats` times over.
+fn measure_build(
+    fw: &Firmware,
+    plan: &BenchPlan,
+    repeats: usize,
+    raw_with_pwm_timers: bool,
+) -> Result<BuildSpeed, PerfError> {
+    let rec = bench_run(fw, plan.robot, plan.test, plan.leg_mm)?;
+    let mut bench = rec.measured.clone();
+    let mut raw_np: Option<Measured> = None;
+    let mut raw: Option<Measured> = None;
+    for i in 0..repeats.max(1) {
+        if i > 0 {
+            bench = fastest(
+                bench,
+                bench_run(fw, plan.robot, plan.test, plan.leg_mm)?.measured,
+            );
+        }
+        let replay = |pwm: bool, best: &mut Option<Measured>| -> Result<(), PerfError> {
+            let r = raw_replay(fw, &rec, pwm)?;
+            if !r.faithful {
+                return Err(PerfError::ReplayDiverged {
+                    build: fw.name().to_string(),
+                });
+            }
+            *best = Some(match best.take() {
+                Some(b) => fastest(b, r.measured),
+                None => r.measured,
+            });
+            Ok(())
+        };
+        replay(false, &mut raw_np)?;
+        if raw_with_pwm_timers {
+            replay(true, &mut raw)?;
+        }
+    }
+    let raw_np = raw_np.expect("at least one repeat");
+    Ok(BuildSpeed {
+        overhead_ratio: bench.wall_s / raw_np.wall_s.max(1e-9),
+        awake_fraction: rec.awake_fraction,
+        callbacks_per_robot_s: rec.callbacks as f64 / rec.measured.robot_s,
+        completed: rec.completed,
+        bench,
+        raw_without_pwm_timers: raw_np,
+        raw,
+    })
+}
+
+/// Run the plan: the robust build (bench, raw simavr with and without its
+/// PWM timers), then the thesis build (bench, raw without PWM timers).
+pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
+    let robust = measure_build(plan.robust, plan, plan.repeats, plan.raw_with_pwm_timers)?;
+    // The thesis build's runs are long (busy loops) and timed once: the
+    // machine's noise is small against them.
+    let thesis = match plan.thesis {
+        Some(fw) => Some(measure_build(fw, plan, 1, false)?),
+        None => None,
+    };
+    Ok(BenchReport {
+        test: plan.test.name().into(),
+        rtf_robust_umbmark: robust.bench.rtf,
+        rtf_thesis: thesis.as_ref().map(|t| t.bench.rtf),
+        rtf_raw_simavr: robust.raw.as_ref().map(|r| r.rtf),
+        rtf_raw_simavr_without_pwm_timers: robust.raw_without_pwm_timers.rtf,
+        overhead_ratio: robust.overhead_ratio,
+        thesis_overhead_ratio: thesis.as_ref().map(|t| t.overhead_ratio),
+        awake_fraction: robust.awake_fraction,
+        callbacks_per_robot_s: robust.callbacks_per_robot_s,
+        robot_s: robust.bench.robot_s,
+        repeats: plan.repeats.max(1),
+        robust,
+        thesis,
+    })
 }
 
 /// The `hil bench` result.
@@ -201,20 +411,22 @@ pub struct BenchReport {
     pub test: String,
     pub rtf_robust_umbmark: f64,
     pub rtf_thesis: Option<f64>,
-    pub rtf_raw_simavr: f64,
+    /// Raw simavr with its own PWM timers (when timed).
+    pub rtf_raw_simavr: Option<f64>,
     pub rtf_raw_simavr_without_pwm_timers: f64,
-    /// Bench wall time over raw simavr's (without its PWM timers) for the
-    /// same robot time and the same instructions.
+    /// The robust build's bench wall time over raw simavr's (without its PWM
+    /// timers) for the same robot time and the same instructions.
     pub overhead_ratio: f64,
+    /// The same for the thesis build.
+    pub thesis_overhead_ratio: Option<f64>,
     pub awake_fraction: f64,
     /// Callbacks from simavr into the bench per robot second.
     pub callbacks_per_robot_s: f64,
     pub robot_s: f64,
-    pub bench: Measured,
-    pub raw: Measured,
-    pub raw_without_pwm_timers: Measured,
-    pub thesis: Option<Measured>,
-    pub completed: bool,
+    /// Times each run was timed (the fastest counts).
+    pub repeats: usize,
+    pub robust: BuildSpeed,
+    pub thesis: Option<BuildSpeed>,
 }
 
 impl BenchReport {
@@ -223,27 +435,42 @@ impl BenchReport {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "speed of {} ({:.1} s of robot time each):",
-            self.test, self.robot_s
+            "speed of {} ({:.1} s of robot time each; robust runs: fastest of {}):",
+            self.test, self.robot_s, self.repeats
         );
         let _ = writeln!(s, "  {:<46} {:>10} {:>8}", "run", "wall s", "x real");
         let row = |s: &mut String, name: &str, m: &Measured| {
             let _ = writeln!(s, "  {:<46} {:>10.3} {:>8.1}", name, m.wall_s, m.rtf);
         };
-        row(&mut s, "bench (robust firmware + plant)", &self.bench);
-        row(&mut s, "raw simavr, same ELF and edges", &self.raw);
+        let r = &self.robust;
+        row(&mut s, "bench, robust firmware + plant", &r.bench);
+        if let Some(raw) = &r.raw {
+            row(&mut s, "raw simavr, same ELF and inputs", raw);
+        }
         row(
             &mut s,
             "raw simavr without its PWM timers",
-            &self.raw_without_pwm_timers,
+            &r.raw_without_pwm_timers,
         );
         if let Some(t) = &self.thesis {
-            row(&mut s, "bench, thesis firmware", t);
+            row(&mut s, "bench, thesis firmware + plant", &t.bench);
+            row(
+                &mut s,
+                "raw simavr without its PWM timers, thesis",
+                &t.raw_without_pwm_timers,
+            );
         }
         let _ = writeln!(
             s,
-            "  bench overhead over raw simavr (no PWM timers): {:.2}x; CPU awake {:.2} %; {:.0} bench callbacks per robot s",
+            "  bench overhead over raw simavr (no PWM timers): {:.2}x robust{}",
             self.overhead_ratio,
+            self.thesis_overhead_ratio
+                .map(|t| format!(", {t:.2}x thesis"))
+                .unwrap_or_default()
+        );
+        let _ = writeln!(
+            s,
+            "  robust: CPU awake {:.2} %; {:.0} bench callbacks per robot s",
             self.awake_fraction * 100.0,
             self.callbacks_per_robot_s
         );
