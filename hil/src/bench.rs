@@ -702,8 +702,11 @@ impl BenchCore {
             Watch::Both
         };
         self.next_edge[side_index(side)] =
-            match self.robot.next_encoder_transition_watching(side, watch) {
-                Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
+            match self
+                .robot
+                .next_encoder_transition_on(side, watch, self.clock.grid())
+            {
+                Some(cycle) => cycle.max(now + 1),
                 None => NEVER,
             };
     }

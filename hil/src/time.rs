@@ -5,7 +5,7 @@
 //! rule is written once: an event the plant places at time `t` happens at the
 //! first cycle at or after `t`.
 
-use plant_model::Seconds;
+use plant_model::{Seconds, TimeGrid};
 
 /// A CPU clock frequency in hertz.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -25,26 +25,19 @@ impl Clock {
         self.hz
     }
 
-    /// Seconds elapsed at `cycles`.
-    pub fn seconds(self, cycles: u64) -> Seconds {
-        Seconds(cycles as f64 / self.hz as f64)
+    /// The cycles as the plant's time grid: one rounding rule for both.
+    pub const fn grid(self) -> TimeGrid {
+        TimeGrid::new(self.hz)
     }
 
-    /// The first cycle at or after `t` (t >= 0).
+    /// Seconds elapsed at `cycles`.
+    pub fn seconds(self, cycles: u64) -> Seconds {
+        self.grid().time(cycles)
+    }
+
+    /// The first cycle at or after `t` (0 for t <= 0).
     pub fn cycle_at_or_after(self, t: Seconds) -> u64 {
-        let exact = t.0 * self.hz as f64;
-        if exact <= 0.0 {
-            return 0;
-        }
-        let c = exact.ceil() as u64;
-        // `ceil` of a value a hair above an integer because of the
-        // multiplication's rounding must not skip a whole cycle backwards:
-        // make sure the cycle's time is not before `t`.
-        if self.seconds(c).0 < t.0 {
-            c + 1
-        } else {
-            c
-        }
+        self.grid().index_at_or_after(t)
     }
 
     /// Cycles in `t` seconds, rounded to the nearest cycle.

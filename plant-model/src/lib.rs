@@ -82,4 +82,4 @@ pub use motor::{FirstOrderMotor, Modifiers, MotorModel, Relaxation, Segment};
 pub use pose::{Frame, Pose, World};
 pub use robot::{Robot, MAX_POSE_STEP, TRANSITION_HORIZON, TRANSITION_RESOLUTION};
 pub use side::{PerSide, Side};
-pub use units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, Volts};
+pub use units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};

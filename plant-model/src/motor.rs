@@ -460,7 +460,37 @@ impl Segment {
         let dt = t.0 - self.start.0;
         // 1 - e^(-dt/tau), accurate for small dt too.
         let settled = -(-dt / self.tau).exp_m1();
+        self.angle_with(dt, settled)
+    }
+
+    /// The angle at `t` (`t >= start`) with the exponential it took, `e^(-(t - start)/tau)
+    /// - 1` (NaN from the stop time on, where none is taken): the angle is
+    /// [`Segment::angle_at`]'s, bit for bit, and the exponential lets [`Segment::around`]
+    /// expand the motion about `t` without another.
+    pub fn evaluate(&self, t: Seconds) -> (Radians, f64) {
+        if t.0 >= self.stop {
+            return (Radians(self.angle_stop), f64::NAN);
+        }
+        let dt = t.0 - self.start.0;
+        let decay_m1 = (-dt / self.tau).exp_m1();
+        (self.angle_with(dt, -decay_m1), decay_m1)
+    }
+
+    /// The angle `dt` after the start, with `settled = 1 - e^(-dt/tau)`.
+    fn angle_with(&self, dt: f64, settled: f64) -> Radians {
         Radians(self.angle0 + self.target * dt + (self.speed0 - self.target) * self.tau * settled)
+    }
+
+    /// The motion about `a` (before the stop time), from [`Segment::evaluate`]'s answer there:
+    /// cheap to evaluate near `a`, equal to the segment's closed form to rounding.
+    pub fn around(&self, a: Seconds, (angle, decay_m1): (Radians, f64)) -> Around {
+        debug_assert!(a.0 < self.stop, "expanded at or past the stop time");
+        Around {
+            angle: angle.0,
+            target: self.target,
+            transient: (self.speed0 - self.target) * (1.0 + decay_m1),
+            tau: self.tau,
+        }
     }
 
     /// Wheel speed at time `t` (`t >= start`).
@@ -503,6 +533,50 @@ impl Segment {
             .into_iter()
             .flatten()
             .filter(move |&t| t > from && t < to)
+    }
+}
+
+/// A [`Segment`] expanded about a time `a`: angle and speed at `a + u`, with `e^(-u/tau)`
+/// from a short series when `u` is small against `tau` (the usual case: the next encoder
+/// edge is a fraction of a millisecond away, the time constants tens of milliseconds). For
+/// solving where the angle reaches a value; the answer is then checked on the closed form.
+#[derive(Debug, Clone, Copy)]
+pub struct Around {
+    angle: f64,
+    target: f64,
+    /// The speed's distance from its target at `a`.
+    transient: f64,
+    tau: f64,
+}
+
+impl Around {
+    /// Angle (rad) and speed (rad/s) at `a + u`.
+    pub fn state(&self, u: f64) -> (f64, f64) {
+        let decay_m1 = expm1_near_zero(-u / self.tau);
+        (
+            self.angle + self.target * u - self.transient * self.tau * decay_m1,
+            self.target + self.transient * (1.0 + decay_m1),
+        )
+    }
+
+    /// The angular acceleration (rad/s^2) at `a + u`, given the speed there.
+    pub fn acceleration(&self, speed: f64) -> f64 {
+        (self.target - speed) / self.tau
+    }
+}
+
+/// `e^x - 1`: a series for `|x| <= 1/32` (error below 1e-16 relative), the library's beyond.
+fn expm1_near_zero(x: f64) -> f64 {
+    if x.abs() <= 1.0 / 32.0 {
+        // Horner on x + x^2/2 + ... + x^8/8!; the next term is below 2^-45 x.
+        x * (1.0
+            + x * (1.0 / 2.0
+                + x * (1.0 / 6.0
+                    + x * (1.0 / 24.0
+                        + x * (1.0 / 120.0
+                            + x * (1.0 / 720.0 + x * (1.0 / 5040.0 + x * (1.0 / 40320.0))))))))
+    } else {
+        x.exp_m1()
     }
 }
 

@@ -49,8 +49,9 @@ use crate::ground::{effective_radius_mm, Ground};
 use crate::motor::{Modifiers, MotorModel, Segment};
 use crate::pose::{Pose, World};
 use crate::side::{PerSide, Side};
-use crate::units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, Volts};
+use crate::units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};
 use crate::Error;
+use std::cell::Cell;
 
 /// How far ahead [`Robot::next_encoder_transition`] looks. A wheel that will not change its
 /// encoder state within this time (at rest, or creeping to a stop short of the next state)
@@ -114,9 +115,40 @@ struct Wheel {
     in2: Duty,
     /// Motion since the last change of input, fault or battery voltage.
     segment: Segment,
+    /// The segment's last two evaluations, (time, angle, exponential): the bench asks for
+    /// the same instants several times (a transition's search, the advance to it, the
+    /// levels there), and the segment's exponential is the cost. Same bits as evaluating
+    /// again.
+    memo: Cell<[(f64, f64, f64); 2]>,
 }
 
+/// A memo that matches no time.
+const NO_MEMO: [(f64, f64, f64); 2] = [(f64::NAN, 0.0, 0.0); 2];
+
 impl Wheel {
+    fn set_segment(&mut self, segment: Segment) {
+        self.segment = segment;
+        self.memo.set(NO_MEMO);
+    }
+
+    /// [`Segment::evaluate`] through the memo.
+    fn evaluate(&self, t: Seconds) -> (Radians, f64) {
+        let memo = self.memo.get();
+        for (at, angle, decay_m1) in memo {
+            if at == t.0 {
+                return (Radians(angle), decay_m1);
+            }
+        }
+        let (angle, decay_m1) = self.segment.evaluate(t);
+        self.memo.set([(t.0, angle.0, decay_m1), memo[0]]);
+        (angle, decay_m1)
+    }
+
+    /// The segment's angle at `t` (rad), through the memo.
+    fn angle_at(&self, t: Seconds) -> f64 {
+        self.evaluate(t).0 .0
+    }
+
     /// What the motor sees of the bridge: its averaged state, or coasting if disconnected.
     fn drive_state(&self) -> DriveState {
         if self.fault == MotorFault::Disconnected {
@@ -138,16 +170,16 @@ impl Wheel {
 
     /// A new segment from `now` on: inputs, fault or voltage changed.
     fn replan(&mut self, now: Seconds, battery: Volts) {
-        let angle = self.segment.angle_at(now);
+        let angle = Radians(self.angle_at(now));
         if self.fault == MotorFault::Stall {
-            self.segment = Segment::held(now, angle);
+            self.set_segment(Segment::held(now, angle));
             return;
         }
         let speed = self.segment.speed_at(now);
         let relaxation =
             self.motor
                 .relaxation_with(self.drive_state(), battery, &self.modifiers(), speed);
-        self.segment = Segment::new(now, angle, speed, relaxation);
+        self.set_segment(Segment::new(now, angle, speed, relaxation));
     }
 
     /// Whether the wheel is still at `now` and no voltage change can start it (stalled, or
@@ -173,13 +205,13 @@ impl Wheel {
             drive: self.drive_state().drive(),
             back_emf: self.back_emf,
             speed: self.segment.speed_at(at).0,
-            angle_change: self.segment.angle_at(at).0 - self.segment.angle_at(since).0,
+            angle_change: self.angle_at(at) - self.angle_at(since),
         }
     }
 
     /// Encoder position `s` at `t` (see [`crate::encoder`]).
     fn position(&self, t: Seconds) -> f64 {
-        self.encoder.position(self.segment.angle_at(t))
+        self.encoder.position(Radians(self.angle_at(t)))
     }
 
     fn levels(&self, t: Seconds) -> (bool, bool) {
@@ -187,13 +219,14 @@ impl Wheel {
     }
 
     /// Earliest time in `(now, until]` at which the encoder levels differ from `from` (the
-    /// levels at `now`), under this segment.
+    /// levels at `now`), under this segment, to `resolution`.
     fn next_transition(
         &self,
         now: Seconds,
         until: Seconds,
         from: (bool, bool),
         watch: Watch,
+        resolution: Resolution,
     ) -> Option<Seconds> {
         if self.segment.is_at_rest_from(now) {
             return None;
@@ -201,63 +234,65 @@ impl Wheel {
         // The angle is monotone between the speed's zero crossing (a wheel driven against
         // its motion turns round) and the Coulomb stop, so the levels change on each piece
         // if and only if the next level boundary in its direction is reached by its end.
-        let mut cuts: Vec<Seconds> = self.segment.turning_points(now, until).collect();
-        cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        cuts.push(until);
+        let mut cuts = [until; 3];
+        let mut n = 0;
+        for t in self.segment.turning_points(now, until) {
+            cuts[n] = t;
+            n += 1;
+        }
+        cuts[..n].sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut a = now;
-        for b in cuts {
+        let mut sa = self.position(a);
+        for &b in &cuts[..=n] {
             if b > a {
-                if let Some(t) = self.transition_on(a, b, from, watch) {
+                let sb = self.position(b);
+                if let Some(t) = self.transition_on((a, sa), (b, sb), from, watch, resolution) {
                     return Some(t);
                 }
+                sa = sb;
             }
             a = b;
         }
         None
     }
 
-    /// The transition on the monotone piece `[a, b]`, if the levels change on it.
+    /// The transition on the monotone piece `[a, b]` (with the encoder positions there), if
+    /// the levels change on it.
     fn transition_on(
         &self,
-        a: Seconds,
-        b: Seconds,
+        (a, sa): (Seconds, f64),
+        (b, sb): (Seconds, f64),
         from: (bool, bool),
         watch: Watch,
+        resolution: Resolution,
     ) -> Option<Seconds> {
-        let (sa, sb) = (self.position(a), self.position(b));
         if sa == sb {
             return None;
         }
         let upward = sb > sa;
         let boundary = self.encoder.next_level_change(sa, upward, from, watch);
-        let crossed = |t: Seconds| {
-            let s = self.position(t);
-            if upward {
-                s >= boundary
-            } else {
-                s < boundary
-            }
-        };
-        if !crossed(b) {
+        let passed = |s: f64| if upward { s >= boundary } else { s < boundary };
+        if !passed(sb) {
             return None;
         }
-        Some(self.refine(a, b, upward, boundary, &crossed))
+        let crossed = |t: Seconds| passed(self.position(t));
+        let guess = self.boundary_crossing(a, b, upward, boundary, resolution.tolerance());
+        Some(match resolution {
+            Resolution::Continuous => first_crossed_near(a, b, guess, &crossed),
+            Resolution::Grid(grid) => first_crossed_on_grid(grid, a, b, guess, &crossed),
+        })
     }
 
-    /// The transition time on a monotone piece `[a, b]` where the levels are unchanged at
-    /// `a` and changed at `b` (`crossed`): Newton's method on the continuous angle
-    /// (safeguarded by bisection) finds the boundary crossing, then bisection on `crossed`
-    /// itself pins the first time at which the levels differ, so the answer agrees exactly
-    /// with evaluating the segment.
-    fn refine(
+    /// Where the continuous angle passes `boundary` on the monotone piece `[a, b]`, to about
+    /// `tolerance`: Newton's method, safeguarded by bisection.
+    fn boundary_crossing(
         &self,
         a: Seconds,
         b: Seconds,
         upward: bool,
         boundary: f64,
-        crossed: &impl Fn(Seconds) -> bool,
+        tolerance: f64,
     ) -> Seconds {
-        let segment = &self.segment;
         let dq = self.encoder.state_angle().0;
         // Work in the encoder's sense of rotation.
         let sense = if self.encoder.is_reversed() {
@@ -267,76 +302,175 @@ impl Wheel {
         };
         let dir = if upward { 1.0 } else { -1.0 };
         let boundary_angle = (boundary - 0.5) * dq;
-        // g(t) >= 0 once the boundary is passed; g is increasing on the piece.
-        let g = |t: Seconds| dir * (sense * segment.angle_at(t).0 - boundary_angle);
-        let dg = |t: Seconds| dir * sense * segment.speed_at(t).0;
-
-        let (mut lo, mut hi) = (a, b);
-        let speed_a = dg(a);
-        let mut t = if speed_a > 0.0 {
-            a + Seconds(-g(a) / speed_a)
-        } else {
-            Seconds(0.5 * (a.0 + b.0))
+        // g(a + u) >= 0 once the boundary is passed; g is increasing on the piece. The
+        // motion expanded about `a` is cheap to evaluate: the answer is only a guess, which
+        // the caller checks on the closed form.
+        let around = self.segment.around(a, self.evaluate(a));
+        let g = |u: f64| {
+            let (angle, speed) = around.state(u);
+            (
+                dir * (sense * angle - boundary_angle),
+                dir * sense * speed,
+                dir * sense * around.acceleration(speed),
+            )
         };
+        let span = b.0 - a.0;
+        let (value_a, speed_a, accel_a) = g(0.0);
+        // First guess: where the angle's Taylor parabola at `a` gets there.
+        let discriminant = speed_a * speed_a - 2.0 * accel_a * value_a;
+        let mut u = if speed_a > 0.0 && discriminant >= 0.0 {
+            -2.0 * value_a / (speed_a + discriminant.sqrt())
+        } else if speed_a > 0.0 {
+            -value_a / speed_a
+        } else {
+            0.5 * span
+        };
+        let (mut lo, mut hi) = (0.0, span);
         for _ in 0..200 {
-            if !(t > lo && t < hi) {
-                t = Seconds(lo.0 + 0.5 * (hi.0 - lo.0));
+            if !(u > lo && u < hi) {
+                u = lo + 0.5 * (hi - lo);
             }
-            let value = g(t);
+            let (value, slope, _) = g(u);
             if value >= 0.0 {
-                hi = t;
+                hi = u;
             } else {
-                lo = t;
+                lo = u;
             }
-            if hi.0 - lo.0 <= TRANSITION_RESOLUTION.0 {
+            if hi - lo <= tolerance {
                 break;
             }
-            let slope = dg(t);
-            let next = t - Seconds(value / slope);
-            if (next.0 - t.0).abs() <= 0.25 * TRANSITION_RESOLUTION.0 {
-                t = next;
+            let next = u - value / slope;
+            if (next - u).abs() <= 0.25 * tolerance {
+                u = next;
                 break;
             }
-            t = next;
+            u = next;
         }
-        let guess = Seconds(t.0.clamp(a.0, b.0));
+        let t = a + Seconds(u);
+        Seconds(t.0.clamp(a.0, b.0))
+    }
+}
 
-        // Bracket the first changed state tightly around the guess, then bisect on it.
-        let mut lo = a;
-        let mut hi;
-        let mut eps = TRANSITION_RESOLUTION.0;
-        loop {
-            let above = Seconds((guess.0 + eps).min(b.0));
-            if crossed(above) {
-                hi = above;
-                break;
-            }
-            lo = Seconds(lo.0.max(above.0));
-            eps *= 4.0;
+/// How finely a transition time is wanted.
+#[derive(Debug, Clone, Copy)]
+enum Resolution {
+    /// To [`TRANSITION_RESOLUTION`].
+    Continuous,
+    /// The first instant of the grid.
+    Grid(TimeGrid),
+}
+
+impl Resolution {
+    /// How closely Newton's method must locate the crossing first.
+    fn tolerance(self) -> f64 {
+        match self {
+            Resolution::Continuous => TRANSITION_RESOLUTION.0,
+            // A twentieth of a step: the grid search then checks one or two instants.
+            Resolution::Grid(grid) => 0.05 / grid.hz() as f64,
         }
-        let mut eps = TRANSITION_RESOLUTION.0;
+    }
+}
+
+/// The first time in `[a, b]` at which `crossed` holds, to [`TRANSITION_RESOLUTION`], given
+/// that it does not at `a`, does at `b`, is monotone between, and changes near `guess`:
+/// a bracket widening around the guess, then bisection on `crossed` itself, so the answer
+/// agrees exactly with evaluating the segment.
+fn first_crossed_near(
+    a: Seconds,
+    b: Seconds,
+    guess: Seconds,
+    crossed: &impl Fn(Seconds) -> bool,
+) -> Seconds {
+    let mut lo = a;
+    let mut hi;
+    let mut eps = TRANSITION_RESOLUTION.0;
+    loop {
+        let above = Seconds((guess.0 + eps).min(b.0));
+        if crossed(above) {
+            hi = above;
+            break;
+        }
+        lo = Seconds(lo.0.max(above.0));
+        eps *= 4.0;
+    }
+    let mut eps = TRANSITION_RESOLUTION.0;
+    loop {
+        let below = Seconds((guess.0 - eps).max(lo.0));
+        if !crossed(below) {
+            lo = below;
+            break;
+        }
+        hi = Seconds(hi.0.min(below.0));
+        eps *= 4.0;
+    }
+    while hi.0 - lo.0 > TRANSITION_RESOLUTION.0 {
+        let mid = Seconds(lo.0 + 0.5 * (hi.0 - lo.0));
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if crossed(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// The first instant of `grid` in `[a, b]` at which `crossed` holds, under the same
+/// conditions as [`first_crossed_near`]; the first instant after `b` if none in it does (the
+/// crossing fell within the last step before `b`). Galloping from the instant after
+/// `guess`, then bisection: with a good guess, two evaluations.
+fn first_crossed_on_grid(
+    grid: TimeGrid,
+    a: Seconds,
+    b: Seconds,
+    guess: Seconds,
+    crossed: &impl Fn(Seconds) -> bool,
+) -> Seconds {
+    let first = grid.index_at_or_after(a);
+    let last = grid.index_at_or_after(b);
+    let holds = |k: u64| k >= last || crossed(grid.time(k));
+    let k = grid.index_at_or_after(guess).clamp(first, last);
+    // Invariant of the bisection: !holds(lo) (or lo below `first`), holds(hi).
+    let (mut lo, mut hi);
+    if holds(k) {
+        hi = k;
+        let mut step = 1;
         loop {
-            let below = Seconds((guess.0 - eps).max(lo.0));
-            if !crossed(below) {
+            if hi == first {
+                return grid.time(first);
+            }
+            let below = hi.saturating_sub(step).max(first);
+            if !holds(below) {
                 lo = below;
                 break;
             }
-            hi = Seconds(hi.0.min(below.0));
-            eps *= 4.0;
+            hi = below;
+            step *= 2;
         }
-        while hi.0 - lo.0 > TRANSITION_RESOLUTION.0 {
-            let mid = Seconds(lo.0 + 0.5 * (hi.0 - lo.0));
-            if mid <= lo || mid >= hi {
+    } else {
+        lo = k;
+        let mut step = 1;
+        loop {
+            let above = (lo + step).min(last);
+            if holds(above) {
+                hi = above;
                 break;
             }
-            if crossed(mid) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
+            lo = above;
+            step *= 2;
         }
-        hi
     }
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if holds(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    grid.time(hi)
 }
 
 impl Battery {
@@ -487,6 +621,7 @@ impl Robot {
                 in1: Duty::OFF,
                 in2: Duty::OFF,
                 segment: Segment::held(Seconds::ZERO, Radians::ZERO),
+                memo: Cell::new(NO_MEMO),
             };
             wheel.replan(Seconds::ZERO, battery.voltage());
             wheel
@@ -726,8 +861,8 @@ impl Robot {
             };
             let wheels = &self.dynamics.wheels;
             self.ground.step(PerSide {
-                left: wheels.left.segment.angle_at(tk).0,
-                right: wheels.right.segment.angle_at(tk).0,
+                left: wheels.left.angle_at(tk),
+                right: wheels.right.angle_at(tk),
             });
         }
     }
@@ -741,7 +876,7 @@ impl Robot {
             }
             let q = wheel
                 .encoder
-                .quadrature_index(wheel.segment.angle_at(self.dynamics.now));
+                .quadrature_index(Radians(wheel.angle_at(self.dynamics.now)));
             let decoded = self.decoded.get_mut(side);
             decoded.count += wheel.encoder.decoded_between(decoded.q, q);
             decoded.q = q;
@@ -782,6 +917,31 @@ impl Robot {
     /// alone, a search that meets only missed pulses for [`crate::encoder::WATCH_A_STATES`]
     /// states returns the time it got there, at which nothing on A changes.
     pub fn next_encoder_transition_watching(&self, side: Side, watch: Watch) -> Option<Seconds> {
+        self.search_transition(side, watch, Resolution::Continuous)
+    }
+
+    /// [`Robot::next_encoder_transition_watching`] for a reader that samples the levels on
+    /// `grid` (the bench: at its CPU cycles): the index `k` of the first instant after now
+    /// at which the levels differ, found without solving for the time to
+    /// [`TRANSITION_RESOLUTION`]. Exact on the grid: the levels at `grid.time(k)` differ
+    /// from now's, and at `grid.time(k - 1)` (if after now) they do not. Now must be an
+    /// instant of the grid, or the answer may be an instant before now's next.
+    pub fn next_encoder_transition_on(
+        &self,
+        side: Side,
+        watch: Watch,
+        grid: TimeGrid,
+    ) -> Option<u64> {
+        self.search_transition(side, watch, Resolution::Grid(grid))
+            .map(|t| grid.index_at_or_after(t))
+    }
+
+    fn search_transition(
+        &self,
+        side: Side,
+        watch: Watch,
+        resolution: Resolution,
+    ) -> Option<Seconds> {
         let from = self.encoder_levels(side);
         let end = self.dynamics.now + TRANSITION_HORIZON;
         let mut probe: Option<Dynamics> = None;
@@ -790,7 +950,7 @@ impl Robot {
             let change = dynamics.next_internal_change().filter(|&c| c < end);
             let until = change.unwrap_or(end);
             let wheel = dynamics.wheels.get(side);
-            if let Some(t) = wheel.next_transition(dynamics.now, until, from, watch) {
+            if let Some(t) = wheel.next_transition(dynamics.now, until, from, watch, resolution) {
                 return Some(t);
             }
             let change = change?;
@@ -827,7 +987,7 @@ impl Robot {
         let wheel = self.dynamics.wheels.get(side);
         wheel
             .encoder
-            .quadrature_index(wheel.segment.angle_at(self.dynamics.now))
+            .quadrature_index(Radians(wheel.angle_at(self.dynamics.now)))
     }
 
     /// Net signed channel-A edges of `side` since time 0 as the thesis' decoder counts the

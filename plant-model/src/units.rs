@@ -209,6 +209,52 @@ impl fmt::Display for Duty {
     }
 }
 
+/// The instants a sampled reader can observe: `t_k = k / hz` for `k = 0, 1, ...` (a CPU's
+/// clock cycles). The one rounding rule between such a reader and the plant's continuous
+/// time: a search on the grid ([`crate::Robot::next_encoder_transition_on`]) answers with
+/// the first instant at which the plant has changed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct TimeGrid {
+    hz: u32,
+}
+
+impl TimeGrid {
+    /// A grid of `hz` instants per second (`hz > 0`).
+    pub const fn new(hz: u32) -> Self {
+        assert!(hz > 0, "a time grid needs a positive rate");
+        Self { hz }
+    }
+
+    pub const fn hz(self) -> u32 {
+        self.hz
+    }
+
+    /// Instant `k`.
+    pub fn time(self, k: u64) -> Seconds {
+        Seconds(k as f64 / self.hz as f64)
+    }
+
+    /// The first instant at or after `t` (0 for `t <= 0`). Exact: `time(k) >= t` and
+    /// `time(k - 1) < t`, whatever the rounding of `t * hz`; so `index_at_or_after(time(k))
+    /// == k`.
+    pub fn index_at_or_after(self, t: Seconds) -> u64 {
+        let exact = t.0 * self.hz as f64;
+        if exact.is_nan() || exact <= 0.0 {
+            return 0;
+        }
+        let mut k = exact.ceil() as u64;
+        // `t * hz` is rounded: a hair above an integer would skip an instant, a hair below
+        // would precede `t`. Both are at most one instant off.
+        while k > 0 && self.time(k - 1).0 >= t.0 {
+            k -= 1;
+        }
+        while self.time(k).0 < t.0 {
+            k += 1;
+        }
+        k
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,6 +267,24 @@ mod tests {
         let true_rpm = speed.0 * 60.0 / (2.0 * PI);
         assert_relative_eq!(true_rpm, 86.82, epsilon = 1e-9);
         assert_relative_eq!(speed.to_thesis_rpm().0, 14.47, epsilon = 1e-12);
+    }
+
+    /// The grid's first instant at or after a time is exact, on the instants themselves
+    /// too (where `t * hz` rounds either way).
+    #[test]
+    fn time_grid_rounds_up_exactly() {
+        let grid = TimeGrid::new(16_000_000);
+        for k in (0..200_000u64).chain((0..200_000).map(|i| 12_000_000_000 + 7919 * i)) {
+            let t = grid.time(k);
+            assert_eq!(grid.index_at_or_after(t), k, "instant {k}");
+            let after = Seconds(f64::from_bits(t.0.to_bits() + 1));
+            assert_eq!(
+                grid.index_at_or_after(after),
+                k + 1,
+                "just after instant {k}"
+            );
+        }
+        assert_eq!(grid.index_at_or_after(Seconds(-1.0)), 0);
     }
 
     /// Duties outside `[0, 1]` or not finite are refused; 8-bit compare values map to /255.

@@ -7,7 +7,8 @@
 mod common;
 
 use common::duty;
-use plant_model::{Robot, RobotConfig, Seconds, Side};
+use plant_model::encoder::Watch;
+use plant_model::{Robot, RobotConfig, Seconds, Side, TimeGrid};
 use proptest::prelude::*;
 
 /// One emulated AVR cycle at 16 MHz.
@@ -132,6 +133,56 @@ proptest! {
             }
             (None, Some(s)) => prop_assert!(false, "exact found nothing, scan found {s}"),
             (None, None) => {}
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// On a grid (the bench's 16 MHz cycles), after a random history that leaves the robot on
+    /// a grid instant: the answer is the first instant with the levels changed (they differ
+    /// there and not one instant before) and the continuous answer rounded up to the grid,
+    /// watching both channels or A alone.
+    #[test]
+    fn grid_answer_is_exact_on_the_grid(
+        history in prop::collection::vec((inputs(), 1u64..4_000_000), 0..4),
+        last in inputs(),
+        left in any::<bool>(),
+        reversed in any::<bool>(),
+        settle in 0u64..160_000,
+        watch_a in any::<bool>(),
+    ) {
+        let grid = TimeGrid::new(16_000_000);
+        let side = if left { Side::Left } else { Side::Right };
+        let watch = if watch_a { Watch::A } else { Watch::Both };
+        let mut robot = robot_with(reversed);
+        let mut k = 0;
+        for ((in1, in2), dk) in history {
+            robot.set_bridge(side, duty(in1), duty(in2));
+            k += dk;
+            robot.advance_to(grid.time(k)).unwrap();
+        }
+        robot.set_bridge(side, duty(last.0), duty(last.1));
+        k += settle;
+        robot.advance_to(grid.time(k)).unwrap();
+
+        let on_grid = robot.next_encoder_transition_on(side, watch, grid);
+        let continuous = robot.next_encoder_transition_watching(side, watch);
+        prop_assert_eq!(on_grid, continuous.map(|t| grid.index_at_or_after(t)));
+        if let Some(next) = on_grid {
+            prop_assert!(next > k);
+            let levels = |i: u64| {
+                let mut probe = robot.clone();
+                probe.advance_to(grid.time(i)).unwrap();
+                probe.encoder_levels(side)
+            };
+            let from = robot.encoder_levels(side);
+            let differs = |l: (bool, bool)| if watch_a { l.0 != from.0 } else { l != from };
+            prop_assert!(differs(levels(next)), "unchanged at the answer {next}");
+            if next - 1 > k {
+                prop_assert!(!differs(levels(next - 1)), "changed before the answer {next}");
+            }
         }
     }
 }
