@@ -157,7 +157,7 @@ pub struct Turn {
     pub cutoff_right_cycle: Option<u64>,
 }
 
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct FinalPose {
     pub x_mm: f64,
     pub y_mm: f64,

@@ -73,6 +73,9 @@ pub struct Robot {
     seed: u64,
     dynamics: Dynamics,
     ground: Ground,
+    /// The time the ground has been stepped to: the last instant of the pose grid (multiples
+    /// of [`MAX_POSE_STEP`]) or change of the motion, whichever is later, up to now.
+    pose_time: Seconds,
     /// The thesis decoder's count per side, kept for flawed encoders.
     decoded: PerSide<Decoded>,
 }
@@ -473,6 +476,65 @@ fn first_crossed_on_grid(
     grid.time(hi)
 }
 
+/// The index `k` (an integer) of the last instant `k * MAX_POSE_STEP` of the pose grid at or
+/// before `t`.
+fn pose_grid_index(t: Seconds) -> f64 {
+    let step = MAX_POSE_STEP.0;
+    let mut k = (t.0 / step).floor().max(0.0);
+    // The division rounds: make sure the instant is not after `t`, and the next one is.
+    while k > 0.0 && k * step > t.0 {
+        k -= 1.0;
+    }
+    while (k + 1.0) * step <= t.0 {
+        k += 1.0;
+    }
+    k
+}
+
+/// The last instant of the pose grid at or before `t`.
+fn pose_grid_at_or_before(t: Seconds) -> Seconds {
+    Seconds(pose_grid_index(t) * MAX_POSE_STEP.0)
+}
+
+/// Steps `ground` from `from` to `to` under the wheels' current segments: at the pose grid's
+/// instants in between, at the wheels' turning points when the ground needs them
+/// (backlash), and at `to`.
+fn integrate(ground: &mut Ground, wheels: &PerSide<Wheel>, from: Seconds, to: Seconds) {
+    if to <= from {
+        return;
+    }
+    let mut turns = [to; 4];
+    let mut n = 0;
+    if ground.needs_turning_points() {
+        for side in Side::BOTH {
+            for t in wheels.get(side).segment.turning_points(from, to) {
+                turns[n] = t;
+                n += 1;
+            }
+        }
+        turns[..n].sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let step = MAX_POSE_STEP.0;
+    let mut k = pose_grid_index(from) + 1.0;
+    let mut turn = 0;
+    let mut at = from;
+    while at < to {
+        let next_turn = if turn < n { turns[turn].0 } else { to.0 };
+        let next = Seconds((k * step).min(next_turn).min(to.0));
+        ground.step(PerSide {
+            left: wheels.left.angle_at(next),
+            right: wheels.right.angle_at(next),
+        });
+        at = next;
+        while k * step <= at.0 {
+            k += 1.0;
+        }
+        while turn < n && turns[turn] <= at {
+            turn += 1;
+        }
+    }
+}
+
 impl Battery {
     fn voltage(&self) -> Volts {
         self.override_v.unwrap_or(self.modelled)
@@ -639,6 +701,7 @@ impl Robot {
                 battery,
             },
             ground,
+            pose_time: Seconds::ZERO,
             decoded: PerSide::default(),
         })
     }
@@ -684,6 +747,7 @@ impl Robot {
         if (wheel.in1, wheel.in2) == (in1, in2) {
             return;
         }
+        self.settle_pose();
         self.dynamics.account();
         let (now, volts) = (self.dynamics.now, self.dynamics.voltage());
         let wheel = self.dynamics.wheels.get_mut(side);
@@ -713,6 +777,7 @@ impl Robot {
         if self.dynamics.wheels.get(side).fault == fault {
             return Ok(());
         }
+        self.settle_pose();
         self.dynamics.account();
         let (now, volts) = (self.dynamics.now, self.dynamics.voltage());
         let wheel = self.dynamics.wheels.get_mut(side);
@@ -738,6 +803,7 @@ impl Robot {
                 allowed: "a slip fraction must lie in [0, 1]",
             });
         }
+        self.settle_pose();
         self.ground.set_burst(side, slip_fraction);
         Ok(())
     }
@@ -766,6 +832,7 @@ impl Robot {
         if self.dynamics.battery.override_v == volts {
             return Ok(());
         }
+        self.settle_pose();
         self.dynamics.account();
         self.dynamics.battery.override_v = volts;
         if volts.is_none() {
@@ -800,8 +867,8 @@ impl Robot {
     }
 
     /// Moves the plant to time `t` under the current inputs: wheel angles and speeds in closed
-    /// form, internal changes at their exact times, the pose by arcs of at most
-    /// [`MAX_POSE_STEP`].
+    /// form, internal changes at their exact times, the pose by arcs on a fixed grid of
+    /// [`MAX_POSE_STEP`] (see [`Robot::pose`]).
     ///
     /// `t == now` does nothing. `t < now` (or a `t` that is not finite) is an error,
     /// [`Error::TimeWentBackwards`], and leaves the plant unchanged.
@@ -812,59 +879,31 @@ impl Robot {
                 requested: t,
             });
         }
-        loop {
-            let change = self.dynamics.next_internal_change().filter(|&c| c <= t);
-            self.integrate_to(change.unwrap_or(t));
-            match change {
-                Some(_) => self.dynamics.apply_internal_change(),
-                None => break,
-            }
+        while let Some(change) = self.dynamics.next_internal_change().filter(|&c| c <= t) {
+            self.dynamics.now = change;
+            self.settle_pose();
+            self.dynamics.apply_internal_change();
+        }
+        self.dynamics.now = t;
+        let grid = pose_grid_at_or_before(t);
+        if grid > self.pose_time {
+            integrate(
+                &mut self.ground,
+                &self.dynamics.wheels,
+                self.pose_time,
+                grid,
+            );
+            self.pose_time = grid;
         }
         self.sync_decoded();
         Ok(())
     }
 
-    /// Pose steps from now to `t` under the current segments.
-    fn integrate_to(&mut self, t: Seconds) {
-        let start = self.dynamics.now;
-        let mut cuts: Vec<Seconds> = Vec::new();
-        if self.ground.needs_turning_points() {
-            for side in Side::BOTH {
-                cuts.extend(
-                    self.dynamics
-                        .wheels
-                        .get(side)
-                        .segment
-                        .turning_points(start, t),
-                );
-            }
-            cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            cuts.dedup();
-        }
-        cuts.push(t);
-        let mut from = start;
-        for to in cuts {
-            self.pose_steps(from, to);
-            from = to;
-        }
-        self.dynamics.now = t;
-    }
-
-    fn pose_steps(&mut self, start: Seconds, t: Seconds) {
-        let span = t.0 - start.0;
-        let steps = (span / MAX_POSE_STEP.0).ceil().max(1.0) as u64;
-        for k in 1..=steps {
-            let tk = if k == steps {
-                t
-            } else {
-                Seconds(start.0 + span * (k as f64 / steps as f64))
-            };
-            let wheels = &self.dynamics.wheels;
-            self.ground.step(PerSide {
-                left: wheels.left.angle_at(tk),
-                right: wheels.right.angle_at(tk),
-            });
-        }
+    /// Steps the ground to now, before the motion changes.
+    fn settle_pose(&mut self) {
+        let now = self.dynamics.now;
+        integrate(&mut self.ground, &self.dynamics.wheels, self.pose_time, now);
+        self.pose_time = now;
     }
 
     /// Brings the decoder counts of flawed encoders to the current states.
@@ -1041,7 +1080,22 @@ impl Robot {
     }
 
     /// The robot's pose in the [`World`] frame (origin and axes at the start pose).
+    ///
+    /// The pose is stepped at the instants of a fixed grid (multiples of [`MAX_POSE_STEP`])
+    /// and at the changes of the motion (inputs, faults, the battery's steps), which are the
+    /// same however the plant is advanced: so is the pose, bit for bit. Between them it is
+    /// the last step's pose plus the arc to now, computed here and not kept.
     pub fn pose(&self) -> Pose<World> {
-        self.ground.pose()
+        if self.pose_time == self.dynamics.now {
+            return self.ground.pose();
+        }
+        let mut ground = self.ground.clone();
+        integrate(
+            &mut ground,
+            &self.dynamics.wheels,
+            self.pose_time,
+            self.dynamics.now,
+        );
+        ground.pose()
     }
 }

@@ -118,36 +118,59 @@ fn constant_speeds_trace_the_exact_circle() {
     );
 }
 
-/// One long `advance_to` is subdivided internally: the result matches advancing in 1 ms and
-/// in irregular steps to well below a micrometre (the pose steps differ, so not bit for bit),
-/// and the wheel states match exactly.
-#[test]
-fn long_advance_equals_many_short_ones() {
-    let script = |robot: &mut Robot, times: &[f64]| {
+fn with_backlash() -> RobotConfig {
+    let mut config = RobotConfig::default();
+    config.effects.backlash = Some(plant_model::effects::Backlash {
+        left_wheel_deg: 2.0,
+        right_wheel_deg: 3.0,
+    });
+    config
+}
+
+/// One long `advance_to` is subdivided internally on a fixed grid: advancing in 1 ms, in
+/// irregular steps, or asking for the pose on the way gives the same wheel states and the
+/// same pose, bit for bit (with backlash too, whose steps also split at reversals).
+#[rstest]
+#[case::nominal(RobotConfig::default())]
+#[case::backlash(with_backlash())]
+fn long_advance_equals_many_short_ones(#[case] config: RobotConfig) {
+    let script = |robot: &mut Robot, times: &[f64], look: bool| {
         drive(robot, (0.95, 0.0), (0.7, 0.0));
         for &t in times {
+            if t > 0.5 && robot.now().0 <= 0.5 {
+                robot.advance_to(Seconds(0.5)).unwrap();
+                drive(robot, (0.0, 0.9), (0.6, 0.0));
+            }
             robot.advance_to(Seconds(t)).unwrap();
+            if look {
+                let _ = robot.pose();
+            }
         }
     };
-    let config = RobotConfig::default();
     let mut one = Robot::new(&config, 3).unwrap();
-    script(&mut one, &[0.8]);
+    script(&mut one, &[0.8], false);
     let mut fine = Robot::new(&config, 3).unwrap();
     let ms: Vec<f64> = (1..=800).map(|k| f64::from(k) / 1000.0).collect();
-    script(&mut fine, &ms);
+    script(&mut fine, &ms, true);
     let mut odd = Robot::new(&config, 3).unwrap();
-    script(&mut odd, &[0.0001, 0.0123, 0.2, 0.20001, 0.5, 0.8]);
+    script(
+        &mut odd,
+        &[0.0001, 0.0123, 0.2, 0.20001, 0.5, 0.6377, 0.8],
+        true,
+    );
     for other in [&fine, &odd] {
         for side in Side::BOTH {
             assert_eq!(one.wheel_angle(side), other.wheel_angle(side));
             assert_eq!(one.quadrature_index(side), other.quadrature_index(side));
         }
-        let (a, b) = (one.pose(), other.pose());
-        // 1e-4 mm = 0.1 um: the arcs differ only in where the 1 ms steps fall.
-        assert!((a.x().0 - b.x().0).abs() < 1e-4, "{a} vs {b}");
-        assert!((a.y().0 - b.y().0).abs() < 1e-4, "{a} vs {b}");
-        assert!((a.theta().0 - b.theta().0).abs() < 1e-9, "{a} vs {b}");
+        assert_eq!(one.pose(), other.pose());
     }
+    // And the pose between grid instants is the last instant's plus the arc since.
+    let mut between = Robot::new(&config, 3).unwrap();
+    script(&mut between, &[0.7995], true);
+    let mut direct = Robot::new(&config, 3).unwrap();
+    script(&mut direct, &[0.79, 0.7995], false);
+    assert_eq!(between.pose(), direct.pose());
 }
 
 /// Asking to go back in time is an error that leaves the plant as it was; going to `now`
