@@ -125,6 +125,9 @@ pub struct Sample {
     pub right_duty: f64,
 }
 
+/// Transitions planned per wheel beyond the next (see `BenchCore::plan_edge`).
+const EDGES_PLANNED: usize = 8;
+
 /// An encoder line change raised on a pin: line 0/1 = left A/B, 2/3 = right A/B.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct PinEvent {
@@ -433,6 +436,10 @@ pub struct BenchCore {
     /// edge time; simavr raises it at the first instruction boundary after).
     pub last_a_edge: [u64; 2],
     next_edge: [u64; 2],
+    /// The transitions planned after `next_edge` under the present inputs,
+    /// latest first: an edge's callback pops the next one instead of
+    /// searching (any change re-plans from scratch).
+    planned: [Vec<u64>; 2],
     /// Next change of the plant's own dynamics.
     next_internal: u64,
     next_step: u64,
@@ -590,7 +597,7 @@ impl BenchCore {
     /// Re-read what the bridge inputs see; apply changes to the plant.
     fn refresh_bridge(&mut self, core: &Core, cycle: u64) {
         self.advance_plant(cycle);
-        let mut changed = false;
+        let mut changed = [false; 2];
         for side in SIDES {
             let m = *self.wiring.motor(side);
             let i = side_index(side);
@@ -603,7 +610,7 @@ impl BenchCore {
             if (fwd, rev) == (old_f, old_r) {
                 continue;
             }
-            changed = true;
+            changed[i] = true;
             for (input, old, new) in [(m.forward, old_f, fwd), (m.reverse, old_r, rev)] {
                 if old != new {
                     let wave = match input.pwm {
@@ -637,8 +644,15 @@ impl BenchCore {
                 Duty::new(rev).unwrap_or(Duty::from_pwm8(0)),
             );
         }
-        if changed {
-            self.plan_edges(cycle);
+        if changed != [false; 2] {
+            // Only a changed wheel's motion changes (the battery follows at
+            // its next internal change, which re-plans both).
+            self.plan_internal(cycle);
+            for side in SIDES {
+                if changed[side_index(side)] {
+                    self.plan_edge(side, cycle);
+                }
+            }
             let sign = |(f, r): (f64, f64)| match (f > 0.0, r > 0.0) {
                 (false, false) => 0,
                 (true, false) => 1,
@@ -680,10 +694,11 @@ impl BenchCore {
     }
 
     fn plan_edges(&mut self, now: u64) {
+        // The edges are planned ahead up to the internal change: that first.
+        self.plan_internal(now);
         for side in SIDES {
             self.plan_edge(side, now);
         }
-        self.plan_internal(now);
     }
 
     /// When the plant's own dynamics change next (battery sag steps, ...):
@@ -695,20 +710,49 @@ impl BenchCore {
         };
     }
 
+    /// Plan `side`'s next transitions from `now` under the present inputs:
+    /// the next one and up to [`EDGES_PLANNED`] after it (the plant's
+    /// searches in one go keep the callbacks of the edges short, which is
+    /// what keeps simavr's own caches warm).
     fn plan_edge(&mut self, side: Side, now: u64) {
-        let watch = if self.lazy_b[side_index(side)] {
+        let i = side_index(side);
+        let watch = if self.lazy_b[i] {
             Watch::A
         } else {
             Watch::Both
         };
-        self.next_edge[side_index(side)] =
+        let grid = self.clock.grid();
+        self.next_edge[i] = match self.robot.next_encoder_transition_on(side, watch, grid) {
+            Some(cycle) => cycle.max(now + 1),
+            None => NEVER,
+        };
+        let mut planned = std::mem::take(&mut self.planned[i]);
+        planned.clear();
+        let mut after = self.next_edge[i];
+        // Planning ahead holds up to the plant's next internal change only.
+        while planned.len() < EDGES_PLANNED && after < self.next_internal {
             match self
                 .robot
-                .next_encoder_transition_on(side, watch, self.clock.grid())
+                .next_encoder_transition_on_after(side, watch, grid, after)
             {
-                Some(cycle) => cycle.max(now + 1),
-                None => NEVER,
-            };
+                Some(cycle) => {
+                    planned.push(cycle);
+                    after = cycle;
+                }
+                None => break,
+            }
+        }
+        planned.reverse();
+        self.planned[i] = planned;
+    }
+
+    /// `side`'s planned edge came: the next planned one, or a new plan.
+    fn next_planned_edge(&mut self, side: Side, now: u64) {
+        let i = side_index(side);
+        match self.planned[i].pop() {
+            Some(cycle) => self.next_edge[i] = cycle,
+            None => self.plan_edge(side, now),
+        }
     }
 
     fn next_event(&self) -> u64 {
@@ -1263,7 +1307,7 @@ impl Handler for BenchCore {
         for side in SIDES {
             let i = side_index(side);
             if self.next_edge[i] <= when {
-                self.plan_edge(side, when);
+                self.next_planned_edge(side, when);
             }
         }
         let next = self.next_event();
@@ -1369,6 +1413,7 @@ impl Bench {
             edges_raised: [0; 2],
             last_a_edge: [0; 2],
             next_edge: [NEVER; 2],
+            planned: [Vec::new(), Vec::new()],
             next_internal: NEVER,
             next_step: step_cycles,
             step_cycles,

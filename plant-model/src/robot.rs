@@ -61,6 +61,10 @@ pub const TRANSITION_HORIZON: Seconds = Seconds(10.0);
 /// Longest step of the pose integration; [`Robot::advance_to`] subdivides longer intervals.
 pub const MAX_POSE_STEP: Seconds = Seconds(1e-3);
 
+/// How far the ground may lag behind the wheels before [`Robot::advance_to`] steps it (on
+/// the grid of [`MAX_POSE_STEP`] all the same, so the pose does not depend on it).
+const POSE_BATCH: Seconds = Seconds(8e-3);
+
 /// Resolution of [`Robot::next_encoder_transition`]: the time returned is at most this much
 /// (or one `f64` step of the time, if that is larger) after a time at which the encoder state
 /// has not changed yet.
@@ -885,8 +889,9 @@ impl Robot {
             self.dynamics.apply_internal_change();
         }
         self.dynamics.now = t;
+        // The steps fall on the grid whenever they are taken: take them in batches.
         let grid = pose_grid_at_or_before(t);
-        if grid > self.pose_time {
+        if grid.0 - self.pose_time.0 >= POSE_BATCH.0 {
             integrate(
                 &mut self.ground,
                 &self.dynamics.wheels,
@@ -975,29 +980,66 @@ impl Robot {
             .map(|t| grid.index_at_or_after(t))
     }
 
+    /// [`Robot::next_encoder_transition_on`] as if the robot had been advanced to instant
+    /// `after` of the grid with its inputs unchanged: the transition after that one, for a
+    /// reader that plans several ahead. `after` must lie from now up to the next internal
+    /// change ([`Robot::next_internal_change`]); the answer is the one
+    /// [`Robot::next_encoder_transition_on`] gives once the robot is there.
+    pub fn next_encoder_transition_on_after(
+        &self,
+        side: Side,
+        watch: Watch,
+        grid: TimeGrid,
+        after: u64,
+    ) -> Option<u64> {
+        let start = grid.time(after);
+        debug_assert!(start >= self.dynamics.now, "plans ahead only");
+        debug_assert!(
+            self.dynamics
+                .next_internal_change()
+                .is_none_or(|c| start <= c),
+            "plans beyond the next internal change"
+        );
+        self.search_transition_from(side, watch, Resolution::Grid(grid), start)
+            .map(|t| grid.index_at_or_after(t))
+    }
+
     fn search_transition(
         &self,
         side: Side,
         watch: Watch,
         resolution: Resolution,
     ) -> Option<Seconds> {
-        let from = self.encoder_levels(side);
-        let end = self.dynamics.now + TRANSITION_HORIZON;
+        self.search_transition_from(side, watch, resolution, self.dynamics.now)
+    }
+
+    /// The search from `start` (from now up to the next internal change).
+    fn search_transition_from(
+        &self,
+        side: Side,
+        watch: Watch,
+        resolution: Resolution,
+        start: Seconds,
+    ) -> Option<Seconds> {
+        let from = self.dynamics.wheels.get(side).levels(start);
+        let end = start + TRANSITION_HORIZON;
         let mut probe: Option<Dynamics> = None;
+        let mut at = start;
         loop {
             let dynamics = probe.as_ref().unwrap_or(&self.dynamics);
             let change = dynamics.next_internal_change().filter(|&c| c < end);
             let until = change.unwrap_or(end);
             let wheel = dynamics.wheels.get(side);
-            if let Some(t) = wheel.next_transition(dynamics.now, until, from, watch, resolution) {
+            if let Some(t) = wheel.next_transition(at, until, from, watch, resolution) {
                 return Some(t);
             }
             let change = change?;
-            if wheel.rests_whatever_the_voltage(dynamics.now) {
+            if wheel.rests_whatever_the_voltage(at) {
                 return None;
             }
             let mut next = dynamics.clone();
             next.advance_to(change);
+            at = change;
             probe = Some(next);
         }
     }

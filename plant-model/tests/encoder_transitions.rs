@@ -187,6 +187,63 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// Planning transitions ahead on the grid gives the ones found by advancing to each and
+    /// searching again, watching both channels or A alone, with or without a battery that
+    /// sags (whose steps the plan must not run past).
+    #[test]
+    fn planning_ahead_equals_stepping(
+        (in1, in2) in inputs(),
+        left in any::<bool>(),
+        watch_a in any::<bool>(),
+        settle in 0u64..1_600_000,
+        sag in any::<bool>(),
+    ) {
+        let grid = TimeGrid::new(16_000_000);
+        let side = if left { Side::Left } else { Side::Right };
+        let watch = if watch_a { Watch::A } else { Watch::Both };
+        let mut config = RobotConfig::default();
+        if sag {
+            config.effects.battery_sag = Some(plant_model::effects::BatterySag {
+                open_circuit_full_v: 8.4,
+                open_circuit_empty_v: 6.6,
+                capacity_mah: 1000.0,
+                initial_charge_fraction: 0.8,
+                internal_resistance_ohm: 0.2,
+                motor_resistance_ohm: 10.0,
+                idle_current_a: 0.15,
+                update_interval_s: 0.05,
+            });
+        }
+        let mut robot = Robot::new(&config, 5).unwrap();
+        robot.set_bridge(side, duty(in1), duty(in2));
+        robot.advance_to(grid.time(settle)).unwrap();
+
+        let mut stepped = robot.clone();
+        let Some(first) = stepped.next_encoder_transition_on(side, watch, grid) else {
+            return Ok(());
+        };
+        let limit = robot.next_internal_change().map(|t| grid.index_at_or_after(t));
+        let mut planned = vec![first];
+        while planned.len() < 12 {
+            let after = *planned.last().unwrap();
+            if limit.is_some_and(|l| after >= l) {
+                break;
+            }
+            match robot.next_encoder_transition_on_after(side, watch, grid, after) {
+                Some(k) => planned.push(k),
+                None => break,
+            }
+        }
+        for pair in planned.windows(2) {
+            stepped.advance_to(grid.time(pair[0])).unwrap();
+            prop_assert_eq!(stepped.next_encoder_transition_on(side, watch, grid), Some(pair[1]));
+        }
+    }
+}
+
 /// Builds the state in which turning round matters: a wheel spun up, left to coast almost to
 /// a stop (so it is within a state or so of stopping), then driven the other way.
 fn almost_stopped_then_reversed(
