@@ -480,6 +480,10 @@ pub struct BenchCore {
     /// loop executes nothing.
     bod: Bod,
     vcc_v: f64,
+    /// Duty each bridge input sees (in `bridge_inputs` order).
+    input_duties: [f64; 4],
+    /// The battery voltage `update_supply` last saw.
+    supply_battery_v: f64,
     /// Set when the detector lets go: the run loop restarts the MCU with
     /// BORF set.
     pub bod_release_pending: bool,
@@ -580,8 +584,7 @@ impl BenchCore {
         if cycle > self.plant_cycle {
             // PWM statistics integrate the duty held since the last advance.
             let dt = self.clock.seconds(cycle - self.plant_cycle).0;
-            for (i, input) in self.wiring.bridge_inputs().iter().enumerate() {
-                let d = self.input_duty(input);
+            for (i, &d) in self.input_duties.iter().enumerate() {
                 if d > 0.0 {
                     self.pins[i].active_s += dt;
                     self.pins[i].duty_integral += d * dt;
@@ -594,9 +597,20 @@ impl BenchCore {
         }
     }
 
+    /// What each bridge input sees, for the PWM statistics: recomputed
+    /// after every change of the timers' and the port's registers.
+    fn update_input_duties(&mut self) {
+        let duties = self
+            .wiring
+            .bridge_inputs()
+            .map(|input| self.input_duty(&input));
+        self.input_duties = duties;
+    }
+
     /// Re-read what the bridge inputs see; apply changes to the plant.
     fn refresh_bridge(&mut self, core: &Core, cycle: u64) {
         self.advance_plant(cycle);
+        self.update_input_duties();
         let mut changed = [false; 2];
         for side in SIDES {
             let m = *self.wiring.motor(side);
@@ -784,7 +798,14 @@ impl BenchCore {
     /// VCC from the battery now, the ADC's reference with it, and the
     /// brown-out detector's reaction (see [`crate::supply`]).
     fn update_supply(&mut self, core: &mut Core, cycle: u64) {
-        let vcc = self.supply.vcc(self.robot.battery_voltage().0);
+        let battery = self.robot.battery_voltage().0;
+        // With the battery as it was, only a detector counting down its
+        // start-up time-out can change.
+        if battery == self.supply_battery_v && !matches!(self.bod, Bod::Releasing { .. }) {
+            return;
+        }
+        self.supply_battery_v = battery;
+        let vcc = self.supply.vcc(battery);
         if vcc != self.vcc_v {
             self.vcc_v = vcc;
             let mv = (vcc * 1000.0).round() as u32;
@@ -1159,7 +1180,9 @@ impl Handler for BenchCore {
         core.set_data(addr, value);
         // Bring the plant to this cycle before the output can change.
         self.advance_plant(cycle);
-        match self.timer_mut(which).write(addr, value, cycle) {
+        let written = self.timer_mut(which).write(addr, value, cycle);
+        self.update_input_duties();
+        match written {
             Ok(effect) => {
                 if effect.pending_update {
                     self.pending_top[which] = self
@@ -1448,6 +1471,8 @@ impl Bench {
             startup_cycles: clock.cycles_in(Seconds(options.supply.startup_s)),
             bod: Bod::Released,
             vcc_v: f64::NAN,
+            supply_battery_v: f64::NAN,
+            input_duties: [0.0; 4],
             bod_release_pending: false,
             brownouts: Vec::new(),
             leds: Vec::new(),
