@@ -3,10 +3,12 @@
 //! Three runs of the same firmware over the same robot time:
 //! - the bench: the firmware against the plant, as every scenario runs it;
 //! - raw simavr: the same ELF in a bare simavr (its own timer modules,
-//!   timers 2 and 4 included), with the encoder edges the bench produced
-//!   replayed on the pins at the same cycles and the command byte sent at the
-//!   same cycle, so the firmware executes the same instructions; no plant, no
-//!   PWM model, no analysis;
+//!   timers 2 and 4 included), given the bench run's inputs at their cycles
+//!   (the encoder lines as the firmware saw them, the battery on A0 and VCC,
+//!   the leg length written before the command, the command byte), so the
+//!   firmware executes the same instructions; no plant, no PWM model, no
+//!   analysis. A replay must end with the bench run's SRAM, or the times do
+//!   not compare ([`PerfError::ReplayDiverged`]);
 //! - raw simavr without its PWM timers: the same, with timers 2 and 4 taken
 //!   off simavr (their registers just stored), which is what the bench does.
 //!
