@@ -11,7 +11,7 @@ use hil::perf::{bench_run, raw_replay};
 #[test]
 fn a_raw_replay_ends_in_the_bench_runs_firmware_state() {
     let fw = support::firmware("robust");
-    let rec = bench_run(&fw, &support::robot("henrytwo"), Test::Line, 400.0).unwrap();
+    let rec = bench_run(&fw, &support::robot("henrytwo"), Test::Line, 400.0, true).unwrap();
     assert!(rec.completed, "the line did not complete on the bench");
     assert!(
         rec.edges.len() > 100,
@@ -31,12 +31,12 @@ fn a_raw_replay_ends_in_the_bench_runs_firmware_state() {
 #[test]
 fn a_replay_missing_an_input_is_caught() {
     let fw = support::firmware("robust");
-    let mut rec = bench_run(&fw, &support::robot("henrytwo"), Test::Line, 400.0).unwrap();
+    let mut rec = bench_run(&fw, &support::robot("henrytwo"), Test::Line, 400.0, true).unwrap();
     // Without the battery on A0 the firmware reads a flat battery.
     rec.analog.clear();
     assert!(!raw_replay(&fw, &rec, false).unwrap().faithful);
     // Without the last quarter of the encoder edges the counts fall short.
-    let mut rec2 = bench_run(&fw, &support::robot("henrytwo"), Test::Line, 400.0).unwrap();
+    let mut rec2 = bench_run(&fw, &support::robot("henrytwo"), Test::Line, 400.0, true).unwrap();
     let keep = rec2.edges.len() * 3 / 4;
     rec2.edges.truncate(keep);
     assert!(!raw_replay(&fw, &rec2, false).unwrap().faithful);

@@ -82,18 +82,23 @@ fn fingerprint(read: impl Fn(u16) -> u8) -> Vec<u8> {
     SRAM.map(read).collect()
 }
 
-/// Run `test` on the bench, recording the encoder edges.
+/// Run `test` on the bench; with `record`, recording the inputs a replay
+/// needs (which costs the bench time and memory no scenario spends: the
+/// timed runs do not record).
 pub fn bench_run(
     fw: &Firmware,
     robot: &RobotConfig,
     test: Test,
     leg_mm: f64,
+    record: bool,
 ) -> Result<Recorded, BenchError> {
     let wall = Instant::now();
     let (mut bench, before, command_cycle) =
         ready_bench(fw.clone(), robot, BenchOptions::default(), leg_mm)?;
     let vars = *bench.vars();
-    bench.start_recording();
+    if record {
+        bench.start_recording();
+    }
     bench.send(1, &[test.command_byte()]);
     let (legs, turns, _) = test.shape();
     let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0;
@@ -307,6 +312,11 @@ pub enum PerfError {
          state, so their times do not compare; the replay misses an input the bench gave"
     )]
     ReplayDiverged { build: String },
+    #[error(
+        "the {build} build's bench run ended elsewhere when its inputs were recorded; \
+         recording must not change a run (a bug in the bench)"
+    )]
+    RecordingChangedTheRun { build: String },
 }
 
 /// The bench and raw simavr on one build: fastest of the repeats each.
@@ -332,24 +342,29 @@ fn fastest(a: Measured, b: Measured) -> Measured {
     }
 }
 
-/// Time one build: the bench run, then its replays, `repeats` times over.
+/// Time one build: a recorded bench run for the replays (not timed), then
+/// `repeats` times over: an unrecorded bench run and the replays.
 fn measure_build(
     fw: &Firmware,
     plan: &BenchPlan,
     repeats: usize,
     raw_with_pwm_timers: bool,
 ) -> Result<BuildSpeed, PerfError> {
-    let rec = bench_run(fw, plan.robot, plan.test, plan.leg_mm)?;
-    let mut bench = rec.measured.clone();
+    let rec = bench_run(fw, plan.robot, plan.test, plan.leg_mm, true)?;
+    let mut bench: Option<Measured> = None;
     let mut raw_np: Option<Measured> = None;
     let mut raw: Option<Measured> = None;
-    for i in 0..repeats.max(1) {
-        if i > 0 {
-            bench = fastest(
-                bench,
-                bench_run(fw, plan.robot, plan.test, plan.leg_mm)?.measured,
-            );
+    for _ in 0..repeats.max(1) {
+        let run = bench_run(fw, plan.robot, plan.test, plan.leg_mm, false)?;
+        if run.end_cycle != rec.end_cycle || run.fingerprint != rec.fingerprint {
+            return Err(PerfError::RecordingChangedTheRun {
+                build: fw.name().to_string(),
+            });
         }
+        bench = Some(match bench.take() {
+            Some(b) => fastest(b, run.measured),
+            None => run.measured,
+        });
         let replay = |pwm: bool, best: &mut Option<Measured>| -> Result<(), PerfError> {
             let r = raw_replay(fw, &rec, pwm)?;
             if !r.faithful {
@@ -369,6 +384,7 @@ fn measure_build(
         }
     }
     let raw_np = raw_np.expect("at least one repeat");
+    let bench = bench.expect("at least one repeat");
     Ok(BuildSpeed {
         overhead_ratio: bench.wall_s / raw_np.wall_s.max(1e-9),
         awake_fraction: rec.awake_fraction,
