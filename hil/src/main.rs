@@ -721,6 +721,8 @@ fn run(cli: Cli) -> Result<()> {
             } else {
                 None
             };
+            let spinner = indicatif::ProgressBar::new_spinner();
+            spinner.enable_steady_tick(std::time::Duration::from_millis(200));
             let report = hil::perf::measure(&hil::perf::BenchPlan {
                 robust: &firmware,
                 thesis: thesis.as_ref(),
@@ -729,7 +731,10 @@ fn run(cli: Cli) -> Result<()> {
                 leg_mm,
                 repeats,
                 raw_with_pwm_timers: !without_simavr_pwm,
-            })?;
+                progress: &|what: &str| spinner.set_message(what.to_string()),
+            });
+            spinner.finish_and_clear();
+            let report = report?;
             emit(common.json, &report, || report.render())?;
         }
         Command::Faults {

@@ -300,6 +300,8 @@ pub struct BenchPlan<'a> {
     pub repeats: usize,
     /// Also time raw simavr with its own PWM timers (slow).
     pub raw_with_pwm_timers: bool,
+    /// Told what is being timed, before each run.
+    pub progress: &'a dyn Fn(&str),
 }
 
 /// Errors of `hil bench`.
@@ -350,11 +352,15 @@ fn measure_build(
     repeats: usize,
     raw_with_pwm_timers: bool,
 ) -> Result<BuildSpeed, PerfError> {
+    let name = fw.name();
+    (plan.progress)(&format!("{name}: recording the bench run's inputs"));
     let rec = bench_run(fw, plan.robot, plan.test, plan.leg_mm, true)?;
     let mut bench: Option<Measured> = None;
     let mut raw_np: Option<Measured> = None;
     let mut raw: Option<Measured> = None;
-    for _ in 0..repeats.max(1) {
+    let repeats = repeats.max(1);
+    for i in 0..repeats {
+        (plan.progress)(&format!("{name}: timing, round {} of {repeats}", i + 1));
         let run = bench_run(fw, plan.robot, plan.test, plan.leg_mm, false)?;
         if run.end_cycle != rec.end_cycle || run.fingerprint != rec.fingerprint {
             return Err(PerfError::RecordingChangedTheRun {
