@@ -467,7 +467,7 @@ impl Segment {
     /// - 1` (NaN from the stop time on, where none is taken): the angle is
     /// [`Segment::angle_at`]'s, bit for bit, and the exponential lets [`Segment::around`]
     /// expand the motion about `t` without another.
-    pub fn evaluate(&self, t: Seconds) -> (Radians, f64) {
+    pub(crate) fn evaluate(&self, t: Seconds) -> (Radians, f64) {
         if t.0 >= self.stop {
             return (Radians(self.angle_stop), f64::NAN);
         }
@@ -483,7 +483,7 @@ impl Segment {
 
     /// The motion about `a` (before the stop time), from [`Segment::evaluate`]'s answer there:
     /// cheap to evaluate near `a`, equal to the segment's closed form to rounding.
-    pub fn around(&self, a: Seconds, (angle, decay_m1): (Radians, f64)) -> Around {
+    pub(crate) fn around(&self, a: Seconds, (angle, decay_m1): (Radians, f64)) -> Around {
         debug_assert!(a.0 < self.stop, "expanded at or past the stop time");
         Around {
             angle: angle.0,
@@ -541,7 +541,7 @@ impl Segment {
 /// edge is a fraction of a millisecond away, the time constants tens of milliseconds). For
 /// solving where the angle reaches a value; the answer is then checked on the closed form.
 #[derive(Debug, Clone, Copy)]
-pub struct Around {
+pub(crate) struct Around {
     angle: f64,
     target: f64,
     /// The speed's distance from its target at `a`.
@@ -551,7 +551,7 @@ pub struct Around {
 
 impl Around {
     /// Angle (rad) and speed (rad/s) at `a + u`.
-    pub fn state(&self, u: f64) -> (f64, f64) {
+    pub(crate) fn state(&self, u: f64) -> (f64, f64) {
         let decay_m1 = expm1_near_zero(-u / self.tau);
         (
             self.angle + self.target * u - self.transient * self.tau * decay_m1,
@@ -560,7 +560,7 @@ impl Around {
     }
 
     /// The angular acceleration (rad/s^2) at `a + u`, given the speed there.
-    pub fn acceleration(&self, speed: f64) -> f64 {
+    pub(crate) fn acceleration(&self, speed: f64) -> f64 {
         (self.target - speed) / self.tau
     }
 }
