@@ -173,6 +173,33 @@ impl Encoder {
     /// search gives up after [`WATCH_A_STATES`] states (every pulse missed) and returns the
     /// boundary it reached: a change of nothing, which a caller treats as a check-point.
     pub fn next_level_change(&self, s: f64, upward: bool, from: (bool, bool), watch: Watch) -> f64 {
+        if !self.is_flawed() {
+            // No silent boundaries and no glitches: the boundaries are the integers, and
+            // four states in a row show every level pair, so the change comes within four.
+            let n0 = s.floor() as i64;
+            for k in 1..=4 {
+                let (n, region) = if upward {
+                    (n0 + k, n0 + k)
+                } else {
+                    (n0 + 1 - k, n0 - k)
+                };
+                if watch.differs(levels(region), from) {
+                    return n as f64;
+                }
+            }
+        }
+        self.next_level_change_stepping(s, upward, from, watch)
+    }
+
+    /// [`Encoder::next_level_change`] by stepping through the boundaries of each state,
+    /// flaws included.
+    fn next_level_change_stepping(
+        &self,
+        s: f64,
+        upward: bool,
+        from: (bool, bool),
+        watch: Watch,
+    ) -> f64 {
         let n0 = s.floor() as i64;
         let limit = match watch {
             Watch::Both => i64::MAX,
@@ -315,6 +342,32 @@ pub fn net_a_edges(q: i64) -> i64 {
 mod tests {
     use super::*;
     use rstest::rstest;
+
+    /// Without flaws the next change is found without stepping through the states' regions,
+    /// at the boundary stepping finds: from inside a state and from a boundary, both ways,
+    /// for every pair of levels it could be asked about.
+    #[test]
+    fn flawless_shortcut_agrees_with_stepping() {
+        for reversed in [false, true] {
+            let enc = Encoder::new(100.37, 6, reversed);
+            assert!(!enc.is_flawed());
+            for k in -40..40 {
+                for s in [k as f64, k as f64 + 0.25, k as f64 + 0.999_999] {
+                    for from in [(false, false), (false, true), (true, false), (true, true)] {
+                        for upward in [true, false] {
+                            for watch in [Watch::A, Watch::Both] {
+                                assert_eq!(
+                                    enc.next_level_change(s, upward, from, watch),
+                                    enc.next_level_change_stepping(s, upward, from, watch),
+                                    "s {s}, from {from:?}, upward {upward}, {watch:?}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     /// Watching A alone finds the first boundary at which A changes: the same one as
     /// stepping through every level change (A and B), with missed pulses and glitches.

@@ -252,6 +252,11 @@ impl Wheel {
         let mut sa = self.position(a);
         for &b in &cuts[..=n] {
             if b > a {
+                if let Resolution::Grid(grid) = resolution {
+                    if let Some(t) = self.transition_on_grid_early((a, sa), b, from, watch, grid) {
+                        return Some(t);
+                    }
+                }
                 let sb = self.position(b);
                 if let Some(t) = self.transition_on((a, sa), (b, sb), from, watch, resolution) {
                     return Some(t);
@@ -261,6 +266,48 @@ impl Wheel {
             a = b;
         }
         None
+    }
+
+    /// [`Wheel::transition_on`]'s answer on the grid, found without evaluating the piece's
+    /// end `b` (usually the search's horizon, far away) when the levels are seen to change
+    /// at the grid instant of Newton's guess: the position is monotone on the piece, so it
+    /// is past the boundary at `b` too, and the answer is the one the full search gives.
+    /// `None` when that cannot be seen (the caller then searches in full).
+    fn transition_on_grid_early(
+        &self,
+        (a, sa): (Seconds, f64),
+        b: Seconds,
+        from: (bool, bool),
+        watch: Watch,
+        grid: TimeGrid,
+    ) -> Option<Seconds> {
+        if self.segment.is_at_rest_from(a) {
+            return None;
+        }
+        // The direction of the motion from its speed at `a`, in the encoder's sense.
+        let (_, speed) = self.segment.around(a, self.evaluate(a)).state(0.0);
+        let seen = if self.encoder.is_reversed() {
+            -speed
+        } else {
+            speed
+        };
+        if seen == 0.0 || seen.is_nan() {
+            return None;
+        }
+        let upward = seen > 0.0;
+        let boundary = self.encoder.next_level_change(sa, upward, from, watch);
+        let passed = |s: f64| if upward { s >= boundary } else { s < boundary };
+        let crossed = |t: Seconds| passed(self.position(t));
+        let resolution = Resolution::Grid(grid);
+        let guess = self.boundary_crossing(a, b, upward, boundary, resolution.tolerance());
+        let first = grid.index_at_or_after(a);
+        let last = grid.index_at_or_after(b);
+        let k = grid.index_at_or_after(guess).clamp(first, last);
+        if k < last && crossed(grid.time(k)) {
+            Some(first_crossed_from(grid, first, last, k, &crossed))
+        } else {
+            None
+        }
     }
 
     /// The transition on the monotone piece `[a, b]` (with the encoder positions there), if
@@ -437,8 +484,20 @@ fn first_crossed_on_grid(
 ) -> Seconds {
     let first = grid.index_at_or_after(a);
     let last = grid.index_at_or_after(b);
-    let holds = |k: u64| k >= last || crossed(grid.time(k));
     let k = grid.index_at_or_after(guess).clamp(first, last);
+    first_crossed_from(grid, first, last, k, crossed)
+}
+
+/// [`first_crossed_on_grid`] with the indices of `a`, `b` and the guess (clamped to them)
+/// worked out: `first`, `last`, `k`.
+fn first_crossed_from(
+    grid: TimeGrid,
+    first: u64,
+    last: u64,
+    k: u64,
+    crossed: &impl Fn(Seconds) -> bool,
+) -> Seconds {
+    let holds = |k: u64| k >= last || crossed(grid.time(k));
     // Invariant of the bisection: !holds(lo) (or lo below `first`), holds(hi).
     let (mut lo, mut hi);
     if holds(k) {
@@ -1021,12 +1080,38 @@ impl Robot {
         resolution: Resolution,
         start: Seconds,
     ) -> Option<Seconds> {
-        let from = self.dynamics.wheels.get(side).levels(start);
+        let wheel = self.dynamics.wheels.get(side);
+        let from = wheel.levels(start);
         let end = start + TRANSITION_HORIZON;
-        let mut probe: Option<Dynamics> = None;
-        let mut at = start;
+        let change = self.dynamics.next_internal_change().filter(|&c| c < end);
+        if let Some(t) =
+            wheel.next_transition(start, change.unwrap_or(end), from, watch, resolution)
+        {
+            return Some(t);
+        }
+        let change = change?;
+        if wheel.rests_whatever_the_voltage(start) {
+            return None;
+        }
+        self.search_transition_past(side, watch, resolution, from, change, end)
+    }
+
+    /// The search past the internal change at `change` (the levels there `from`), up to
+    /// `end`: on a copy of the dynamics advanced to each change in turn.
+    #[cold]
+    fn search_transition_past(
+        &self,
+        side: Side,
+        watch: Watch,
+        resolution: Resolution,
+        from: (bool, bool),
+        change: Seconds,
+        end: Seconds,
+    ) -> Option<Seconds> {
+        let mut dynamics = self.dynamics.clone();
+        dynamics.advance_to(change);
+        let mut at = change;
         loop {
-            let dynamics = probe.as_ref().unwrap_or(&self.dynamics);
             let change = dynamics.next_internal_change().filter(|&c| c < end);
             let until = change.unwrap_or(end);
             let wheel = dynamics.wheels.get(side);
@@ -1037,10 +1122,8 @@ impl Robot {
             if wheel.rests_whatever_the_voltage(at) {
                 return None;
             }
-            let mut next = dynamics.clone();
-            next.advance_to(change);
+            dynamics.advance_to(change);
             at = change;
-            probe = Some(next);
         }
     }
 
