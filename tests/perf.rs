@@ -41,3 +41,77 @@ fn a_replay_missing_an_input_is_caught() {
     rec2.edges.truncate(keep);
     assert!(!raw_replay(&fw, &rec2, false).unwrap().faithful);
 }
+
+/// The callbacks of planned encoder edges leave the plant alone (the plan
+/// knows the levels): the run is the one a bench that brings the plant to
+/// every edge gives, to the cycle and the bit. With B raised lazily (only
+/// when read) the B lines may be brought up to date at other cycles, which
+/// the firmware cannot tell: then the A lines must match; with every
+/// transition raised at its own cycle, all of them.
+#[test]
+fn edges_raised_from_the_plan_change_nothing() {
+    use hil::bench::BenchOptions;
+    use hil::line::ready_bench;
+    let robot = support::robot("henrytwo");
+    let run = |lean: bool, true_waveforms: bool| {
+        let (mut bench, before, _) = ready_bench(
+            support::firmware("robust"),
+            &robot,
+            BenchOptions::default(),
+            300.0,
+        )
+        .unwrap();
+        if !lean {
+            bench.advance_plant_at_every_edge();
+        }
+        if true_waveforms {
+            bench.true_waveforms();
+        }
+        bench.start_recording();
+        let vars = *bench.vars();
+        bench.send(1, &[Test::UmbmarkCw.command_byte()]);
+        let done = bench
+            .run_until(40.0, |b| {
+                b.read_u16(vars.done_count) != before && b.read_u8(vars.state) == 1
+            })
+            .unwrap();
+        assert!(done, "the square did not complete (lean {lean})");
+        let core = bench.core();
+        let pose = core.robot.pose();
+        let sram: Vec<u8> = (0x200..0x2200).map(|a| bench.read_u8(a)).collect();
+        let stats = core
+            .pin_stats()
+            .map(|p| (p.active_s.to_bits(), p.mean_active_duty.to_bits()));
+        let lines = core.recording.clone().unwrap();
+        let a_lines: Vec<_> = lines.iter().copied().filter(|e| e.line % 2 == 0).collect();
+        (
+            bench.cycle(),
+            sram,
+            (a_lines, if true_waveforms { lines } else { Vec::new() }),
+            [pose.x().0, pose.y().0, pose.theta().0].map(f64::to_bits),
+            stats,
+            core.edges_raised,
+            core.lean_edge_callbacks,
+        )
+    };
+    for true_waveforms in [false, true] {
+        let lean = run(true, true_waveforms);
+        let full = run(false, true_waveforms);
+        assert_eq!(
+            full.6, 0,
+            "the bench raised edges from the plan when told not to"
+        );
+        let a_edges = lean.2 .0.len() as u64;
+        assert!(
+            lean.6 > a_edges / 2,
+            "too few callbacks raised edges from the plan alone: {} for {a_edges} A edges",
+            lean.6,
+        );
+        assert_eq!(lean.0, full.0, "end cycle");
+        assert!(lean.1 == full.1, "the firmware's memory differs");
+        assert!(lean.2 == full.2, "the lines raised differ");
+        assert_eq!(lean.3, full.3, "end pose");
+        assert_eq!(lean.4, full.4, "PWM statistics");
+        assert_eq!(lean.5, full.5, "edges raised");
+    }
+}

@@ -100,9 +100,9 @@ impl Default for BenchOptions {
     fn default() -> Self {
         Self {
             clock: Clock::MEGA_16MHZ,
-            // The plant integrates the pose at every event anyway (each encoder
-            // transition, every input change); the step only bounds the gap
-            // while nothing else happens and paces the trace.
+            // The pose is stepped on its own 1 ms grid whenever the plant is
+            // advanced; the step bounds the gap between the bench's looks at
+            // the plant (A0, the trace) while nothing else happens.
             plant_step_s: 10e-3,
             trace_interval_s: 10e-3,
             seed: 0,
@@ -123,6 +123,15 @@ pub struct Sample {
     pub right_edges: i64,
     pub left_duty: f64,
     pub right_duty: f64,
+}
+
+/// A planned transition of an encoder: its cycle, and the plant's levels
+/// `(A, B)` there when they are known from the plan (up to the plant's next
+/// internal change).
+#[derive(Debug, Clone, Copy)]
+struct PlannedEdge {
+    cycle: u64,
+    levels: Option<(bool, bool)>,
 }
 
 /// Transitions planned per wheel beyond the next (see `BenchCore::plan_edge`).
@@ -425,6 +434,11 @@ pub struct BenchCore {
     /// Lazy B is allowed at all (off when the true waveform is wanted, e.g.
     /// for a VCD).
     lazy_b_allowed: bool,
+    /// A planned edge may be raised from the plan alone, the plant left
+    /// where it is (off only to check that this changes nothing).
+    lean_edges: bool,
+    /// Callbacks that raised planned edges from the plan alone.
+    pub lean_edge_callbacks: u64,
     /// The analog comparator's interrupt or input capture is on (ACSR): a
     /// B line on AIN1 is then watched by hardware.
     comparator_on: bool,
@@ -439,7 +453,9 @@ pub struct BenchCore {
     /// The transitions planned after `next_edge` under the present inputs,
     /// latest first: an edge's callback pops the next one instead of
     /// searching (any change re-plans from scratch).
-    planned: [Vec<u64>; 2],
+    planned: [Vec<PlannedEdge>; 2],
+    /// The plant's levels `(A, B)` at `next_edge`, when known in advance.
+    next_levels: [Option<(bool, bool)>; 2],
     /// Next change of the plant's own dynamics.
     next_internal: u64,
     next_step: u64,
@@ -447,6 +463,8 @@ pub struct BenchCore {
     trace_every: u32,
     steps: u32,
     plant_cycle: u64,
+    /// Cycle up to which the PWM statistics are integrated.
+    stats_cycle: u64,
     pub uart_out: [Vec<u8>; 4],
     /// Bytes the firmware sent: (cycle, USART, byte).
     pub uart_log: Vec<(u64, u8, u8)>,
@@ -582,14 +600,6 @@ impl BenchCore {
 
     fn advance_plant(&mut self, cycle: u64) {
         if cycle > self.plant_cycle {
-            // PWM statistics integrate the duty held since the last advance.
-            let dt = self.clock.seconds(cycle - self.plant_cycle).0;
-            for (i, &d) in self.input_duties.iter().enumerate() {
-                if d > 0.0 {
-                    self.pins[i].active_s += dt;
-                    self.pins[i].duty_integral += d * dt;
-                }
-            }
             // The plant refuses only time going backwards, which the check
             // above rules out.
             let _ = self.robot.advance_to(self.clock.seconds(cycle));
@@ -597,9 +607,34 @@ impl BenchCore {
         }
     }
 
+    /// Bring the plant and the PWM statistics to `cycle`. Between its own
+    /// events the bench lets the plant lag (a planned edge needs nothing of
+    /// it); whoever looks at them from outside a callback sees them synced.
+    pub fn sync(&mut self, cycle: u64) {
+        self.advance_plant(cycle);
+        self.integrate_pin_stats(cycle);
+    }
+
+    /// The PWM statistics integrate the duty held since the last change
+    /// (or sync), in the same pieces however the plant is advanced.
+    fn integrate_pin_stats(&mut self, cycle: u64) {
+        if cycle > self.stats_cycle {
+            let dt = self.clock.seconds(cycle - self.stats_cycle).0;
+            for (i, &d) in self.input_duties.iter().enumerate() {
+                if d > 0.0 {
+                    self.pins[i].active_s += dt;
+                    self.pins[i].duty_integral += d * dt;
+                }
+            }
+            self.stats_cycle = cycle;
+        }
+    }
+
     /// What each bridge input sees, for the PWM statistics: recomputed
-    /// after every change of the timers' and the port's registers.
-    fn update_input_duties(&mut self) {
+    /// after every change of the timers' and the port's registers (the
+    /// statistics first integrate what was held up to `cycle`).
+    fn update_input_duties(&mut self, cycle: u64) {
+        self.integrate_pin_stats(cycle);
         let duties = self
             .wiring
             .bridge_inputs()
@@ -610,7 +645,7 @@ impl BenchCore {
     /// Re-read what the bridge inputs see; apply changes to the plant.
     fn refresh_bridge(&mut self, core: &Core, cycle: u64) {
         self.advance_plant(cycle);
-        self.update_input_duties();
+        self.update_input_duties(cycle);
         let mut changed = [false; 2];
         for side in SIDES {
             let m = *self.wiring.motor(side);
@@ -725,9 +760,9 @@ impl BenchCore {
     }
 
     /// Plan `side`'s next transitions from `now` under the present inputs:
-    /// the next one and up to [`EDGES_PLANNED`] after it (the plant's
-    /// searches in one go keep the callbacks of the edges short, which is
-    /// what keeps simavr's own caches warm).
+    /// the next one and up to [`EDGES_PLANNED`] after it, with the
+    /// plant's levels at each, so that the callbacks of the planned edges
+    /// need nothing of the plant (`raise_planned_edges`).
     fn plan_edge(&mut self, side: Side, now: u64) {
         let i = side_index(side);
         let watch = if self.lazy_b[i] {
@@ -740,6 +775,7 @@ impl BenchCore {
             Some(cycle) => cycle.max(now + 1),
             None => NEVER,
         };
+        self.next_levels[i] = self.planned_levels(side, self.next_edge[i]);
         let mut planned = std::mem::take(&mut self.planned[i]);
         planned.clear();
         let mut after = self.next_edge[i];
@@ -750,7 +786,10 @@ impl BenchCore {
                 .next_encoder_transition_on_after(side, watch, grid, after)
             {
                 Some(cycle) => {
-                    planned.push(cycle);
+                    planned.push(PlannedEdge {
+                        cycle,
+                        levels: self.planned_levels(side, cycle),
+                    });
                     after = cycle;
                 }
                 None => break,
@@ -760,11 +799,25 @@ impl BenchCore {
         self.planned[i] = planned;
     }
 
+    /// The plant's levels of `side` at a planned transition, if the plan
+    /// knows them: before the plant's next internal change, under the
+    /// present inputs (the search just evaluated that instant, so this is
+    /// cheap).
+    fn planned_levels(&self, side: Side, cycle: u64) -> Option<(bool, bool)> {
+        (cycle < self.next_internal && !self.robot.encoder(side).is_flawed()).then(|| {
+            self.robot
+                .encoder_levels_at(side, self.clock.seconds(cycle))
+        })
+    }
+
     /// `side`'s planned edge came: the next planned one, or a new plan.
     fn next_planned_edge(&mut self, side: Side, now: u64) {
         let i = side_index(side);
         match self.planned[i].pop() {
-            Some(cycle) => self.next_edge[i] = cycle,
+            Some(edge) => {
+                self.next_edge[i] = edge.cycle;
+                self.next_levels[i] = edge.levels;
+            }
             None => self.plan_edge(side, now),
         }
     }
@@ -788,6 +841,14 @@ impl BenchCore {
             .min(internal)
             .min(glitch)
             .min(bod)
+    }
+
+    /// What a cycle timer callback returns: the next event, or 0 for none.
+    fn next_timer(&self) -> u64 {
+        match self.next_event() {
+            NEVER => 0,
+            next => next,
+        }
     }
 
     /// The brown-out detector holds the MCU in reset.
@@ -1035,44 +1096,91 @@ impl BenchCore {
 
     fn raise_encoders(&mut self, core: &mut Core, when: u64) {
         for side in SIDES {
-            let i = side_index(side);
-            let [base_a, base_b] = self.enc_base[i];
-            let (base_a, base_b) =
-                self.inject
-                    .encoder_levels(i, self.robot.encoder_levels(side), (base_a, base_b));
-            self.enc_base[i] = [base_a, base_b];
-            // A glitch pulse inverts what the pin shows while it lasts.
-            let [ga, gb] = self.inject.glitch[i];
-            let (a, b) = (base_a ^ ga, base_b ^ gb);
-            let [old_a, old_b] = self.enc_level[i];
-            let [Some(irq_a), Some(irq_b)] = self.enc_irq[i] else {
-                continue;
-            };
-            if b != old_b {
-                core.raise(irq_b, b as u32);
-                self.enc_level[i][1] = b;
-                if let Some(rec) = &mut self.recording {
-                    rec.push(PinEvent {
-                        cycle: when,
-                        line: 2 * i as u8 + 1,
-                        level: b,
-                    });
-                }
-            }
-            if a != old_a {
-                core.raise(irq_a, a as u32);
-                if let Some(rec) = &mut self.recording {
-                    rec.push(PinEvent {
-                        cycle: when,
-                        line: 2 * i as u8,
-                        level: a,
-                    });
-                }
-                self.enc_level[i][0] = a;
-                self.edges_raised[i] += decode_a_edge(a, b);
-                self.last_a_edge[i] = when;
+            let plant = self.robot.encoder_levels(side);
+            self.raise_side(core, when, side_index(side), plant);
+        }
+    }
+
+    /// Show the plant's levels `plant` of encoder `i` on its pins, through
+    /// the encoder faults and glitches.
+    fn raise_side(&mut self, core: &mut Core, when: u64, i: usize, plant: (bool, bool)) {
+        let [base_a, base_b] = self.enc_base[i];
+        let (base_a, base_b) = self.inject.encoder_levels(i, plant, (base_a, base_b));
+        self.enc_base[i] = [base_a, base_b];
+        // A glitch pulse inverts what the pin shows while it lasts.
+        let [ga, gb] = self.inject.glitch[i];
+        let (a, b) = (base_a ^ ga, base_b ^ gb);
+        let [old_a, old_b] = self.enc_level[i];
+        let [Some(irq_a), Some(irq_b)] = self.enc_irq[i] else {
+            return;
+        };
+        if b != old_b {
+            core.raise(irq_b, b as u32);
+            self.enc_level[i][1] = b;
+            if let Some(rec) = &mut self.recording {
+                rec.push(PinEvent {
+                    cycle: when,
+                    line: 2 * i as u8 + 1,
+                    level: b,
+                });
             }
         }
+        if a != old_a {
+            core.raise(irq_a, a as u32);
+            if let Some(rec) = &mut self.recording {
+                rec.push(PinEvent {
+                    cycle: when,
+                    line: 2 * i as u8,
+                    level: a,
+                });
+            }
+            self.enc_level[i][0] = a;
+            self.edges_raised[i] += decode_a_edge(a, b);
+            self.last_a_edge[i] = when;
+        }
+    }
+
+    /// The callback of planned encoder edges with nothing else due at
+    /// `when`: the plan knows the levels, so the plant is left where it is
+    /// (it catches up at the next event that needs it). False, having done
+    /// nothing, when that is not the case.
+    fn raise_planned_edges(&mut self, core: &mut Core, when: u64) -> bool {
+        let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
+        let action = self.actions.first().map_or(NEVER, |a| a.0);
+        let glitch = self.glitches.first().map_or(NEVER, |g| g.0);
+        let others = self
+            .next_step
+            .min(self.pending_top[0])
+            .min(self.pending_top[1])
+            .min(self.next_internal)
+            .min(uart)
+            .min(action)
+            .min(glitch);
+        if !self.lean_edges || others <= when || matches!(self.bod, Bod::Releasing { .. }) {
+            return false;
+        }
+        let due = self.next_edge.map(|c| c <= when);
+        if due == [false; 2] {
+            return false;
+        }
+        for (i, due) in due.into_iter().enumerate() {
+            let plain = self.next_levels[i].is_some()
+                && !self.planned[i].is_empty()
+                && self.inject.encoder[i] == EncoderFault::Healthy
+                && self.inject.glitch[i] == [false; 2];
+            if due && !plain {
+                return false;
+            }
+        }
+        for side in SIDES {
+            let i = side_index(side);
+            if let (true, Some(levels)) = (due[i], self.next_levels[i]) {
+                self.raise_side(core, when, i, levels);
+                self.next_planned_edge(side, when);
+            }
+        }
+        self.lean_edge_callbacks += 1;
+        true
     }
 
     /// Drive A0 with the battery's voltage when it changed.
@@ -1181,7 +1289,7 @@ impl Handler for BenchCore {
         // Bring the plant to this cycle before the output can change.
         self.advance_plant(cycle);
         let written = self.timer_mut(which).write(addr, value, cycle);
-        self.update_input_duties();
+        self.update_input_duties(cycle);
         match written {
             Ok(effect) => {
                 if effect.pending_update {
@@ -1272,6 +1380,9 @@ impl Handler for BenchCore {
 
     fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
         self.callbacks += 1;
+        if self.raise_planned_edges(core, when) {
+            return self.next_timer();
+        }
         self.advance_plant(when);
         for which in 0..2 {
             if self.pending_top[which] <= when {
@@ -1333,12 +1444,7 @@ impl Handler for BenchCore {
                 self.next_planned_edge(side, when);
             }
         }
-        let next = self.next_event();
-        if next == NEVER {
-            0
-        } else {
-            next
-        }
+        self.next_timer()
     }
 
     fn irq(&mut self, core: &mut Core, tag: u32, value: u32) {
@@ -1430,6 +1536,8 @@ impl Bench {
             enc_irq: [[None; 2]; 2],
             lazy_b: [false; 2],
             lazy_b_allowed: true,
+            lean_edges: true,
+            lean_edge_callbacks: 0,
             comparator_on: false,
             lazy_b_reads: 0,
             enc_level: [[false; 2]; 2],
@@ -1437,12 +1545,14 @@ impl Bench {
             last_a_edge: [0; 2],
             next_edge: [NEVER; 2],
             planned: [Vec::new(), Vec::new()],
+            next_levels: [None; 2],
             next_internal: NEVER,
             next_step: step_cycles,
             step_cycles,
             trace_every,
             steps: 0,
             plant_cycle: 0,
+            stats_cycle: 0,
             uart_out: Default::default(),
             uart_log: Vec::new(),
             trace: Vec::new(),
@@ -1645,6 +1755,13 @@ impl Bench {
         });
     }
 
+    /// Bring the plant to the cycle of every encoder edge, as for any other
+    /// event, instead of raising planned edges from the plan alone: slower,
+    /// and the same run (to check that it is).
+    pub fn advance_plant_at_every_edge(&mut self) {
+        self.avr.handler_mut().lean_edges = false;
+    }
+
     /// Attribute awake cycles to the instruction executing them, from now on.
     pub fn start_profiling(&mut self) {
         self.profile = Some(vec![0; 0x2_0000]);
@@ -1766,8 +1883,30 @@ impl Bench {
 
     /// Run until `done` holds or `limit_s` of robot time pass; Ok(false) on
     /// the limit. `done` is checked every few instructions and at least once
-    /// per plant step while the CPU sleeps.
+    /// per plant step while the CPU sleeps; it should look at the firmware
+    /// (memory, pins), not at the plant, which may lag the CPU by an encoder
+    /// edge or two between the bench's own events. On return the plant is at
+    /// the current cycle.
     pub fn run_until(
+        &mut self,
+        limit_s: f64,
+        done: impl FnMut(&Bench) -> bool,
+    ) -> Result<bool, BenchError> {
+        let result = self.run_until_unsynced(limit_s, done);
+        self.sync_plant();
+        result
+    }
+
+    /// Bring the plant (and the statistics) to the current cycle: the run
+    /// loop lets them lag between the bench's own events.
+    fn sync_plant(&mut self) {
+        let now = self.avr.cycle();
+        self.avr.handler_mut().sync(now);
+    }
+
+    /// [`Bench::run_until`] without the plant brought up to date at the end
+    /// (`done` must not look at the plant).
+    fn run_until_unsynced(
         &mut self,
         limit_s: f64,
         mut done: impl FnMut(&Bench) -> bool,
@@ -1906,6 +2045,8 @@ impl Bench {
         let Some(mut watch) = self.hang.take() else {
             return Ok(());
         };
+        // The watch looks at the wheels.
+        self.sync_plant();
         let still = watch.check(self);
         self.hang = Some(watch);
         match still {
@@ -2036,6 +2177,7 @@ impl Bench {
         if self.avr.handler().attention {
             self.attend()?;
         }
+        self.sync_plant();
         Ok(())
     }
 
