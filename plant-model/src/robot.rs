@@ -299,12 +299,14 @@ impl Wheel {
         let passed = |s: f64| if upward { s >= boundary } else { s < boundary };
         let crossed = |t: Seconds| passed(self.position(t));
         let resolution = Resolution::Grid(grid);
+        // The guess lies in [a, b], so its instant is at or after a's.
         let guess = self.boundary_crossing(a, b, upward, boundary, resolution.tolerance());
-        let first = grid.index_at_or_after(a);
-        let last = grid.index_at_or_after(b);
-        let k = grid.index_at_or_after(guess).clamp(first, last);
-        if k < last && crossed(grid.time(k)) {
-            Some(first_crossed_from(grid, first, last, k, &crossed))
+        let k = grid.index_at_or_after(guess);
+        let at = grid.time(k);
+        if at < b && crossed(at) {
+            let first = grid.index_at_or_after(a);
+            // All instants from `first` to `k` are before b: no need for its index.
+            Some(first_crossed_below(grid, first, k, &crossed))
         } else {
             None
         }
@@ -498,36 +500,50 @@ fn first_crossed_from(
     crossed: &impl Fn(Seconds) -> bool,
 ) -> Seconds {
     let holds = |k: u64| k >= last || crossed(grid.time(k));
-    // Invariant of the bisection: !holds(lo) (or lo below `first`), holds(hi).
-    let (mut lo, mut hi);
     if holds(k) {
-        hi = k;
-        let mut step = 1;
-        loop {
-            if hi == first {
-                return grid.time(first);
-            }
-            let below = hi.saturating_sub(step).max(first);
-            if !holds(below) {
-                lo = below;
-                break;
-            }
-            hi = below;
-            step *= 2;
-        }
-    } else {
-        lo = k;
-        let mut step = 1;
-        loop {
-            let above = (lo + step).min(last);
-            if holds(above) {
-                hi = above;
-                break;
-            }
-            lo = above;
-            step *= 2;
-        }
+        // Every instant below `k` is below `last`: there `holds` is `crossed`.
+        return first_crossed_below(grid, first, k, crossed);
     }
+    // Invariant of the bisection: !holds(lo), holds(hi).
+    let mut lo = k;
+    let mut step = 1;
+    let hi = loop {
+        let above = (lo + step).min(last);
+        if holds(above) {
+            break above;
+        }
+        lo = above;
+        step *= 2;
+    };
+    bisect(grid, lo, hi, &holds)
+}
+
+/// The first instant from `first` to `hi` at which `crossed` holds, given that it holds at
+/// `hi` (and, being monotone, from there on): a search down from `hi`.
+fn first_crossed_below(
+    grid: TimeGrid,
+    first: u64,
+    mut hi: u64,
+    crossed: &impl Fn(Seconds) -> bool,
+) -> Seconds {
+    let holds = |k: u64| crossed(grid.time(k));
+    let mut step = 1;
+    let lo = loop {
+        if hi == first {
+            return grid.time(first);
+        }
+        let below = hi.saturating_sub(step).max(first);
+        if !holds(below) {
+            break below;
+        }
+        hi = below;
+        step *= 2;
+    };
+    bisect(grid, lo, hi, &holds)
+}
+
+/// Bisection to the first instant that holds, given `!holds(lo)` and `holds(hi)`.
+fn bisect(grid: TimeGrid, mut lo: u64, mut hi: u64, holds: &impl Fn(u64) -> bool) -> Seconds {
     while hi - lo > 1 {
         let mid = lo + (hi - lo) / 2;
         if holds(mid) {
