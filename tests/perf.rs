@@ -43,8 +43,9 @@ fn a_replay_missing_an_input_is_caught() {
 }
 
 /// The callbacks of planned encoder edges leave the plant alone (the plan
-/// knows the levels): the run is the one a bench that brings the plant to
-/// every edge gives, to the cycle and the bit. With B raised lazily (only
+/// knows the levels), and so do reads of a lazy B shortly after them: the
+/// run is the one a bench that brings the plant to every edge gives, to the
+/// cycle and the bit. With B raised lazily (only
 /// when read) the B lines may be brought up to date at other cycles, which
 /// the firmware cannot tell: then the A lines must match; with every
 /// transition raised at its own cycle, all of them.
@@ -92,6 +93,7 @@ fn edges_raised_from_the_plan_change_nothing() {
             stats,
             core.edges_raised,
             core.lean_edge_callbacks,
+            core.quiet_b_reads,
         )
     };
     for true_waveforms in [false, true] {
@@ -107,6 +109,11 @@ fn edges_raised_from_the_plan_change_nothing() {
             "too few callbacks raised edges from the plan alone: {} for {a_edges} A edges",
             lean.6,
         );
+        // Reads of a lazy B shortly after a planned A edge need no plant.
+        assert_eq!(full.7, 0, "B read from the plan when told not to");
+        if !true_waveforms {
+            assert!(lean.7 > a_edges / 2, "only {} quiet B reads", lean.7);
+        }
         assert_eq!(lean.0, full.0, "end cycle");
         assert!(lean.1 == full.1, "the firmware's memory differs");
         assert!(lean.2 == full.2, "the lines raised differ");

@@ -442,6 +442,13 @@ impl Segment {
         }
     }
 
+    /// The largest wheel speed (rad/s, unsigned) of the segment: the speed goes from its
+    /// start value towards the target without overshoot (and stops at zero under Coulomb
+    /// friction).
+    pub fn speed_bound(&self) -> f64 {
+        self.speed0.abs().max(self.target.abs())
+    }
+
     /// True when the wheel is still and will stay so.
     pub fn is_at_rest(&self) -> bool {
         self.speed0 == 0.0 && self.target == 0.0

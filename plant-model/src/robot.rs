@@ -1161,6 +1161,21 @@ impl Robot {
         self.dynamics.wheels.get(side).levels(t)
     }
 
+    /// A time within which `side`'s encoder position cannot move by `states` quadrature
+    /// states, from any instant up to the next change of the inputs or of the plant's own
+    /// dynamics: the distance over the largest speed of the wheel's present motion (infinite
+    /// for a wheel at rest). For a reader that knows the levels at an instant: a level that
+    /// changes only a state or more away from there cannot have changed that much later.
+    pub fn encoder_travel_time_bound(&self, side: Side, states: f64) -> Seconds {
+        let wheel = self.dynamics.wheels.get(side);
+        let speed = wheel.segment.speed_bound();
+        if speed == 0.0 {
+            return Seconds(f64::INFINITY);
+        }
+        // A hair under the quotient, so that its rounding cannot make the bound late.
+        Seconds(states * wheel.encoder.state_angle().0 / speed * (1.0 - 1e-9))
+    }
+
     /// Quadrature state index `q` of `side` now (see [`crate::encoder`]): the shaft's
     /// position, whatever the encoder effects make of it.
     pub fn quadrature_index(&self, side: Side) -> i64 {

@@ -419,3 +419,43 @@ fn bench_loop_decodes_to_a_edges() {
         );
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Within `encoder_travel_time_bound` of any instant, the encoder position moves less
+    /// than the states asked for: after a random history, sampled over the bound from a
+    /// random instant (a wheel speeding up, slowing down, turning round or coasting to a
+    /// stop).
+    #[test]
+    fn travel_time_bound_holds(
+        history in prop::collection::vec((inputs(), 0.0f64..0.25), 0..4),
+        last in inputs(),
+        left in any::<bool>(),
+        reversed in any::<bool>(),
+        settle in 0.0f64..0.05,
+        states in 0.25f64..2.0,
+    ) {
+        let side = if left { Side::Left } else { Side::Right };
+        let mut robot = robot_with(reversed);
+        let mut t = 0.0;
+        for ((in1, in2), dt) in history {
+            robot.set_bridge(side, duty(in1), duty(in2));
+            t += dt;
+            robot.advance_to(Seconds(t)).unwrap();
+        }
+        robot.set_bridge(side, duty(last.0), duty(last.1));
+        robot.advance_to(Seconds(t + settle)).unwrap();
+        let bound = robot.encoder_travel_time_bound(side, states).0;
+        prop_assert!(bound > 0.0);
+        let span = bound.min(0.5);
+        let state_angle = robot.encoder(side).state_angle().0;
+        let from = robot.wheel_angle(side).0;
+        let mut probe = robot.clone();
+        for k in 1..=200 {
+            probe.advance_to(Seconds(robot.now().0 + span * k as f64 / 200.0)).unwrap();
+            let moved = (probe.wheel_angle(side).0 - from).abs() / state_angle;
+            prop_assert!(moved < states, "moved {moved} states within the bound ({bound} s)");
+        }
+    }
+}
