@@ -194,15 +194,16 @@ enum Command {
         /// Leg length in millimetres.
         #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
         leg_mm: f64,
-        /// Skip the thesis build's runs (the slowest: busy loops).
+        /// Skip the thesis build's runs (the slowest: busy loops; timed on
+        /// a square of legs of at most 500 mm).
         #[arg(long)]
         without_thesis: bool,
         /// Skip raw simavr with its own PWM timers (slow, and not what the
         /// bench is compared with).
         #[arg(long)]
         without_simavr_pwm: bool,
-        /// Time each robust run this many times, interleaved; the fastest counts.
-        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+        /// Time each run this many times, interleaved; the fastest counts.
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
         repeats: u32,
         #[command(flatten)]
         common: Common,
