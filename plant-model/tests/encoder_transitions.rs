@@ -21,6 +21,27 @@ fn robot_with(reversed: bool) -> Robot {
     Robot::new(&config, 7).unwrap()
 }
 
+/// The robot after `history` on `side` (bridge inputs, each held for its time in s), then
+/// `last` held for `settle` s.
+fn robot_after(
+    reversed: bool,
+    side: Side,
+    history: &[((f64, f64), f64)],
+    last: (f64, f64),
+    settle: f64,
+) -> Robot {
+    let mut robot = robot_with(reversed);
+    let mut t = 0.0;
+    for &((in1, in2), dt) in history {
+        robot.set_bridge(side, duty(in1), duty(in2));
+        t += dt;
+        robot.advance_to(Seconds(t)).unwrap();
+    }
+    robot.set_bridge(side, duty(last.0), duty(last.1));
+    robot.advance_to(Seconds(t + settle)).unwrap();
+    robot
+}
+
 fn q_at(robot: &Robot, side: Side, t: f64) -> i64 {
     let mut probe = robot.clone();
     probe.advance_to(Seconds(t)).unwrap();
@@ -109,15 +130,7 @@ proptest! {
         settle in 0.0f64..0.01,
     ) {
         let side = if left { Side::Left } else { Side::Right };
-        let mut robot = robot_with(reversed);
-        let mut t = 0.0;
-        for ((in1, in2), dt) in history {
-            robot.set_bridge(side, duty(in1), duty(in2));
-            t += dt;
-            robot.advance_to(Seconds(t)).unwrap();
-        }
-        robot.set_bridge(side, duty(last.0), duty(last.1));
-        robot.advance_to(Seconds(t + settle)).unwrap();
+        let robot = robot_after(reversed, side, &history, last, settle);
 
         let window = 0.3;
         let exact = robot.next_encoder_transition(side).map(|s| s.0);
@@ -437,15 +450,7 @@ proptest! {
         states in 0.25f64..2.0,
     ) {
         let side = if left { Side::Left } else { Side::Right };
-        let mut robot = robot_with(reversed);
-        let mut t = 0.0;
-        for ((in1, in2), dt) in history {
-            robot.set_bridge(side, duty(in1), duty(in2));
-            t += dt;
-            robot.advance_to(Seconds(t)).unwrap();
-        }
-        robot.set_bridge(side, duty(last.0), duty(last.1));
-        robot.advance_to(Seconds(t + settle)).unwrap();
+        let robot = robot_after(reversed, side, &history, last, settle);
         let bound = robot.encoder_travel_time_bound(side, states).0;
         prop_assert!(bound > 0.0);
         let span = bound.min(0.5);
