@@ -435,7 +435,8 @@ pub struct BenchCore {
     /// for a VCD).
     lazy_b_allowed: bool,
     /// A planned edge may be raised from the plan alone, the plant left
-    /// where it is (off only to check that this changes nothing).
+    /// where it is, and a lazy B read right after an A edge answered
+    /// without it (off only to check that this changes nothing).
     lean_edges: bool,
     /// Callbacks that raised planned edges from the plan alone.
     pub lean_edge_callbacks: u64,
@@ -445,8 +446,9 @@ pub struct BenchCore {
     /// PIN reads that brought a lazy B up to date.
     pub lazy_b_reads: u64,
     /// PIN reads of a lazy B answered from the last A edge, the plant not
-    /// looked at.
+    /// looked at, and those that looked.
     pub quiet_b_reads: u64,
+    pub b_reads_evaluated: u64,
     /// A edges raised on the pins, signed as the thesis' decoder counts them.
     pub edges_raised: [i64; 2],
     /// Cycle at which the last A edge of each encoder was due (the plant's
@@ -1365,6 +1367,7 @@ impl Handler for BenchCore {
                 self.quiet_b_reads += 1;
                 continue;
             }
+            self.b_reads_evaluated += 1;
             let t = Seconds(self.clock.seconds(cycle).0.max(self.robot.now().0));
             // As `raise_encoders` computes it: the faults on the plant's
             // levels, then a glitch pulse's inversion.
@@ -1413,6 +1416,7 @@ impl Handler for BenchCore {
         if self.raise_planned_edges(core, when) {
             return self.next_timer();
         }
+        let edge_due = self.next_edge.map(|c| c <= when);
         self.advance_plant(when);
         for which in 0..2 {
             if self.pending_top[which] <= when {
@@ -1472,6 +1476,15 @@ impl Handler for BenchCore {
             let i = side_index(side);
             if self.next_edge[i] <= when {
                 self.next_planned_edge(side, when);
+            }
+            // As in `raise_planned_edges`: B is quiet for a while after an A
+            // edge, under the motion as it is now (any change since re-planned).
+            if edge_due[i]
+                && self.lean_edges
+                && self.lazy_b[i]
+                && !self.robot.encoder(side).is_flawed()
+            {
+                self.b_quiet_until[i] = when.saturating_add(self.b_quiet_cycles[i]);
             }
         }
         self.next_timer()
@@ -1571,6 +1584,7 @@ impl Bench {
             comparator_on: false,
             lazy_b_reads: 0,
             quiet_b_reads: 0,
+            b_reads_evaluated: 0,
             enc_level: [[false; 2]; 2],
             edges_raised: [0; 2],
             last_a_edge: [0; 2],

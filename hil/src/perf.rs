@@ -59,6 +59,11 @@ pub struct Recorded {
     pub measured: Measured,
     pub awake_fraction: f64,
     pub callbacks: u64,
+    /// Callbacks that raised planned edges from the plan alone.
+    pub lean_edge_callbacks: u64,
+    /// Reads of a lazy B answered from the last A edge, and in all.
+    pub quiet_b_reads: u64,
+    pub b_reads: u64,
     pub command_cycle: u64,
     pub command: u8,
     /// RAM the bench wrote before the command (the leg length), written by
@@ -113,6 +118,9 @@ pub fn bench_run(
         measured: Measured::new(bench.robot_time_s(), wall_s),
         awake_fraction: bench.awake_fraction(),
         callbacks: core.callbacks,
+        lean_edge_callbacks: core.lean_edge_callbacks,
+        quiet_b_reads: core.quiet_b_reads,
+        b_reads: core.quiet_b_reads + core.b_reads_evaluated,
         command_cycle,
         command: test.command_byte(),
         pokes: (vars.leg_length_mm..)
@@ -333,6 +341,10 @@ pub struct BuildSpeed {
     pub awake_fraction: f64,
     /// Callbacks from simavr into the bench per robot second.
     pub callbacks_per_robot_s: f64,
+    /// Share of the callbacks that raised planned encoder edges without
+    /// touching the plant, and of the reads of a lazy B answered that way.
+    pub lean_edge_fraction: f64,
+    pub quiet_b_read_fraction: f64,
     pub completed: bool,
 }
 
@@ -396,6 +408,8 @@ fn measure_build(
         overhead_ratio: bench.wall_s / raw_np.wall_s.max(1e-9),
         awake_fraction: rec.awake_fraction,
         callbacks_per_robot_s: rec.callbacks as f64 / rec.measured.robot_s,
+        lean_edge_fraction: rec.lean_edge_callbacks as f64 / rec.callbacks.max(1) as f64,
+        quiet_b_read_fraction: rec.quiet_b_reads as f64 / rec.b_reads.max(1) as f64,
         completed: rec.completed,
         bench,
         raw_without_pwm_timers: raw_np,
@@ -512,9 +526,13 @@ impl BenchReport {
         );
         let _ = writeln!(
             s,
-            "  robust: CPU awake {:.2} %; {:.0} bench callbacks per robot s",
+            "  robust: CPU awake {:.2} %; {:.0} bench callbacks per robot s, {:.0} % of them \
+             edges raised from the plan alone; {:.0} % of the B reads answered from the \
+             last A edge",
             self.awake_fraction * 100.0,
-            self.callbacks_per_robot_s
+            self.callbacks_per_robot_s,
+            self.robust.lean_edge_fraction * 100.0,
+            self.robust.quiet_b_read_fraction * 100.0,
         );
         s
     }
