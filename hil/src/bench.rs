@@ -841,24 +841,29 @@ impl BenchCore {
     }
 
     fn next_event(&self) -> u64 {
-        let internal = self.next_internal;
-        let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
-        let action = self.actions.first().map_or(NEVER, |a| a.0);
-        let glitch = self.glitches.first().map_or(NEVER, |g| g.0);
         let bod = match self.bod {
             Bod::Releasing { at } => at,
             _ => NEVER,
         };
         self.next_edge[0]
             .min(self.next_edge[1])
-            .min(self.next_step)
+            .min(self.next_other_event())
+            .min(bod)
+    }
+
+    /// The next event that is not an encoder edge (nor the brown-out
+    /// detector's release).
+    fn next_other_event(&self) -> u64 {
+        let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
+        let action = self.actions.first().map_or(NEVER, |a| a.0);
+        let glitch = self.glitches.first().map_or(NEVER, |g| g.0);
+        self.next_step
             .min(self.pending_top[0])
             .min(self.pending_top[1])
             .min(uart)
             .min(action)
-            .min(internal)
+            .min(self.next_internal)
             .min(glitch)
-            .min(bod)
     }
 
     /// What a cycle timer callback returns: the next event, or 0 for none.
@@ -1163,17 +1168,7 @@ impl BenchCore {
     /// (it catches up at the next event that needs it). False, having done
     /// nothing, when that is not the case.
     fn raise_planned_edges(&mut self, core: &mut Core, when: u64) -> bool {
-        let uart = self.uart_next.iter().copied().min().unwrap_or(NEVER);
-        let action = self.actions.first().map_or(NEVER, |a| a.0);
-        let glitch = self.glitches.first().map_or(NEVER, |g| g.0);
-        let others = self
-            .next_step
-            .min(self.pending_top[0])
-            .min(self.pending_top[1])
-            .min(self.next_internal)
-            .min(uart)
-            .min(action)
-            .min(glitch);
+        let others = self.next_other_event();
         if !self.lean_edges || others <= when || matches!(self.bod, Bod::Releasing { .. }) {
             return false;
         }
