@@ -46,7 +46,7 @@ use crate::effects::battery_sag::{MotorLoad, SagState};
 use crate::encoder::{self, Encoder, Imperfections, Watch};
 use crate::fault::MotorFault;
 use crate::ground::{effective_radius_mm, Ground};
-use crate::motor::{Modifiers, MotorModel, Segment};
+use crate::motor::{Around, Modifiers, MotorModel, Segment};
 use crate::pose::{Pose, World};
 use crate::side::{PerSide, Side};
 use crate::units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};
@@ -285,7 +285,8 @@ impl Wheel {
             return None;
         }
         // The direction of the motion from its speed at `a`, in the encoder's sense.
-        let (_, speed) = self.segment.around(a, self.evaluate(a)).state(0.0);
+        let around = self.segment.around(a, self.evaluate(a));
+        let (_, speed) = around.state(0.0);
         let seen = if self.encoder.is_reversed() {
             -speed
         } else {
@@ -300,7 +301,7 @@ impl Wheel {
         let crossed = |t: Seconds| passed(self.position(t));
         let resolution = Resolution::Grid(grid);
         // The guess lies in [a, b], so its instant is at or after a's.
-        let guess = self.boundary_crossing(a, b, upward, boundary, resolution.tolerance());
+        let guess = self.boundary_crossing(around, a, b, upward, boundary, resolution.tolerance());
         let k = grid.index_at_or_after(guess);
         let at = grid.time(k);
         if at < b && crossed(at) {
@@ -332,7 +333,8 @@ impl Wheel {
             return None;
         }
         let crossed = |t: Seconds| passed(self.position(t));
-        let guess = self.boundary_crossing(a, b, upward, boundary, resolution.tolerance());
+        let around = self.segment.around(a, self.evaluate(a));
+        let guess = self.boundary_crossing(around, a, b, upward, boundary, resolution.tolerance());
         Some(match resolution {
             Resolution::Continuous => first_crossed_near(a, b, guess, &crossed),
             Resolution::Grid(grid) => first_crossed_on_grid(grid, a, b, guess, &crossed),
@@ -340,9 +342,11 @@ impl Wheel {
     }
 
     /// Where the continuous angle passes `boundary` on the monotone piece `[a, b]`, to about
-    /// `tolerance`: Newton's method, safeguarded by bisection.
+    /// `tolerance`: Newton's method, safeguarded by bisection, on `around` (the motion
+    /// expanded about `a`).
     fn boundary_crossing(
         &self,
+        around: Around,
         a: Seconds,
         b: Seconds,
         upward: bool,
@@ -361,7 +365,6 @@ impl Wheel {
         // g(a + u) >= 0 once the boundary is passed; g is increasing on the piece. The
         // motion expanded about `a` is cheap to evaluate: the answer is only a guess, which
         // the caller checks on the closed form.
-        let around = self.segment.around(a, self.evaluate(a));
         let g = |u: f64| {
             let (angle, speed) = around.state(u);
             (
