@@ -446,8 +446,9 @@ pub struct BenchCore {
     /// PIN reads that brought a lazy B up to date.
     pub lazy_b_reads: u64,
     /// PIN reads of a lazy B answered from the last A edge, the plant not
-    /// looked at, and those that looked.
+    /// looked at.
     pub quiet_b_reads: u64,
+    /// PIN reads of a lazy B that evaluated the plant.
     pub b_reads_evaluated: u64,
     /// A edges raised on the pins, signed as the thesis' decoder counts them.
     pub edges_raised: [i64; 2],

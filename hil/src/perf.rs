@@ -61,8 +61,9 @@ pub struct Recorded {
     pub callbacks: u64,
     /// Callbacks that raised planned edges from the plan alone.
     pub lean_edge_callbacks: u64,
-    /// Reads of a lazy B answered from the last A edge, and in all.
+    /// Reads of a lazy B answered from the last A edge.
     pub quiet_b_reads: u64,
+    /// Reads of a lazy B in all.
     pub b_reads: u64,
     pub command_cycle: u64,
     pub command: u8,
@@ -342,8 +343,9 @@ pub struct BuildSpeed {
     /// Callbacks from simavr into the bench per robot second.
     pub callbacks_per_robot_s: f64,
     /// Share of the callbacks that raised planned encoder edges without
-    /// touching the plant, and of the reads of a lazy B answered that way.
+    /// touching the plant.
     pub lean_edge_fraction: f64,
+    /// Share of the reads of a lazy B answered without the plant.
     pub quiet_b_read_fraction: f64,
     pub completed: bool,
 }
