@@ -25,7 +25,7 @@ use crate::elf::Firmware;
 use crate::experiment::Test;
 use crate::line::ready_bench;
 use crate::pwm::PwmTimer;
-use crate::sim::{Avr, Core, CpuState, Handler, IoClaim, Irq};
+use crate::sim::{Avr, Core, Handler, IoClaim, Irq};
 use crate::wiring::HENRYTWO;
 
 /// One measured run.
@@ -91,6 +91,7 @@ fn fingerprint(read: impl Fn(u16) -> u8) -> Vec<u8> {
 /// Run `test` on the bench; with `record`, recording the inputs a replay
 /// needs (which costs the bench time and memory no scenario spends: the
 /// timed runs do not record).
+#[inline(never)] // profiled by name: see the README's speed section
 pub fn bench_run(
     fw: &Firmware,
     robot: &RobotConfig,
@@ -221,6 +222,7 @@ impl Handler for Replay {
 
 /// Replay a recorded run in bare simavr; `simavr_pwm_timers`: leave timers
 /// 2 and 4 to simavr (as shipped) or take them off (as the bench does).
+#[inline(never)] // profiled by name: see the README's speed section
 pub fn raw_replay(
     fw: &Firmware,
     rec: &Recorded,
@@ -284,12 +286,7 @@ pub fn raw_replay(
     });
     let first = avr.handler().next_input();
     avr.schedule(first);
-    while avr.cycle() < rec.end_cycle {
-        match avr.step() {
-            CpuState::Running | CpuState::Sleeping => {}
-            _ => break,
-        }
-    }
+    avr.run_to(rec.end_cycle);
     let measured = Measured::new(clock.seconds(avr.cycle()).0, wall.elapsed().as_secs_f64());
     let faithful = fingerprint(|a| avr.data(a)) == rec.fingerprint;
     Ok(Replayed { measured, faithful })

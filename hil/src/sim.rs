@@ -447,32 +447,96 @@ impl<H: Handler> Avr<H> {
     /// [`Avr::step`] in a loop, without leaving this module per instruction.
     pub fn run_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
         let avr = self.avr.as_ptr();
+        // SAFETY: plain field read; `run` is the step function simavr
+        // installed at init (what `avr_run` calls).
+        let Some(run) = (unsafe { (*avr).run }) else {
+            return self.step_burst(max_steps, until, sleeping);
+        };
         let mut steps = 0;
         let mut slept = 0;
+        let mut was_asleep = *sleeping;
         loop {
             // SAFETY: as in `step`; plain field reads between the steps.
             let (before, state, now) = unsafe {
                 let before = (*avr).cycle;
-                match (*avr).run {
-                    Some(run) => run(avr),
-                    None => {
-                        ffi::avr_run(avr);
-                    }
-                }
-                (before, (*avr).state as u32, (*avr).cycle)
+                run(avr);
+                (before, (*avr).state, (*avr).cycle)
             };
-            let asleep = state == ffi::cpu_Sleeping;
+            steps += 1;
+            // Almost every step is an instruction between two awake ones:
+            // nothing to account, three reasons to stop.
+            if state == ffi::cpu_Running as i32 && !was_asleep {
+                if self.shared.handler.attention() || steps >= max_steps || now >= until {
+                    *sleeping = false;
+                    return Burst {
+                        steps,
+                        slept,
+                        state: CpuState::Running,
+                    };
+                }
+                continue;
+            }
+            // A step that began or ended asleep counts as slept.
+            let asleep = state == ffi::cpu_Sleeping as i32;
+            slept += now - before;
+            was_asleep = asleep;
+            let stopped = !asleep && state != ffi::cpu_Running as i32;
+            if stopped || self.shared.handler.attention() || steps >= max_steps || now >= until {
+                *sleeping = asleep;
+                return Burst {
+                    steps,
+                    slept,
+                    state: decode_state(state),
+                };
+            }
+        }
+    }
+
+    /// Steps until the cycle reaches `end` or the CPU stops running and
+    /// sleeping, with nothing else between the steps: simavr driven as
+    /// bare as it can be (the baseline `hil bench` compares the bench with).
+    pub fn run_to(&mut self, end: u64) -> CpuState {
+        let avr = self.avr.as_ptr();
+        // SAFETY: plain field read, as in `run_burst`.
+        let Some(run) = (unsafe { (*avr).run }) else {
+            let mut sleeping = false;
+            return self.step_burst(u32::MAX, end, &mut sleeping).state;
+        };
+        loop {
+            // SAFETY: as in `step`.
+            let (state, now) = unsafe {
+                run(avr);
+                ((*avr).state, (*avr).cycle)
+            };
+            let stopped = state != ffi::cpu_Running as i32 && state != ffi::cpu_Sleeping as i32;
+            if stopped || now >= end {
+                return decode_state(state);
+            }
+        }
+    }
+
+    /// [`Avr::run_burst`] through `avr_run`, for an MCU without a step
+    /// function of its own (simavr installs one at init: not expected).
+    #[cold]
+    fn step_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
+        let mut steps = 0;
+        let mut slept = 0;
+        loop {
+            let before = self.cycle();
+            let state = self.step();
+            let now = self.cycle();
+            let asleep = state == CpuState::Sleeping;
             if *sleeping || asleep {
                 slept += now - before;
             }
             *sleeping = asleep;
             steps += 1;
-            let stopped = !asleep && state != ffi::cpu_Running;
+            let stopped = !asleep && state != CpuState::Running;
             if stopped || self.shared.handler.attention() || steps >= max_steps || now >= until {
                 return Burst {
                     steps,
                     slept,
-                    state: decode_state(state as i32),
+                    state,
                 };
             }
         }
