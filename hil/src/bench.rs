@@ -795,9 +795,17 @@ impl BenchCore {
         } else {
             NEVER
         };
+        self.planned[i].clear();
+        self.fill_plan(side, watch, self.next_edge[i]);
+    }
+
+    /// Plan up to [`EDGES_PLANNED`] transitions of `side` after the one at
+    /// `after` into its empty plan.
+    fn fill_plan(&mut self, side: Side, watch: Watch, mut after: u64) {
+        let i = side_index(side);
+        let grid = self.clock.grid();
         let mut planned = std::mem::take(&mut self.planned[i]);
-        planned.clear();
-        let mut after = self.next_edge[i];
+        debug_assert!(planned.is_empty(), "a plan is filled when it ran out");
         // Planning ahead holds up to the plant's next internal change only.
         while planned.len() < EDGES_PLANNED && after < self.next_internal {
             match self
@@ -827,6 +835,28 @@ impl BenchCore {
             self.robot
                 .encoder_levels_at(side, self.clock.seconds(cycle))
         })
+    }
+
+    /// `side`'s plan ran out at its edge at `now`: planned on from that
+    /// edge, without the plant, which need not be there (the plan's edges
+    /// are the ones a plan made there would hold: the inputs are the same).
+    /// False when it cannot be, or no edge is left to plan: the plant must
+    /// come to `now` and plan from there.
+    fn refill_plan(&mut self, side: Side, now: u64) -> bool {
+        let i = side_index(side);
+        if !self.planned[i].is_empty() {
+            return true;
+        }
+        if self.next_edge[i] != now || self.next_levels[i].is_none() {
+            return false;
+        }
+        let watch = if self.lazy_b[i] {
+            Watch::A
+        } else {
+            Watch::Both
+        };
+        self.fill_plan(side, watch, now);
+        !self.planned[i].is_empty()
     }
 
     /// `side`'s planned edge came: the next planned one, or a new plan.
@@ -1179,10 +1209,9 @@ impl BenchCore {
         }
         for (i, due) in due.into_iter().enumerate() {
             let plain = self.next_levels[i].is_some()
-                && !self.planned[i].is_empty()
                 && self.inject.encoder[i] == EncoderFault::Healthy
                 && self.inject.glitch[i] == [false; 2];
-            if due && !plain {
+            if due && !(plain && self.refill_plan(SIDES[i], when)) {
                 return false;
             }
         }
@@ -1298,11 +1327,7 @@ impl Handler for BenchCore {
             self.check_simavr_timer(core, timer, a, b);
             return;
         }
-        let which = if self.timer2.write_addresses().contains(&addr) {
-            0
-        } else {
-            1
-        };
+        let which = if self.timer2.owns_write(addr) { 0 } else { 1 };
         // The bench emulates these registers; keep data space readable.
         core.set_data(addr, value);
         // Bring the plant to this cycle before the output can change.

@@ -290,6 +290,22 @@ impl PwmTimer {
         v
     }
 
+    /// Whether `addr` is one of [`PwmTimer::write_addresses`] (without
+    /// building the list: this runs at each write).
+    pub fn owns_write(&self, addr: u16) -> bool {
+        let l = &self.layout;
+        let width = if l.sixteen_bit { 2 } else { 1 };
+        let in_reg = |reg: u16| addr >= reg && addr < reg + width;
+        addr == l.tccra
+            || addr == l.tccrb
+            || addr == l.timsk
+            || l.tccrc == Some(addr)
+            || l.assr == Some(addr)
+            || in_reg(l.tcnt)
+            || l.ocr.iter().any(|&(_, a)| in_reg(a))
+            || l.icr.is_some_and(|icr| addr == icr || addr == icr + 1)
+    }
+
     /// Addresses whose reads the bench refuses (the counter).
     pub fn read_addresses(&self) -> Vec<u16> {
         let l = &self.layout;
@@ -501,6 +517,22 @@ mod tests {
     use rstest::rstest;
 
     const F_CPU: u32 = 16_000_000;
+
+    /// The check at each write and the list the bench claims agree on every
+    /// data-space address.
+    #[test]
+    fn owns_write_is_the_list_of_write_addresses() {
+        for timer in [PwmTimer::timer2(), PwmTimer::timer4()] {
+            let list = timer.write_addresses();
+            for addr in 0..0x2200u16 {
+                assert_eq!(
+                    timer.owns_write(addr),
+                    list.contains(&addr),
+                    "address {addr:#x}"
+                );
+            }
+        }
+    }
 
     /// Measure frequency and duty from the edges over one second of waveform.
     fn measure(ocr: u32, com: Com) -> (f64, f64) {
