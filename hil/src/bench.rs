@@ -134,8 +134,13 @@ struct PlannedEdge {
     levels: Option<(bool, bool)>,
 }
 
-/// Transitions planned per wheel beyond the next (see `BenchCore::plan_edge`).
+/// Transitions planned per wheel beyond the next when nothing tells how
+/// long the inputs will last (see `BenchCore::plan_edge`).
 const EDGES_PLANNED: usize = 8;
+
+/// At most this many transitions planned beyond the next up to the time
+/// the inputs are expected to change (see `BenchCore::plan_edge`).
+const EDGES_PLANNED_TO_CHANGE: usize = 32;
 
 /// An encoder line change raised on a pin: line 0/1 = left A/B, 2/3 = right A/B.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -460,6 +465,11 @@ pub struct BenchCore {
     /// latest first: an edge's callback pops the next one instead of
     /// searching (any change re-plans from scratch).
     planned: [Vec<PlannedEdge>; 2],
+    /// Cycle of each wheel's last input change, and the cycles between its
+    /// last two (0: not seen yet): a controller changes them at its own
+    /// period, and a plan made at a change reaches about that far.
+    input_changed_at: [u64; 2],
+    input_period: [u64; 2],
     /// The plant's levels `(A, B)` at `next_edge`, when known in advance.
     next_levels: [Option<(bool, bool)>; 2],
     /// Cycles after a planned A edge during which the wheel cannot reach a
@@ -709,7 +719,12 @@ impl BenchCore {
             // its next internal change, which re-plans both).
             self.plan_internal(cycle);
             for side in SIDES {
-                if changed[side_index(side)] {
+                let i = side_index(side);
+                if changed[i] {
+                    if self.input_changed_at[i] != 0 {
+                        self.input_period[i] = cycle - self.input_changed_at[i];
+                    }
+                    self.input_changed_at[i] = cycle;
                     self.plan_edge(side, cycle);
                 }
             }
@@ -796,18 +811,28 @@ impl BenchCore {
             NEVER
         };
         self.planned[i].clear();
-        self.fill_plan(side, watch, self.next_edge[i]);
+        // Planned to the inputs' expected change (and the first edge after
+        // it, in case the change is late): what is planned beyond a change
+        // is wasted, and a plan that runs out early costs a refill.
+        let (most, horizon) = match self.input_period[i] {
+            0 => (EDGES_PLANNED, NEVER),
+            period if now == self.input_changed_at[i] => {
+                (EDGES_PLANNED_TO_CHANGE, now.saturating_add(period))
+            }
+            _ => (EDGES_PLANNED, NEVER),
+        };
+        self.fill_plan(side, watch, self.next_edge[i], most, horizon);
     }
 
-    /// Plan up to [`EDGES_PLANNED`] transitions of `side` after the one at
-    /// `after` into its empty plan.
-    fn fill_plan(&mut self, side: Side, watch: Watch, mut after: u64) {
+    /// Plan up to `most` transitions of `side` after the one at `after` into
+    /// its empty plan, stopping at the first at or after `horizon`.
+    fn fill_plan(&mut self, side: Side, watch: Watch, mut after: u64, most: usize, horizon: u64) {
         let i = side_index(side);
         let grid = self.clock.grid();
         let mut planned = std::mem::take(&mut self.planned[i]);
         debug_assert!(planned.is_empty(), "a plan is filled when it ran out");
         // Planning ahead holds up to the plant's next internal change only.
-        while planned.len() < EDGES_PLANNED && after < self.next_internal {
+        while planned.len() < most && after < horizon && after < self.next_internal {
             match self
                 .robot
                 .next_encoder_transition_on_after(side, watch, grid, after)
@@ -855,7 +880,7 @@ impl BenchCore {
         } else {
             Watch::Both
         };
-        self.fill_plan(side, watch, now);
+        self.fill_plan(side, watch, now, EDGES_PLANNED, NEVER);
         !self.planned[i].is_empty()
     }
 
@@ -1611,6 +1636,8 @@ impl Bench {
             last_a_edge: [0; 2],
             next_edge: [NEVER; 2],
             planned: [Vec::new(), Vec::new()],
+            input_changed_at: [0; 2],
+            input_period: [0; 2],
             next_levels: [None; 2],
             b_quiet_cycles: [0; 2],
             b_quiet_until: [0; 2],
