@@ -5,5 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 cargo fmt --all --check
-cargo clippy --workspace --all-targets --release --quiet -- -D warnings
-cargo test --workspace --release
+# The ci profile: release without link-time optimisation (see Cargo.toml).
+cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings
+cargo test --workspace --profile ci
