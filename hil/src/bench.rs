@@ -814,12 +814,11 @@ impl BenchCore {
         // Planned to the inputs' expected change (and the first edge after
         // it, in case the change is late): what is planned beyond a change
         // is wasted, and a plan that runs out early costs a refill.
-        let (most, horizon) = match self.input_period[i] {
-            0 => (EDGES_PLANNED, NEVER),
-            period if now == self.input_changed_at[i] => {
-                (EDGES_PLANNED_TO_CHANGE, now.saturating_add(period))
-            }
-            _ => (EDGES_PLANNED, NEVER),
+        let period = self.input_period[i];
+        let (most, horizon) = if period != 0 && now == self.input_changed_at[i] {
+            (EDGES_PLANNED_TO_CHANGE, now.saturating_add(period))
+        } else {
+            (EDGES_PLANNED, NEVER)
         };
         self.fill_plan(side, watch, self.next_edge[i], most, horizon);
     }
