@@ -184,6 +184,9 @@ pub struct Avr<H: Handler> {
     #[allow(clippy::vec_box)]
     irq_tags: Vec<Box<IrqTag<H>>>,
     code_end: u32,
+    /// The step function simavr installed at init (what `avr_run` calls),
+    /// called directly to save a call per instruction.
+    run: unsafe extern "C" fn(*mut ffi::avr_t),
 }
 
 // The bench's timer is identified by (callback, param): registering again
@@ -364,6 +367,10 @@ impl<H: Handler> Avr<H> {
         if unsafe { ffi::avr_init(avr.as_ptr()) } != 0 {
             return Err(SimError::InitFailed(mcu.into()));
         }
+        // SAFETY: plain field read on the initialised MCU.
+        let Some(run) = (unsafe { (*avr.as_ptr()).run }) else {
+            return Err(SimError::InitFailed(mcu.into()));
+        };
         let mut shared = Box::new(Shared {
             handler,
             avr,
@@ -394,6 +401,7 @@ impl<H: Handler> Avr<H> {
             shared,
             irq_tags: Vec::new(),
             code_end: 0,
+            run,
         })
     }
 
@@ -424,16 +432,10 @@ impl<H: Handler> Avr<H> {
         let avr = self.avr.as_ptr();
         // SAFETY: the MCU is initialised and loaded; callbacks re-enter the
         // handler through `shared`, which nothing else borrows during the
-        // call. `run` is the step function simavr installed at init (what
-        // `avr_run` calls; called directly to save a call per instruction).
+        // call.
         let state = unsafe {
-            match (*avr).run {
-                Some(run) => {
-                    run(avr);
-                    (*avr).state
-                }
-                None => ffi::avr_run(avr),
-            }
+            (self.run)(avr);
+            (*avr).state
         };
         decode_state(state)
     }
@@ -447,11 +449,7 @@ impl<H: Handler> Avr<H> {
     /// [`Avr::step`] in a loop, without leaving this module per instruction.
     pub fn run_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
         let avr = self.avr.as_ptr();
-        // SAFETY: plain field read; `run` is the step function simavr
-        // installed at init (what `avr_run` calls).
-        let Some(run) = (unsafe { (*avr).run }) else {
-            return self.step_burst(max_steps, until, sleeping);
-        };
+        let run = self.run;
         let mut steps = 0;
         let mut slept = 0;
         let mut was_asleep = *sleeping;
@@ -497,11 +495,7 @@ impl<H: Handler> Avr<H> {
     /// bare as it can be (the baseline `hil bench` compares the bench with).
     pub fn run_to(&mut self, end: u64) -> CpuState {
         let avr = self.avr.as_ptr();
-        // SAFETY: plain field read, as in `run_burst`.
-        let Some(run) = (unsafe { (*avr).run }) else {
-            let mut sleeping = false;
-            return self.step_burst(u32::MAX, end, &mut sleeping).state;
-        };
+        let run = self.run;
         loop {
             // SAFETY: as in `step`.
             let (state, now) = unsafe {
@@ -511,33 +505,6 @@ impl<H: Handler> Avr<H> {
             let stopped = state != ffi::cpu_Running as i32 && state != ffi::cpu_Sleeping as i32;
             if stopped || now >= end {
                 return decode_state(state);
-            }
-        }
-    }
-
-    /// [`Avr::run_burst`] through `avr_run`, for an MCU without a step
-    /// function of its own (simavr installs one at init: not expected).
-    #[cold]
-    fn step_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
-        let mut steps = 0;
-        let mut slept = 0;
-        loop {
-            let before = self.cycle();
-            let state = self.step();
-            let now = self.cycle();
-            let asleep = state == CpuState::Sleeping;
-            if *sleeping || asleep {
-                slept += now - before;
-            }
-            *sleeping = asleep;
-            steps += 1;
-            let stopped = !asleep && state != CpuState::Running;
-            if stopped || self.shared.handler.attention() || steps >= max_steps || now >= until {
-                return Burst {
-                    steps,
-                    slept,
-                    state,
-                };
             }
         }
     }
