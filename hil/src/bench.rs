@@ -791,11 +791,7 @@ impl BenchCore {
     /// need nothing of the plant (`raise_planned_edges`).
     fn plan_edge(&mut self, side: Side, now: u64) {
         let i = side_index(side);
-        let watch = if self.lazy_b[i] {
-            Watch::A
-        } else {
-            Watch::Both
-        };
+        let watch = self.watch(i);
         let grid = self.clock.grid();
         self.next_edge[i] = match self.robot.next_encoder_transition_on(side, watch, grid) {
             Some(cycle) => cycle.max(now + 1),
@@ -861,6 +857,16 @@ impl BenchCore {
         })
     }
 
+    /// What the firmware can see change on encoder `i`: A alone while B is
+    /// raised lazily, both lines otherwise.
+    fn watch(&self, i: usize) -> Watch {
+        if self.lazy_b[i] {
+            Watch::A
+        } else {
+            Watch::Both
+        }
+    }
+
     /// `side`'s plan ran out at its edge at `now`: planned on from that
     /// edge, without the plant, which need not be there (the plan's edges
     /// are the ones a plan made there would hold: the inputs are the same).
@@ -874,11 +880,7 @@ impl BenchCore {
         if self.next_edge[i] != now || self.next_levels[i].is_none() {
             return false;
         }
-        let watch = if self.lazy_b[i] {
-            Watch::A
-        } else {
-            Watch::Both
-        };
+        let watch = self.watch(i);
         self.fill_plan(side, watch, now, EDGES_PLANNED, NEVER);
         !self.planned[i].is_empty()
     }
