@@ -161,6 +161,10 @@ impl Core {
 struct Shared<H> {
     handler: H,
     avr: NonNull<ffi::avr_t>,
+    /// The cycle at which the running burst ends ([`Avr::run_burst`]); a
+    /// callback that leaves the handler wanting attention sets it to 0, so
+    /// that the burst's loop has one bound to test per instruction.
+    burst_end: u64,
     /// The handler simavr had installed on each IO write slot we took over
     /// with [`IoClaim::Observe`], to forward to first.
     forward: Vec<Option<(ffi::avr_io_write_t, *mut c_void)>>,
@@ -168,6 +172,16 @@ struct Shared<H> {
     /// [`Avr::observe_io_read`], called after the bench's.
     forward_read: Vec<Option<(ffi::avr_io_read_t, *mut c_void)>>,
     in_timer: bool,
+}
+
+impl<H: Handler> Shared<H> {
+    /// After a callback: a handler that wants attention ends the burst.
+    #[inline]
+    fn note_attention(&mut self) {
+        if self.handler.attention() {
+            self.burst_end = 0;
+        }
+    }
 }
 
 struct IrqTag<H> {
@@ -205,6 +219,7 @@ unsafe extern "C" fn timer_trampoline<H: Handler>(
     shared.in_timer = true;
     let next = shared.handler.timer(&mut core, when);
     shared.in_timer = false;
+    shared.note_attention();
     next
 }
 
@@ -229,6 +244,7 @@ unsafe extern "C" fn io_write_trampoline<H: Handler>(
         avr: NonNull::new(avr).expect("simavr passed a null MCU"),
     };
     shared.handler.io_write(&mut core, addr, value);
+    shared.note_attention();
 }
 
 unsafe extern "C" fn io_read_trampoline<H: Handler>(
@@ -241,7 +257,9 @@ unsafe extern "C" fn io_read_trampoline<H: Handler>(
     let mut core = Core {
         avr: NonNull::new(avr).expect("simavr passed a null MCU"),
     };
-    shared.handler.io_read(&mut core, addr)
+    let value = shared.handler.io_read(&mut core, addr);
+    shared.note_attention();
+    value
 }
 
 unsafe extern "C" fn io_read_observe_trampoline<H: Handler>(
@@ -255,6 +273,7 @@ unsafe extern "C" fn io_read_observe_trampoline<H: Handler>(
         avr: NonNull::new(avr).expect("simavr passed a null MCU"),
     };
     shared.handler.before_io_read(&mut core, addr);
+    shared.note_attention();
     match shared.forward_read[addr as usize - 32] {
         // SAFETY: the original handler and its param were installed by simavr
         // for this very slot; we call it as simavr would have.
@@ -275,6 +294,7 @@ unsafe extern "C" fn irq_trampoline<H: Handler>(
     let shared = unsafe { &mut *tag.shared };
     let mut core = Core { avr: shared.avr };
     shared.handler.irq(&mut core, tag.tag, value);
+    shared.note_attention();
 }
 
 unsafe extern "C" fn sleep_noop(_avr: *mut ffi::avr_t, _how_long: ffi::avr_cycle_count_t) {}
@@ -377,6 +397,7 @@ impl<H: Handler> Avr<H> {
             forward: vec![None; ffi::MAX_IOs as usize],
             forward_read: vec![None; ffi::MAX_IOs as usize],
             in_timer: false,
+            burst_end: u64::MAX,
         });
         let scheduler = Box::new(Scheduler {
             f: schedule_erased::<H>,
@@ -447,46 +468,63 @@ impl<H: Handler> Avr<H> {
     /// first step and is updated; cycles of steps that slept (or began or
     /// ended asleep) are summed in [`Burst::slept`]. The same as calling
     /// [`Avr::step`] in a loop, without leaving this module per instruction.
+    // Out of line, so that the loop keeps its bounds in registers.
+    #[inline(never)]
     pub fn run_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
         let avr = self.avr.as_ptr();
         let run = self.run;
-        let mut steps = 0;
+        let shared: *mut Shared<H> = &mut *self.shared;
+        // SAFETY: plain field accesses; the callbacks run during `run` reach
+        // the same `Shared` through the pointer registered with simavr, and
+        // nothing holds a reference to it across a step.
+        unsafe {
+            (*shared).burst_end = if (*shared).handler.attention() {
+                0
+            } else {
+                until
+            }
+        };
+        let mut left = max_steps.max(1);
         let mut slept = 0;
         let mut was_asleep = *sleeping;
-        loop {
+        // SAFETY: plain field read.
+        let mut before = unsafe { (*avr).cycle };
+        let state = loop {
             // SAFETY: as in `step`; plain field reads between the steps.
-            let (before, state, now) = unsafe {
-                let before = (*avr).cycle;
+            let (state, now) = unsafe {
                 run(avr);
-                (before, (*avr).state, (*avr).cycle)
+                ((*avr).state, (*avr).cycle)
             };
-            steps += 1;
+            left -= 1;
+            // SAFETY: as above.
+            let end = unsafe { (*shared).burst_end };
             // Almost every step is an instruction between two awake ones:
-            // nothing to account, three reasons to stop.
+            // nothing to account, one bound and a step count to test.
             if state == ffi::cpu_Running as i32 && !was_asleep {
-                if self.shared.handler.attention() || steps >= max_steps || now >= until {
+                if now >= end || left == 0 {
                     *sleeping = false;
-                    return Burst {
-                        steps,
-                        slept,
-                        state: CpuState::Running,
-                    };
+                    break state;
                 }
+                before = now;
                 continue;
             }
             // A step that began or ended asleep counts as slept.
             let asleep = state == ffi::cpu_Sleeping as i32;
             slept += now - before;
+            before = now;
             was_asleep = asleep;
             let stopped = !asleep && state != ffi::cpu_Running as i32;
-            if stopped || self.shared.handler.attention() || steps >= max_steps || now >= until {
+            if stopped || now >= end || left == 0 {
                 *sleeping = asleep;
-                return Burst {
-                    steps,
-                    slept,
-                    state: decode_state(state),
-                };
+                break state;
             }
+        };
+        // SAFETY: as above.
+        unsafe { (*shared).burst_end = u64::MAX };
+        Burst {
+            steps: max_steps.max(1) - left,
+            slept,
+            state: decode_state(state),
         }
     }
 
