@@ -933,3 +933,82 @@ fn decode_state(state: i32) -> CpuState {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// GPIOR0 in data space: a plain register the test program writes.
+    const GPIOR0: u16 = 0x3E;
+
+    /// Counts writes to GPIOR0 and wants attention once it sees `at`.
+    struct Writes {
+        seen: Vec<u8>,
+        at: u8,
+        attention: bool,
+    }
+
+    impl Handler for Writes {
+        fn io_write(&mut self, _core: &mut Core, _addr: u16, value: u8) {
+            self.seen.push(value);
+            self.attention |= value == self.at;
+        }
+        fn io_read(&mut self, _core: &mut Core, _addr: u16) -> u8 {
+            0
+        }
+        fn attention(&self) -> bool {
+            self.attention
+        }
+        fn timer(&mut self, _core: &mut Core, _when: u64) -> u64 {
+            0
+        }
+        fn irq(&mut self, _core: &mut Core, _tag: u32, _value: u32) {}
+    }
+
+    /// `ldi r16, 1` then, forever, `out GPIOR0, r16; inc r16; rjmp` back:
+    /// three steps and four cycles per write of 1, 2, 3, ...
+    fn counting_mcu(at: u8) -> Avr<Writes> {
+        let handler = Writes {
+            seen: Vec::new(),
+            at,
+            attention: false,
+        };
+        let mut avr = Avr::new("atmega2560", 16_000_000, handler).unwrap();
+        let words: [u16; 4] = [0xE001, 0xBB0E, 0x9503, 0xCFFD];
+        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        avr.load_flash(0, &bytes).unwrap();
+        avr.claim_io_write(GPIOR0, IoClaim::Replace).unwrap();
+        avr
+    }
+
+    #[test]
+    fn a_burst_ends_after_the_step_whose_callback_wants_attention() {
+        let mut avr = counting_mcu(5);
+        let mut sleeping = false;
+        let burst = avr.run_burst(1000, u64::MAX, &mut sleeping);
+        // The ldi, four whole rounds, and the out that wrote 5.
+        assert_eq!(burst.steps, 1 + 4 * 3 + 1);
+        assert_eq!(burst.state, CpuState::Running);
+        assert_eq!(avr.handler().seen, [1, 2, 3, 4, 5]);
+        // Attention still pending: the next burst runs one step only.
+        assert_eq!(avr.run_burst(1000, u64::MAX, &mut sleeping).steps, 1);
+        avr.handler_mut().attention = false;
+        assert_eq!(avr.run_burst(100, u64::MAX, &mut sleeping).steps, 100);
+        assert!(!sleeping);
+    }
+
+    #[test]
+    fn a_burst_ends_at_its_step_count_or_its_cycle() {
+        let mut avr = counting_mcu(0);
+        let mut sleeping = false;
+        assert_eq!(avr.run_burst(7, u64::MAX, &mut sleeping).steps, 7);
+        assert_eq!(avr.run_burst(0, u64::MAX, &mut sleeping).steps, 1);
+        let until = avr.cycle() + 40;
+        let burst = avr.run_burst(1000, until, &mut sleeping);
+        // The first step that reaches `until` is the last (no instruction
+        // here takes more than two cycles).
+        assert!(avr.cycle() >= until && avr.cycle() < until + 2);
+        assert!(burst.steps > 0 && burst.steps < 40);
+        assert_eq!(burst.slept, 0);
+    }
+}
