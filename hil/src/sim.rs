@@ -161,9 +161,10 @@ impl Core {
 struct Shared<H> {
     handler: H,
     avr: NonNull<ffi::avr_t>,
-    /// The cycle at which the running burst ends ([`Avr::run_burst`]); a
-    /// callback that leaves the handler wanting attention sets it to 0, so
-    /// that the burst's loop has one bound to test per instruction.
+    /// The cycle at which the running burst ends ([`Avr::run_burst`] sets
+    /// it as it starts; nothing else reads it). A callback that leaves the
+    /// handler wanting attention sets it to 0, so that the burst's loop has
+    /// one bound to test per instruction.
     burst_end: u64,
     /// The handler simavr had installed on each IO write slot we took over
     /// with [`IoClaim::Observe`], to forward to first.
@@ -397,7 +398,7 @@ impl<H: Handler> Avr<H> {
             forward: vec![None; ffi::MAX_IOs as usize],
             forward_read: vec![None; ffi::MAX_IOs as usize],
             in_timer: false,
-            burst_end: u64::MAX,
+            burst_end: 0,
         });
         let scheduler = Box::new(Scheduler {
             f: schedule_erased::<H>,
@@ -484,7 +485,9 @@ impl<H: Handler> Avr<H> {
                 until
             }
         };
-        let mut left = max_steps.max(1);
+        // A burst runs at least one step.
+        let max_steps = max_steps.max(1);
+        let mut left = max_steps;
         let mut slept = 0;
         let mut was_asleep = *sleeping;
         // SAFETY: plain field read.
@@ -519,10 +522,8 @@ impl<H: Handler> Avr<H> {
                 break state;
             }
         };
-        // SAFETY: as above.
-        unsafe { (*shared).burst_end = u64::MAX };
         Burst {
-            steps: max_steps.max(1) - left,
+            steps: max_steps - left,
             slept,
             state: decode_state(state),
         }
