@@ -134,6 +134,12 @@ struct PlannedEdge {
     levels: Option<(bool, bool)>,
 }
 
+/// How often [`Bench::run_until`] checks its `done` (robot time: 1024
+/// cycles at 16 MHz). Short beside anything a test waits for, long beside
+/// the 100-odd host instructions a check costs, so that the run loop is
+/// simavr's own loop with one bound (the check's cycle) most of the time.
+pub const CHECK_PERIOD_S: f64 = 64e-6;
+
 /// Transitions planned per wheel beyond the next when nothing tells how
 /// long the inputs will last (see `BenchCore::plan_edge`).
 const EDGES_PLANNED: usize = 8;
@@ -1979,11 +1985,15 @@ impl Bench {
     }
 
     /// Run until `done` holds or `limit_s` of robot time pass; Ok(false) on
-    /// the limit. `done` is checked every few instructions and at least once
-    /// per plant step while the CPU sleeps; it should look at the firmware
-    /// (memory, pins), not at the plant, which may lag the CPU by an encoder
-    /// edge or two between the bench's own events. On return the plant is at
-    /// the current cycle.
+    /// the limit. `done` is checked after the first step, then after the
+    /// first step that reaches each point of a grid of [`CHECK_PERIOD_S`]
+    /// of robot time (a step is an instruction, or a sleep up to the next
+    /// event; the grid starts at cycle 0, so the checks fall at the same
+    /// cycles however a run is split into calls); the run ends after the
+    /// first step that reaches the limit.
+    /// `done` should look at the firmware (memory, pins), not at the plant,
+    /// which may lag the CPU by an encoder edge or two between the bench's
+    /// own events. On return the plant is at the current cycle.
     pub fn run_until(
         &mut self,
         limit_s: f64,
@@ -2010,16 +2020,19 @@ impl Bench {
     ) -> Result<bool, BenchError> {
         let limit = self.avr.cycle() + self.clock.cycles_in(Seconds(limit_s));
         let ms = self.clock.cycles_per_ms();
-        let mut n: u32 = 0;
+        let period = self.clock.cycles_in(Seconds(CHECK_PERIOD_S)).max(1);
+        // The first check after the first step, then one per grid point.
         let mut check_at = self.avr.cycle();
+        // (At the limit the check ends the run: what follows is not used.)
+        let next_check = |now: u64| ((now / period + 1) * period).min(limit);
         let mut hang_check_at = check_at;
         // Instruction-level detail costs speed: only when someone looks.
         let watch = self.profile.is_some() || self.observer.is_some();
         let mut sleeping = self.avr.state() == CpuState::Sleeping;
         if !watch {
             // The same steps and checks as the loop below, in bursts that
-            // stay inside the simulator module between checks. (Holding or
-            // releasing the reset always raises attention, which ends a
+            // stay inside the simulator module up to the next check. (Holding
+            // or releasing the reset always raises attention, which ends a
             // burst, so a burst never runs through a brown-out.)
             loop {
                 let state = if self.avr.handler().held_in_reset() {
@@ -2027,11 +2040,9 @@ impl Bench {
                     self.avr.hold_step();
                     self.sleep_cycles += self.avr.cycle() - before;
                     sleeping = true;
-                    n = n.wrapping_add(1);
                     CpuState::Running
                 } else {
-                    let burst = self.avr.run_burst(64 - n % 64, check_at, &mut sleeping);
-                    n = n.wrapping_add(burst.steps);
+                    let burst = self.avr.run_burst(check_at, &mut sleeping);
                     self.sleep_cycles += burst.slept;
                     burst.state
                 };
@@ -2043,8 +2054,8 @@ impl Bench {
                     sleeping = self.avr.state() == CpuState::Sleeping;
                 }
                 let now = self.avr.cycle();
-                if n % 64 == 0 || now >= check_at {
-                    check_at = now + ms;
+                if now >= check_at {
+                    check_at = next_check(now);
                     if let Some(end) =
                         self.check_point(now, &mut done, &mut hang_check_at, ms, limit)?
                     {
@@ -2093,11 +2104,8 @@ impl Bench {
                 self.attend()?;
                 sleeping = self.avr.state() == CpuState::Sleeping;
             }
-            n = n.wrapping_add(1);
-            // Check every 64 instructions, and at least once per millisecond
-            // of robot time while the CPU sleeps through long stretches.
-            if n % 64 == 0 || now >= check_at {
-                check_at = now + ms;
+            if now >= check_at {
+                check_at = next_check(now);
                 if let Some(end) =
                     self.check_point(now, &mut done, &mut hang_check_at, ms, limit)?
                 {

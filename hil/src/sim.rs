@@ -54,8 +54,6 @@ pub enum CpuState {
 /// How a burst of steps ([`Avr::run_burst`]) ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Burst {
-    /// Steps run.
-    pub steps: u32,
     /// Cycles spent asleep.
     pub slept: u64,
     /// The CPU's state after the last step.
@@ -462,16 +460,18 @@ impl<H: Handler> Avr<H> {
         decode_state(state)
     }
 
-    /// Runs up to `max_steps` steps (an instruction, or a jump over a sleep),
-    /// ending early after the step at which the CPU stops running and
-    /// sleeping, the handler asks for [`Handler::attention`], or the cycle
-    /// reaches `until`. `sleeping` says whether the CPU slept before the
-    /// first step and is updated; cycles of steps that slept (or began or
-    /// ended asleep) are summed in [`Burst::slept`]. The same as calling
-    /// [`Avr::step`] in a loop, without leaving this module per instruction.
+    /// Runs steps (an instruction, or a jump over a sleep) until the first
+    /// that reaches cycle `until`, after which the CPU stops running and
+    /// sleeping, or whose callbacks leave the handler wanting
+    /// [`Handler::attention`] (a burst begun with attention pending runs one
+    /// step). `sleeping` says whether the CPU slept before the first step
+    /// and is updated; cycles of steps that slept (or began or ended asleep)
+    /// are summed in [`Burst::slept`]. The same as calling [`Avr::step`] in
+    /// a loop, without leaving this module per instruction, and with one
+    /// bound per instruction as [`Avr::run_to`] has.
     // Out of line, so that the loop keeps its bounds in registers.
     #[inline(never)]
-    pub fn run_burst(&mut self, max_steps: u32, until: u64, sleeping: &mut bool) -> Burst {
+    pub fn run_burst(&mut self, until: u64, sleeping: &mut bool) -> Burst {
         let avr = self.avr.as_ptr();
         let run = self.run;
         let shared: *mut Shared<H> = &mut *self.shared;
@@ -485,9 +485,6 @@ impl<H: Handler> Avr<H> {
                 until
             }
         };
-        // A burst runs at least one step.
-        let max_steps = max_steps.max(1);
-        let mut left = max_steps;
         let mut slept = 0;
         let mut was_asleep = *sleeping;
         // SAFETY: plain field read.
@@ -498,13 +495,12 @@ impl<H: Handler> Avr<H> {
                 run(avr);
                 ((*avr).state, (*avr).cycle)
             };
-            left -= 1;
             // SAFETY: as above.
             let end = unsafe { (*shared).burst_end };
             // Almost every step is an instruction between two awake ones:
-            // nothing to account, one bound and a step count to test.
+            // nothing to account, one bound to test.
             if state == ffi::cpu_Running as i32 && !was_asleep {
-                if now >= end || left == 0 {
+                if now >= end {
                     *sleeping = false;
                     break state;
                 }
@@ -517,13 +513,12 @@ impl<H: Handler> Avr<H> {
             before = now;
             was_asleep = asleep;
             let stopped = !asleep && state != ffi::cpu_Running as i32;
-            if stopped || now >= end || left == 0 {
+            if stopped || now >= end {
                 *sleeping = asleep;
                 break state;
             }
         };
         Burst {
-            steps: max_steps - left,
             slept,
             state: decode_state(state),
         }
@@ -986,30 +981,41 @@ mod tests {
     fn a_burst_ends_after_the_step_whose_callback_wants_attention() {
         let mut avr = counting_mcu(5);
         let mut sleeping = false;
-        let burst = avr.run_burst(1000, u64::MAX, &mut sleeping);
+        let start = avr.cycle();
+        let burst = avr.run_burst(u64::MAX, &mut sleeping);
         // The ldi, four whole rounds, and the out that wrote 5.
-        assert_eq!(burst.steps, 1 + 4 * 3 + 1);
+        assert_eq!(avr.cycle() - start, 1 + 4 * 4 + 1);
         assert_eq!(burst.state, CpuState::Running);
         assert_eq!(avr.handler().seen, [1, 2, 3, 4, 5]);
-        // Attention still pending: the next burst runs one step only.
-        assert_eq!(avr.run_burst(1000, u64::MAX, &mut sleeping).steps, 1);
+        // Attention still pending: the next burst runs one step only (the
+        // inc, one cycle).
+        let at = avr.cycle();
+        avr.run_burst(u64::MAX, &mut sleeping);
+        assert_eq!(avr.cycle(), at + 1);
         avr.handler_mut().attention = false;
-        assert_eq!(avr.run_burst(100, u64::MAX, &mut sleeping).steps, 100);
+        let until = avr.cycle() + 400;
+        avr.run_burst(until, &mut sleeping);
+        assert_eq!(avr.cycle(), until);
+        assert_eq!(avr.handler().seen.len(), 5 + 100);
         assert!(!sleeping);
     }
 
     #[test]
-    fn a_burst_ends_at_its_step_count_or_its_cycle() {
+    fn a_burst_ends_at_the_first_step_that_reaches_its_cycle() {
         let mut avr = counting_mcu(0);
         let mut sleeping = false;
-        assert_eq!(avr.run_burst(7, u64::MAX, &mut sleeping).steps, 7);
-        assert_eq!(avr.run_burst(0, u64::MAX, &mut sleeping).steps, 1);
-        let until = avr.cycle() + 40;
-        let burst = avr.run_burst(1000, until, &mut sleeping);
-        // The first step that reaches `until` is the last (no instruction
-        // here takes more than two cycles).
-        assert!(avr.cycle() >= until && avr.cycle() < until + 2);
-        assert!(burst.steps > 0 && burst.steps < 40);
+        // A bound already reached: one step.
+        let burst = avr.run_burst(0, &mut sleeping);
+        assert_eq!(avr.cycle(), 1);
+        assert_eq!(burst.state, CpuState::Running);
+        // Every round from here is out (1 cycle), inc (1), rjmp (2): a bound
+        // inside the rjmp ends the burst one cycle past it.
+        let burst = avr.run_burst(avr.cycle() + 3, &mut sleeping);
+        assert_eq!(avr.cycle(), 1 + 4);
+        assert_eq!(avr.handler().seen, [1]);
+        avr.run_burst(avr.cycle() + 39, &mut sleeping);
+        assert_eq!(avr.cycle(), 1 + 4 + 40);
+        assert_eq!(avr.handler().seen.len(), 11);
         assert_eq!(burst.slept, 0);
     }
 }
