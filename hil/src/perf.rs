@@ -29,7 +29,7 @@ use crate::sim::{Avr, Core, Handler, IoClaim, Irq};
 use crate::wiring::HENRYTWO;
 
 /// One measured run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize)]
 pub struct Measured {
     pub robot_s: f64,
     pub wall_s: f64,
@@ -336,6 +336,10 @@ pub struct BuildSpeed {
     /// Bench wall time over raw simavr's (without its PWM timers) for the
     /// same robot time and the same instructions.
     pub overhead_ratio: f64,
+    /// Each round's bench wall time over the raw replay's timed right after
+    /// it: their spread shows how steady the machine was (the fastest runs,
+    /// which `overhead_ratio` compares, may come from different rounds).
+    pub round_ratios: Vec<f64>,
     pub awake_fraction: f64,
     /// Callbacks from simavr into the bench per robot second.
     pub callbacks_per_robot_s: f64,
@@ -345,6 +349,26 @@ pub struct BuildSpeed {
     /// Share of the reads of a lazy B answered without the plant.
     pub quiet_b_read_fraction: f64,
     pub completed: bool,
+}
+
+impl BuildSpeed {
+    /// The lowest and highest of the rounds' ratios.
+    pub fn round_ratio_range(&self) -> (f64, f64) {
+        let lo = self
+            .round_ratios
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        let hi = self.round_ratios.iter().copied().fold(0.0, f64::max);
+        (lo, hi)
+    }
+
+    /// Whether some round's ratio lies more than 15 % from the fastest
+    /// runs' (`overhead_ratio`): the machine's load changed while timing.
+    pub fn rounds_disagree(&self) -> bool {
+        let (lo, hi) = self.round_ratio_range();
+        hi > 1.15 * self.overhead_ratio || lo < self.overhead_ratio / 1.15
+    }
 }
 
 fn fastest(a: Measured, b: Measured) -> Measured {
@@ -370,6 +394,7 @@ fn measure_build(
     let mut bench: Option<Measured> = None;
     let mut raw_np: Option<Measured> = None;
     let mut raw: Option<Measured> = None;
+    let mut round_ratios = Vec::new();
     let repeats = plan.repeats.max(1);
     for i in 0..repeats {
         (plan.progress)(&format!("{name}: timing, round {} of {repeats}", i + 1));
@@ -383,7 +408,7 @@ fn measure_build(
             Some(b) => fastest(b, run.measured),
             None => run.measured,
         });
-        let replay = |pwm: bool, best: &mut Option<Measured>| -> Result<(), PerfError> {
+        let replay = |pwm: bool, best: &mut Option<Measured>| -> Result<Measured, PerfError> {
             let r = raw_replay(fw, &rec, pwm)?;
             if !r.faithful {
                 return Err(PerfError::ReplayDiverged {
@@ -394,9 +419,10 @@ fn measure_build(
                 Some(b) => fastest(b, r.measured),
                 None => r.measured,
             });
-            Ok(())
+            Ok(r.measured)
         };
-        replay(false, &mut raw_np)?;
+        let raw_round = replay(false, &mut raw_np)?;
+        round_ratios.push(run.measured.wall_s / raw_round.wall_s.max(1e-9));
         if raw_with_pwm_timers {
             replay(true, &mut raw)?;
         }
@@ -405,6 +431,7 @@ fn measure_build(
     let bench = bench.expect("at least one repeat");
     Ok(BuildSpeed {
         overhead_ratio: bench.wall_s / raw_np.wall_s.max(1e-9),
+        round_ratios,
         awake_fraction: rec.awake_fraction,
         callbacks_per_robot_s: rec.callbacks as f64 / rec.measured.robot_s,
         lean_edge_fraction: rec.lean_edge_callbacks as f64 / rec.callbacks.max(1) as f64,
@@ -523,6 +550,26 @@ impl BenchReport {
                 .map(|t| format!(", {t:.2}x thesis"))
                 .unwrap_or_default()
         );
+        if self.repeats > 1 {
+            let spread = |b: &BuildSpeed| {
+                let (lo, hi) = b.round_ratio_range();
+                format!("{lo:.2}x to {hi:.2}x")
+            };
+            let _ = writeln!(
+                s,
+                "  round by round (bench over the replay timed next to it): {} robust{}{}",
+                spread(r),
+                self.thesis
+                    .as_ref()
+                    .map(|t| format!(", {} thesis", spread(t)))
+                    .unwrap_or_default(),
+                if r.rounds_disagree() || self.thesis.iter().any(BuildSpeed::rounds_disagree) {
+                    " (a wide spread: the machine was busy; time again when it is quiet)"
+                } else {
+                    ""
+                }
+            );
+        }
         let _ = writeln!(
             s,
             "  robust: CPU awake {:.2} %; {:.0} bench callbacks per robot s, {:.0} % of them \
@@ -534,5 +581,65 @@ impl BenchReport {
             self.robust.quiet_b_read_fraction * 100.0,
         );
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn speed(overhead_ratio: f64, round_ratios: Vec<f64>) -> BuildSpeed {
+        let m = Measured::new(10.0, 0.1);
+        BuildSpeed {
+            bench: m,
+            raw_without_pwm_timers: m,
+            raw: None,
+            overhead_ratio,
+            round_ratios,
+            awake_fraction: 0.02,
+            callbacks_per_robot_s: 1800.0,
+            lean_edge_fraction: 0.75,
+            quiet_b_read_fraction: 0.73,
+            completed: true,
+        }
+    }
+
+    fn report(robust: BuildSpeed, thesis: Option<BuildSpeed>, repeats: usize) -> BenchReport {
+        BenchReport {
+            test: "umbmark-cw".into(),
+            rtf_robust_umbmark: 250.0,
+            rtf_thesis: thesis.as_ref().map(|_| 5.6),
+            rtf_raw_simavr: None,
+            rtf_raw_simavr_without_pwm_timers: 318.0,
+            overhead_ratio: robust.overhead_ratio,
+            thesis_overhead_ratio: thesis.as_ref().map(|t| t.overhead_ratio),
+            awake_fraction: 0.02,
+            callbacks_per_robot_s: 1800.0,
+            robot_s: 74.3,
+            thesis_robot_s: thesis.as_ref().map(|_| 32.8),
+            repeats,
+            robust,
+            thesis,
+        }
+    }
+
+    #[test]
+    fn the_report_shows_the_rounds_spread_and_warns_when_it_is_wide() {
+        let steady = report(speed(1.26, vec![1.27, 1.26, 1.29]), None, 3);
+        let text = steady.render();
+        assert!(text.contains("1.26x to 1.29x robust"), "{text}");
+        assert!(!text.contains("busy"), "{text}");
+        // One round of the thesis build timed while the machine was loaded.
+        let loaded = report(
+            speed(1.26, vec![1.27, 1.26]),
+            Some(speed(1.04, vec![1.05, 1.31])),
+            2,
+        );
+        let text = loaded.render();
+        assert!(text.contains("1.05x to 1.31x thesis"), "{text}");
+        assert!(text.contains("the machine was busy"), "{text}");
+        // One round: no spread to show.
+        let once = report(speed(1.26, vec![1.26]), None, 1);
+        assert!(!once.render().contains("round by round"));
     }
 }
