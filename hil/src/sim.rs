@@ -460,8 +460,8 @@ impl<H: Handler> Avr<H> {
         decode_state(state)
     }
 
-    /// Runs steps (an instruction, or a jump over a sleep) until the first
-    /// that reaches cycle `until`, after which the CPU stops running and
+    /// Runs steps (an instruction, or a jump over a sleep) and ends after the
+    /// first that reaches cycle `until`, leaves the CPU neither running nor
     /// sleeping, or whose callbacks leave the handler wanting
     /// [`Handler::attention`] (a burst begun with attention pending runs one
     /// step). `sleeping` says whether the CPU slept before the first step
