@@ -371,12 +371,16 @@ impl BuildSpeed {
     }
 }
 
-fn fastest(a: Measured, b: Measured) -> Measured {
-    if b.wall_s < a.wall_s {
-        b
-    } else {
-        a
+/// Keep the faster of `best` and `m`.
+fn keep_fastest(best: &mut Option<Measured>, m: Measured) {
+    if best.is_none_or(|b| m.wall_s < b.wall_s) {
+        *best = Some(m);
     }
+}
+
+/// `a`'s wall time over `b`'s.
+fn wall_ratio(a: Measured, b: Measured) -> f64 {
+    a.wall_s / b.wall_s.max(1e-9)
 }
 
 /// Time one build on squares of `leg_mm`: a recorded bench run for the
@@ -404,10 +408,7 @@ fn measure_build(
                 build: fw.name().to_string(),
             });
         }
-        bench = Some(match bench.take() {
-            Some(b) => fastest(b, run.measured),
-            None => run.measured,
-        });
+        keep_fastest(&mut bench, run.measured);
         let replay = |pwm: bool, best: &mut Option<Measured>| -> Result<Measured, PerfError> {
             let r = raw_replay(fw, &rec, pwm)?;
             if !r.faithful {
@@ -415,14 +416,11 @@ fn measure_build(
                     build: fw.name().to_string(),
                 });
             }
-            *best = Some(match best.take() {
-                Some(b) => fastest(b, r.measured),
-                None => r.measured,
-            });
+            keep_fastest(best, r.measured);
             Ok(r.measured)
         };
         let raw_round = replay(false, &mut raw_np)?;
-        round_ratios.push(run.measured.wall_s / raw_round.wall_s.max(1e-9));
+        round_ratios.push(wall_ratio(run.measured, raw_round));
         if raw_with_pwm_timers {
             replay(true, &mut raw)?;
         }
@@ -430,7 +428,7 @@ fn measure_build(
     let raw_np = raw_np.expect("at least one repeat");
     let bench = bench.expect("at least one repeat");
     Ok(BuildSpeed {
-        overhead_ratio: bench.wall_s / raw_np.wall_s.max(1e-9),
+        overhead_ratio: wall_ratio(bench, raw_np),
         round_ratios,
         awake_fraction: rec.awake_fraction,
         callbacks_per_robot_s: rec.callbacks as f64 / rec.measured.robot_s,
