@@ -307,6 +307,19 @@ pub enum RunState {
     Braking = 3,
 }
 
+impl RunState {
+    /// The state with wire value `b`, or None for a value no firmware sends.
+    pub const fn from_u8(b: u8) -> Option<RunState> {
+        Some(match b {
+            0 => RunState::Booting,
+            1 => RunState::Idle,
+            2 => RunState::Driving,
+            3 => RunState::Braking,
+            _ => return None,
+        })
+    }
+}
+
 /// `HT_PHASE` / the phase byte of [`StateReport`].
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Hash)]
 #[repr(u8)]
@@ -321,6 +334,20 @@ pub enum Phase {
     Braking = 3,
     /// Stopped by a fault (see [`Fault`]); idle otherwise.
     Fault = 4,
+}
+
+impl Phase {
+    /// The phase with wire value `b`, or None for a value no firmware sends.
+    pub const fn from_u8(b: u8) -> Option<Phase> {
+        Some(match b {
+            0 => Phase::Idle,
+            1 => Phase::Leg,
+            2 => Phase::Turn,
+            3 => Phase::Braking,
+            4 => Phase::Fault,
+            _ => return None,
+        })
+    }
 }
 
 /// `HT_FAULT` / the fault byte of [`StateReport`] and [`FaultNotice`].
@@ -585,6 +612,33 @@ mod tests {
         ];
         for c in cmds {
             assert_eq!(round_trip(c), Ok(c));
+        }
+    }
+
+    #[test]
+    fn run_state_and_phase_decode_exactly_their_wire_values() {
+        let states = [
+            RunState::Booting,
+            RunState::Idle,
+            RunState::Driving,
+            RunState::Braking,
+        ];
+        let phases = [
+            Phase::Idle,
+            Phase::Leg,
+            Phase::Turn,
+            Phase::Braking,
+            Phase::Fault,
+        ];
+        for b in 0..=u8::MAX {
+            assert_eq!(
+                RunState::from_u8(b),
+                states.iter().copied().find(|s| *s as u8 == b)
+            );
+            assert_eq!(
+                Phase::from_u8(b),
+                phases.iter().copied().find(|p| *p as u8 == b)
+            );
         }
     }
 
