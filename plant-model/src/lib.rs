@@ -58,6 +58,7 @@
 //!   stays exact with every effect on.
 
 pub mod bridge;
+mod check;
 pub mod config;
 pub mod effects;
 pub mod encoder;
