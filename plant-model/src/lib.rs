@@ -68,7 +68,7 @@ mod ground;
 pub mod identify;
 pub mod motor;
 pub mod pose;
-mod rng;
+pub mod rng;
 pub mod robot;
 pub mod side;
 pub mod units;
