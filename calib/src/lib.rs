@@ -86,6 +86,7 @@
 //! * The thesis on "Henrytwo" (Spanish): chapters 5.2.6-5.2.9 (methods), 6.5-6.6 (GUI and
 //!   experiments, Tables 5-10), ANEXO B-D (GUI code).
 
+mod borenstein;
 pub mod csv;
 mod error;
 pub mod exact;
@@ -93,6 +94,7 @@ pub mod forward;
 pub mod plot;
 pub mod round;
 pub mod thesis;
+mod thesis_gui;
 pub mod triangle;
 mod types;
 pub mod umbmark;

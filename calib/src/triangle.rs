@@ -87,13 +87,13 @@
 
 use serde::Serialize;
 
+use crate::borenstein::{correction_factors, curvature, ed_from_curvature, radius};
 use crate::exact::{self, Solution};
-use crate::thesis;
+use crate::thesis_gui;
 use crate::types::{
     centroid, Direction, EdVariant, Endpoint, Frame, LineRuns, Mode, PartialEndpoint, ScaleError,
     TriangleRuns,
 };
-use crate::umbmark::{correction_factors, curvature, ed_from_curvature, radius};
 
 /// Parameters of a Triangular Path analysis. `Default` gives the thesis robot's reduced test.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -425,8 +425,8 @@ pub fn triangle_correction(
                 .unwrap_or(params.wheelbase_mm / 2.0)
                 / 10.0;
             let base_mm = params.compat_base_mm.unwrap_or(params.wheelbase_mm);
-            let gl = thesis::gui_triangle_line(gui_line.y_cm, params.side_cm, half_cm);
-            let gt = thesis::gui_triangle_turn(gui_tri_x, params.side_cm, base_mm);
+            let gl = thesis_gui::gui_triangle_line(gui_line.y_cm, params.side_cm, half_cm);
+            let gt = thesis_gui::gui_triangle_turn(gui_tri_x, params.side_cm, base_mm);
             beta_rad = gl.beta_l;
             radius_cm = Some(gl.radio_c_l_cm);
             ed = gl.error_diametro_l;

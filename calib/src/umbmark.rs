@@ -41,8 +41,10 @@
 
 use serde::Serialize;
 
+pub use crate::borenstein::correction_factors;
+use crate::borenstein::{curvature, ed_from_curvature, radius};
 use crate::exact::{self, Solution};
-use crate::thesis;
+use crate::thesis_gui;
 use crate::types::{
     centroid, Direction, EdVariant, Endpoint, Frame, Mode, ScaleError, UmbmarkRuns,
 };
@@ -228,26 +230,6 @@ pub(crate) fn estimates(cw: Endpoint, ccw: Endpoint, l: f64) -> Estimates {
     }
 }
 
-/// Curvature κ = 2 sin(β/2)/L (1/cm) of a leg of chord L whose heading changed by β.
-pub(crate) fn curvature(beta_rad: f64, l: f64) -> f64 {
-    2.0 * (beta_rad / 2.0).sin() / l
-}
-
-/// Ed = (R + b/2)/(R − b/2), written with κ = 1/R so that β = 0 gives exactly 1.
-pub(crate) fn ed_from_curvature(kappa: f64, b: f64) -> f64 {
-    (1.0 + kappa * b / 2.0) / (1.0 - kappa * b / 2.0)
-}
-
-/// (cL, cR) = (2/(Ed + 1), 2/(1/Ed + 1)).
-pub fn correction_factors(ed: f64) -> (f64, f64) {
-    (2.0 / (ed + 1.0), 2.0 / (1.0 / ed + 1.0))
-}
-
-/// Radius from curvature, `None` for a straight leg.
-pub(crate) fn radius(kappa: f64) -> Option<f64> {
-    (kappa != 0.0).then(|| 1.0 / kappa)
-}
-
 pub(crate) fn agreement(e: &Estimates, tolerance_deg: f64) -> Agreement {
     let d = |v: f64| v.to_degrees();
     let alpha_diff_deg = d(e.alpha_x - e.alpha_y);
@@ -383,7 +365,7 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
                 .unwrap_or(params.wheelbase_mm / 2.0);
             let gui_cw = Frame::ThesisGui.from_default(cw);
             let gui_ccw = Frame::ThesisGui.from_default(ccw);
-            let g = thesis::gui_umbmark(
+            let g = thesis_gui::gui_umbmark(
                 gui_cw,
                 gui_ccw,
                 params.side_cm,

@@ -44,6 +44,8 @@
 
 use std::f64::consts::PI;
 
+use plant_model::{Millimetres, Radians, World};
+
 use crate::effects::{
     EffectParams, ParamKind, ParamSpec, Unsupported, BACKLASH, BATTERY_SAG, CASTOR_DRAG, COAST,
     DEAD_BAND, DISTANCE_SCALE, ENCODER_GLITCHES, ENCODER_MISSED_COUNTS, FLOOR_NOISE,
@@ -53,6 +55,10 @@ use crate::model::{
     check_params, Experiment, Model, ModelError, RunEndpoint, StraightLegs, TestKind,
 };
 use crate::rng::Rng;
+
+/// The robot's pose in the start frame, mm and rad: the plant's own type, since the start
+/// frame of a test is the plant's [`World`] frame.
+type Pose = plant_model::Pose<World>;
 
 /// The kinematic model (no motor dynamics; see the module docs).
 #[derive(Debug, Clone, Copy, Default)]
@@ -240,14 +246,6 @@ impl Model for KinematicModel {
     }
 }
 
-/// Pose in mm and rad.
-#[derive(Debug, Clone, Copy, Default)]
-struct Pose {
-    x: f64,
-    y: f64,
-    theta: f64,
-}
-
 struct Physics {
     /// Actual mm per count, left and right.
     k_l: f64,
@@ -305,7 +303,7 @@ impl Physics {
     fn arc(&self, p: Pose, d_l: f64, d_r: f64, extra: f64, toe: f64) -> Pose {
         let dtheta = (d_r - d_l) / self.b + extra;
         let ds = (d_r + d_l) / 2.0;
-        let t = p.theta + toe;
+        let t = p.theta().0 + toe;
         let (dx, dy) = if dtheta.abs() < 1e-12 {
             (ds * t.cos(), ds * t.sin())
         } else {
@@ -315,11 +313,11 @@ impl Physics {
                 r * (t.cos() - (t + dtheta).cos()),
             )
         };
-        Pose {
-            x: p.x + dx,
-            y: p.y + dy,
-            theta: p.theta + dtheta,
-        }
+        Pose::new(
+            Millimetres(p.x().0 + dx),
+            Millimetres(p.y().0 + dy),
+            Radians(p.theta().0 + dtheta),
+        )
     }
 
     /// A spin sub-segment: turn slip keeps `1 − s` of the differential (rotating) part of the
@@ -385,15 +383,14 @@ impl Physics {
                 s_r * b_r.max(0.0) * self.k_r,
             );
         }
-        q.theta += sign * self.coast_rad;
-        q
+        Pose::new(q.x(), q.y(), Radians(q.theta().0 + sign * self.coast_rad))
     }
 
     fn run(&self, exp: &Experiment, rng: &mut Rng) -> RunEndpoint {
         let test = exp.test;
         let turn = test.turn_deg(&exp.firmware).to_radians();
         let sign = test.turn_sign();
-        let mut p = Pose::default();
+        let mut p = Pose::origin();
         for _ in 0..test.legs() {
             p = self.leg(p, exp, rng);
             if test != TestKind::Line {
@@ -409,11 +406,11 @@ impl Physics {
             cx += exp.firmware.leg_mm * h.cos();
             cy += exp.firmware.leg_mm * h.sin();
         }
-        let (x, y) = (p.x - cx, p.y - cy);
+        let (x, y) = (p.x().0 - cx, p.y().0 - cy);
         RunEndpoint {
             x_cm: x / 10.0,
             y_cm: y / 10.0,
-            theta_rad: wrap(p.theta - commanded_heading),
+            theta_rad: wrap(p.theta().0 - commanded_heading),
         }
     }
 }

@@ -40,6 +40,7 @@ mod rng;
 pub mod selftest;
 pub mod series;
 pub mod stats;
+mod telemetry;
 
 pub use data::{Dataset, Group, GroupId, HeldOutSet, ObservedRun, SplitRule, Stats, TrainSet};
 pub use diagnose::{

@@ -1,10 +1,13 @@
-//! A small deterministic random number generator (SplitMix64 and Box-Muller), so that runs
-//! are reproducible bit for bit from a seed on every platform without a dependency.
+//! The diagnosis' random draws: the workspace's one SplitMix64 ([`plant_model::rng`]) with
+//! the distributions the gap needs on top (ranges, indices, Box-Muller normals), so that runs
+//! are reproducible bit for bit from a seed.
 
-/// SplitMix64 stream.
+use plant_model::rng::SplitMix64;
+
+/// A SplitMix64 stream and the spare half of its last Box-Muller pair.
 #[derive(Debug, Clone)]
 pub struct Rng {
-    state: u64,
+    bits: SplitMix64,
     spare: Option<f64>,
 }
 
@@ -12,7 +15,7 @@ impl Rng {
     /// A stream from `seed`.
     pub fn new(seed: u64) -> Self {
         Rng {
-            state: seed ^ 0x9E37_79B9_7F4A_7C15,
+            bits: SplitMix64::from_seed(seed),
             spare: None,
         }
     }
@@ -26,16 +29,12 @@ impl Rng {
 
     /// Next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.bits.next_u64()
     }
 
     /// Uniform in [0, 1).
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.bits.next_unit()
     }
 
     /// Uniform in [lo, hi).

@@ -5,14 +5,12 @@ use std::path::Path;
 
 use gap::series::{read_telemetry, segments, series_gap, RpmUnit, SegmentKind, Telemetry};
 use gap::stats::{chi2_sf, cross_correlation, ljung_box};
+use plant_model::rng::{mix, unit, GOLDEN};
 
-/// A fixed pseudo-random number in [−0.5, 0.5) for index `i` (SplitMix64).
+/// A fixed pseudo-random number in [−0.5, 0.5) for index `i`: the `i`-th draw of a
+/// SplitMix64 stream from state 0, taken by index so each sample has its own.
 fn uniform(i: u64) -> f64 {
-    let mut z = i.wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    unit(mix(i.wrapping_add(1).wrapping_mul(GOLDEN))) - 0.5
 }
 
 /// A leg of 40 samples (rising over the first 5), a turn of 10, a stop of 5.

@@ -10,6 +10,7 @@
 //! Everything random here draws from one seeded generator, so a faulted run
 //! is as deterministic as any other.
 
+use plant_model::rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 
 /// What an encoder's lines do, between the plant and the pins.
@@ -59,27 +60,23 @@ impl LinkFault {
     }
 }
 
-/// A small deterministic generator (SplitMix64): enough for fault dice, no
-/// dependency, and the same sequence on every machine.
+/// The fault dice: the workspace's one SplitMix64 ([`plant_model::rng`]), seeded from a
+/// bare seed, so a fault run draws the same sequence on every machine.
 #[derive(Debug, Clone)]
-pub struct Dice(u64);
+pub struct Dice(SplitMix64);
 
 impl Dice {
     pub fn new(seed: u64) -> Self {
-        Self(seed ^ 0x9e37_79b9_7f4a_7c15)
+        Self(SplitMix64::from_seed(seed))
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in [0, 1).
     pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.next_unit()
     }
 
     pub fn chance(&mut self, p: f64) -> bool {

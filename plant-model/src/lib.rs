@@ -58,6 +58,7 @@
 //!   stays exact with every effect on.
 
 pub mod bridge;
+mod check;
 pub mod config;
 pub mod effects;
 pub mod encoder;
@@ -67,7 +68,7 @@ mod ground;
 pub mod identify;
 pub mod motor;
 pub mod pose;
-mod rng;
+pub mod rng;
 pub mod robot;
 pub mod side;
 pub mod units;

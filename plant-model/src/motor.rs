@@ -89,7 +89,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::bridge::DriveState;
-use crate::config::{check_duty, check_positive};
+use crate::check::{check_duty, check_positive};
 use crate::units::{RadPerSec, Radians, Seconds, ThesisRpm, Volts};
 use crate::Error;
 

@@ -22,6 +22,10 @@ pub trait Frame {
 /// Origin at the midpoint between the wheel contact points at plant time 0; `x` along the
 /// initial heading (forward), `y` to the robot's initial left, `theta` the heading measured
 /// counter-clockwise from `x` (seen from above), in radians. Lengths in millimetres.
+///
+/// The start frame of every run: the gap diagnosis' kinematic model (`gap::kinematic`)
+/// integrates its poses in it too, so a pose of the workspace is this one type (`calib`, which
+/// depends on no physics, keeps its own in cm: `calib::forward::Pose`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum World {}
 

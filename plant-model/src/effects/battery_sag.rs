@@ -44,7 +44,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{check_between, check_non_negative, check_positive};
+use crate::check::{check_between, check_non_negative, check_positive};
 use crate::effects::key;
 use crate::Error;
 

@@ -27,7 +27,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{check_fraction, check_positive};
+use crate::check::{check_fraction, check_positive};
 use crate::effects::key;
 use crate::side::Side;
 use crate::Error;

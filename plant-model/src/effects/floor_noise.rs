@@ -34,7 +34,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{check_non_negative, check_positive};
+use crate::check::{check_non_negative, check_positive};
 use crate::effects::key;
 use crate::rng::{stream, SplitMix64};
 use crate::Error;

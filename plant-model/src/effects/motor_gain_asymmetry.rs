@@ -22,7 +22,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::check_ratio;
+use crate::check::check_ratio;
 use crate::effects::key;
 use crate::side::Side;
 use crate::Error;

@@ -45,7 +45,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::check_between;
+use crate::check::check_between;
 use crate::effects::key;
 use crate::side::Side;
 use crate::Error;

@@ -20,7 +20,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::check_fraction;
+use crate::check::check_fraction;
 use crate::effects::key;
 use crate::Error;
 

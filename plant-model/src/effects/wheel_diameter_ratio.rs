@@ -24,7 +24,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::check_ratio;
+use crate::check::check_ratio;
 use crate::effects::key;
 use crate::side::PerSide;
 use crate::Error;
