@@ -117,3 +117,102 @@ pub fn tick<M: Bridges, E: WheelEncoders>(d: &mut Drive<M, E>, n: u32, stall: St
     }
     fault
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pid::FastPid;
+    use crate::robust::fake::{self, Encoders, Motors};
+    use crate::robust::progress::STALL_GRACE_TICKS;
+
+    const LIMITS: StallLimits = StallLimits { duty: 200, ticks: 14 };
+
+    /// A wheel driving from count 0, as a segment start leaves it.
+    fn driving(forward: bool) -> Wheel {
+        let mut w = Wheel::new();
+        w.forward = forward;
+        w.stage = Stage::Driving;
+        w.pid.prepare(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S, &RPM_OF_COUNTS);
+        w.applied = robot::START_DUTY;
+        w.grace = STALL_GRACE_TICKS;
+        w
+    }
+
+    #[test]
+    fn the_pid_step_is_the_thesis_law_on_the_drive_input() {
+        let _bench = fake::lock();
+        let mut d = Drive::new(Motors::default(), Encoders::default());
+        d.left = driving(true);
+        d.right = driving(false);
+        let mut reference = FastPid::new(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S);
+        // Counts per period, the right wheel going backwards; 70 is beyond the
+        // tables, and one step spans two periods.
+        let (mut left, mut right) = (0, 0);
+        for (delta, n) in [(0, 1), (5, 1), (13, 1), (20, 1), (70, 1), (26, 2), (13, 1)] {
+            left += delta;
+            right -= delta;
+            d.encoders.counts = crate::io::Counts { left, right };
+            let rpm = thesis_rpm(delta, robot::SAMPLE_PERIOD_S * n as f32);
+            let expected = duty_from_output(reference.update(rpm));
+            assert_eq!(tick(&mut d, n, LIMITS), Fault::None);
+            assert_eq!(d.motors.left, (expected, 0), "left after {delta} counts");
+            assert_eq!(d.motors.right, (0, expected), "right after {delta} counts");
+            assert_eq!(bench::duty_left(), expected);
+            assert!((bench::speed_left() - rpm).abs() < 1e-4, "{} vs {rpm}", bench::speed_left());
+        }
+    }
+
+    #[test]
+    fn only_driving_wheels_are_controlled() {
+        let _bench = fake::lock();
+        let mut d = Drive::new(Motors::default(), Encoders::default());
+        d.left = driving(true);
+        d.right.stage = Stage::Coast;
+        tick(&mut d, 1, LIMITS);
+        assert!(d.motors.log.iter().all(|&(side, _, _)| side == Side::Left), "{:?}", d.motors.log);
+    }
+
+    #[test]
+    fn the_grace_periods_are_not_judged() {
+        let mut w = driving(true);
+        w.applied = 255;
+        let still = StallLimits { duty: 1, ticks: 1 };
+        for _ in 0..STALL_GRACE_TICKS {
+            assert!(control_wheel(&mut w, 0, 1, still).check == Check::Ok);
+        }
+        assert!(control_wheel(&mut w, 0, 1, still).check == Check::Stall);
+    }
+
+    #[test]
+    fn a_period_below_the_stall_duty_restarts_the_window() {
+        let mut w = driving(true);
+        w.grace = 0;
+        w.still = 13;
+        w.applied = LIMITS.duty - 1;
+        assert!(control_wheel(&mut w, 2, 1, LIMITS).check == Check::Ok);
+        assert_eq!((w.still, w.mark), (0, 2));
+    }
+
+    #[test]
+    fn more_than_64_counts_backwards_is_the_wrong_way() {
+        for (forward, sign) in [(true, -1), (false, 1)] {
+            let mut w = driving(forward);
+            w.grace = u8::MAX;
+            assert!(control_wheel(&mut w, sign * WRONG_WAY_COUNTS, 1, LIMITS).check == Check::Ok);
+            assert!(control_wheel(&mut w, sign * (WRONG_WAY_COUNTS + 1), 1, LIMITS).check == Check::WrongWay);
+        }
+    }
+
+    #[test]
+    fn the_left_fault_comes_first() {
+        let _bench = fake::lock();
+        let mut d = Drive::new(Motors::default(), Encoders::default());
+        d.left = driving(true);
+        d.right = driving(true);
+        d.encoders.counts = crate::io::Counts { left: -100, right: -100 };
+        assert_eq!(tick(&mut d, 1, LIMITS), Fault::WrongWayLeft);
+        d.left.stage = Stage::Done;
+        d.right.start_count = 0;
+        assert_eq!(tick(&mut d, 1, LIMITS), Fault::WrongWayRight);
+    }
+}

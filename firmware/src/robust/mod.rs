@@ -21,6 +21,9 @@ pub mod drive;
 pub mod progress;
 pub mod sequencer;
 
+#[cfg(test)]
+mod fake;
+
 use henrytwo_protocol::{Fault, FaultNotice, Parser, Status, NOTIFY_FAULT};
 
 use crate::bench;

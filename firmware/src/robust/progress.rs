@@ -95,3 +95,87 @@ pub(crate) fn fault_of(check: Check, stall: Fault, wrong_way: Fault) -> Fault {
         Check::WrongWay => wrong_way,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Stall time of the tests, in periods.
+    const TICKS: u16 = 14;
+
+    fn wheel(forward: bool) -> Wheel {
+        let mut w = Wheel::new();
+        w.forward = forward;
+        w
+    }
+
+    /// Judges one-period steps to the counts `path`; the checks in order.
+    fn judge_path(w: &mut Wheel, path: &[i16]) -> std::vec::Vec<Check> {
+        let mut last = w.mark;
+        path.iter()
+            .map(|&c| {
+                let moved = c.wrapping_sub(last).unsigned_abs();
+                last = c;
+                judge_progress(w, c, moved, 1, TICKS)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_still_wheel_stalls_after_the_stall_time() {
+        let mut w = wheel(true);
+        let checks = judge_path(&mut w, &[0; TICKS as usize]);
+        assert!(checks[..TICKS as usize - 1].iter().all(|&c| c == Check::Ok), "{checks:?}");
+        assert_eq!(checks[TICKS as usize - 1], Check::Stall);
+    }
+
+    #[test]
+    fn three_counts_of_progress_restart_the_window() {
+        let mut w = wheel(true);
+        // Three counts every thirteen periods, for far longer than the stall time.
+        let path: std::vec::Vec<i16> = (1..=100).map(|i| (i / 13 * 3) as i16).collect();
+        assert!(judge_path(&mut w, &path).iter().all(|&c| c == Check::Ok));
+    }
+
+    #[test]
+    fn creeping_two_counts_is_a_stall() {
+        let mut w = wheel(true);
+        let mut path = [0i16; TICKS as usize];
+        path[5..].fill(2);
+        let checks = judge_path(&mut w, &path);
+        assert_eq!(checks[TICKS as usize - 1], Check::Stall, "{checks:?}");
+    }
+
+    #[test]
+    fn a_count_going_back_and_forth_is_an_encoder_fault() {
+        let mut w = wheel(true);
+        let path: std::vec::Vec<i16> = (0..TICKS).map(|i| (i % 2) as i16).collect();
+        let checks = judge_path(&mut w, &path);
+        assert!(checks[..TICKS as usize - 1].iter().all(|&c| c == Check::Ok), "{checks:?}");
+        assert_eq!(checks[TICKS as usize - 1], Check::EncoderInconsistent);
+    }
+
+    #[test]
+    fn a_reverse_wheel_progresses_downwards() {
+        let down: std::vec::Vec<i16> = (1..=40).map(|i| -3 * i as i16).collect();
+        assert!(judge_path(&mut wheel(false), &down).iter().all(|&c| c == Check::Ok));
+        // The same counts are no progress for a forward wheel.
+        assert!(judge_path(&mut wheel(true), &down).contains(&Check::EncoderInconsistent));
+    }
+
+    #[test]
+    fn missed_periods_count_towards_the_stall_time() {
+        let mut w = wheel(true);
+        assert_eq!(judge_progress(&mut w, 0, 0, TICKS - 1, TICKS), Check::Ok);
+        assert_eq!(judge_progress(&mut w, 0, 0, 1, TICKS), Check::Stall);
+    }
+
+    #[test]
+    fn each_check_has_its_fault() {
+        let f = |c| fault_of(c, Fault::StallLeft, Fault::WrongWayLeft);
+        assert_eq!(f(Check::Ok), Fault::None);
+        assert_eq!(f(Check::Stall), Fault::StallLeft);
+        assert_eq!(f(Check::EncoderInconsistent), Fault::EncoderInconsistent);
+        assert_eq!(f(Check::WrongWay), Fault::WrongWayLeft);
+    }
+}
