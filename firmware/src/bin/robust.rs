@@ -38,6 +38,7 @@ use henrytwo_firmware::hal::usart::{self, Serial};
 use henrytwo_firmware::hal::wdt::{self, Watchdog};
 use henrytwo_firmware::robust::control::{self, StallLimits};
 use henrytwo_firmware::robust::{App, Drive, Hardware};
+use henrytwo_firmware::settings::Settings;
 use henrytwo_protocol::{Fault, RunState};
 
 // ---- interrupt vectors of this build ----
@@ -124,7 +125,7 @@ fn main() -> ! {
     let mut sleeper = Sleeper::new(dp.CPU);
     let clock = Clock::start(dp.TC1);
 
-    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug);
+    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug, Settings::DEFAULT);
 
     // SAFETY: every handler's state is initialised above.
     unsafe { interrupt::enable() };

@@ -17,6 +17,7 @@ use crate::battery::Colour;
 use crate::bench;
 use crate::io::{BatteryInput, BatteryLeds, Bridges, Counts, Line, Side, TickClock, WheelEncoders};
 use crate::io::{TRIP_LEFT, TRIP_RIGHT};
+use crate::settings::Settings;
 use crate::time::{self, reached};
 use crate::{robot, Error};
 
@@ -327,6 +328,7 @@ impl App<Fake> {
             Adc { value: 950, started: 0 },
             Link::default(),
             Link::default(),
+            Settings::DEFAULT,
         )
     }
 

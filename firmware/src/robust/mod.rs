@@ -86,7 +86,8 @@ pub struct App<H: Hardware> {
 }
 
 impl<H: Hardware> App<H> {
-    /// Idle, with the default settings.
+    /// Idle, with `settings` (the firmware starts from
+    /// [`Settings::DEFAULT`]).
     #[inline(always)]
     pub fn new(
         drive: Drive<H::Motors, H::Encoders>,
@@ -95,6 +96,7 @@ impl<H: Hardware> App<H> {
         adc: H::Adc,
         bluetooth: H::Link,
         debug: H::Debug,
+        settings: Settings,
     ) -> Self {
         App {
             drive,
@@ -106,7 +108,7 @@ impl<H: Hardware> App<H> {
             debug,
             parser: Parser::new(INTER_BYTE_TIMEOUT),
             raw: Isolation::new(RAW_QUIET),
-            settings: Settings::DEFAULT,
+            settings,
             mode: Mode::Idle,
             leg_mm: robot::DEFAULT_LEG_MM,
             segment_ticks: 0,
