@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test suite: set up, then lint and test the host workspace (the tests
-# run the real firmware ELF in the emulator).
+# run the real firmware ELF in the emulator) and the firmware's logic on the
+# host.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -8,3 +9,6 @@ cargo fmt --all --check
 # The ci profile: release without link-time optimisation (see Cargo.toml).
 cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings
 cargo test --workspace --profile ci
+# The firmware's logic, its unit tests on the host: run from here, cargo
+# ignores firmware/.cargo/config.toml (target avr-none) and builds for the host.
+cargo test --manifest-path firmware/Cargo.toml --lib

@@ -6,6 +6,7 @@
 //! what they showed ([`thesis_colour`] gives `None`). The robust build
 //! closes both gaps: 901..=942 is green ([`robust_colour`]).
 
+#[cfg(target_arch = "avr")]
 use crate::hal::gpio::{Output, Pin, PB4, PB5, PB6};
 
 /// Blue above this reading.
@@ -60,6 +61,7 @@ const _: () = {
 };
 
 /// The three LEDs on D10 (green, PB4), D11 (blue, PB5), D12 (red, PB6).
+#[cfg(target_arch = "avr")]
 pub struct Leds {
     green: Pin<PB4, Output>,
     blue: Pin<PB5, Output>,
@@ -67,6 +69,7 @@ pub struct Leds {
     shown: Option<Colour>,
 }
 
+#[cfg(target_arch = "avr")]
 impl Leds {
     /// Makes the three pins outputs, all off (the thesis' `pinMode(..., OUTPUT)`).
     pub fn new<MG, MB, MR>(green: Pin<PB4, MG>, blue: Pin<PB5, MB>, red: Pin<PB6, MR>) -> Self {
@@ -88,5 +91,13 @@ impl Leds {
         if self.shown != Some(c) {
             self.show(c);
         }
+    }
+}
+
+#[cfg(target_arch = "avr")]
+impl crate::io::BatteryLeds for Leds {
+    #[inline(always)]
+    fn show_if_changed(&mut self, c: Colour) {
+        Leds::show_if_changed(self, c)
     }
 }

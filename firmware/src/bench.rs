@@ -11,7 +11,9 @@
 
 use core::ptr::{addr_of, addr_of_mut, read_volatile, write_volatile};
 
-use avr_device::interrupt::CriticalSection;
+use henrytwo_protocol::{Phase, RunState};
+
+use crate::critical::CriticalSection;
 
 /// Left encoder count (the INT4 handler's counter). The robust build never
 /// resets it; the thesis build resets it where the thesis resets `leftCount`.
@@ -24,10 +26,12 @@ pub static mut HT_RIGHT_COUNT: i32 = 0;
 /// computed (`Tiempo_s >= 15000` branches taken).
 #[no_mangle]
 pub static mut HT_TICKS: u32 = 0;
-/// 0 booting, 1 idle, 2 driving (leg or turn), 3 braking/waiting. See [`State`].
+/// 0 booting, 1 idle, 2 driving (leg or turn), 3 braking/waiting. See
+/// `henrytwo_protocol::RunState`.
 #[no_mangle]
 pub static mut HT_STATE: u8 = 0;
-/// 0 idle, 1 leg, 2 turn, 3 braking/waiting, 4 fault. See [`Phase`].
+/// 0 idle, 1 leg, 2 turn, 3 braking/waiting, 4 fault. See
+/// `henrytwo_protocol::Phase`.
 #[no_mangle]
 pub static mut HT_PHASE: u8 = 0;
 /// Running or last test (selector code 2..=5), 0 before the first.
@@ -106,36 +110,6 @@ pub static mut HT_FLAG_GIRO_D: i16 = 0;
 #[no_mangle]
 pub static mut HT_FLAG_GIRO_I: i16 = 0;
 
-/// Values of `HT_STATE`.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-#[repr(u8)]
-pub enum State {
-    /// Reset until initialisation is complete.
-    Booting = 0,
-    /// Ready for a command.
-    Idle = 1,
-    /// Driving a leg or a turn.
-    Driving = 2,
-    /// Braking and the waits after a segment.
-    Braking = 3,
-}
-
-/// Values of `HT_PHASE`.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-#[repr(u8)]
-pub enum Phase {
-    /// No test running.
-    Idle = 0,
-    /// Driving a straight leg.
-    Leg = 1,
-    /// Spinning in place.
-    Turn = 2,
-    /// Braking and waiting after a segment.
-    Braking = 3,
-    /// Stopped by a fault.
-    Fault = 4,
-}
-
 macro_rules! volatile_rw {
     ($get:ident, $set:ident, $var:ident, $t:ty) => {
         #[doc = concat!("Reads `", stringify!($var), "`.")]
@@ -186,7 +160,7 @@ volatile_rw!(thesis_periods, set_thesis_periods, HT_TICKS, u32);
 
 /// Writes `HT_STATE`.
 #[inline(always)]
-pub fn set_state(s: State) {
+pub fn set_state(s: RunState) {
     set_state_code(s as u8);
 }
 

@@ -1,8 +1,9 @@
 //! The Henrytwo robot on its Arduino Mega 2560: the clock and every pin the
 //! robot wires, named once (Arduino number, port bit, role).
 //!
-//! Timer and baud values elsewhere are derived from [`CPU_HZ`]; no other file
-//! states the clock.
+//! Timer and baud values elsewhere are derived from [`CPU_HZ`] (stated in
+//! `robot.rs`, which the host-side logic shares); no other file states the
+//! clock.
 
 use avr_device::atmega2560::{PORTB, PORTD, PORTE, PORTF, PORTG, PORTH, TC2, TC4};
 
@@ -11,8 +12,7 @@ use crate::hal::pwm::{self, Oc2b, Oc4a, Oc4b, Oc4c};
 use crate::hal::usart::Baud;
 use crate::motors::{HBridge, Motors};
 
-/// CPU clock: the Arduino Mega 2560's 16 MHz crystal.
-pub const CPU_HZ: u32 = 16_000_000;
+pub use crate::robot::CPU_HZ;
 
 /// HC-05 Bluetooth module on USART1 (configured for 9600 baud).
 pub const BLUETOOTH_BAUD: Baud = Baud::new(CPU_HZ, 9600);

@@ -28,15 +28,8 @@ use crate::board::{LeftEncoderA, LeftEncoderB, RightEncoderA, RightEncoderB};
 use crate::hal::exint::{ExtInts, Line, Sense};
 use crate::hal::gpio::{Input, Pin};
 use crate::hal::sleep;
-
-/// Both counts at one instant.
-#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
-pub struct Counts {
-    /// Left wheel count.
-    pub left: i32,
-    /// Right wheel count.
-    pub right: i32,
-}
+use crate::io::WheelEncoders;
+pub use crate::io::{Counts, Side, TRIP_LEFT, TRIP_RIGHT};
 
 /// Count change for one edge on channel A, from the levels of A (after the
 /// edge) and B, as the thesis writes it: A high -> (B low ? +1 : -1),
@@ -57,11 +50,6 @@ pub const fn step(a_high: bool, b_high: bool) -> i32 {
 
 const _: () = assert!(step(true, false) == 1 && step(true, true) == -1);
 const _: () = assert!(step(false, false) == -1 && step(false, true) == 1);
-
-/// Tripped-mask bit: the left wheel's trip fired.
-pub const TRIP_LEFT: u8 = 1;
-/// Tripped-mask bit: the right wheel's trip fired.
-pub const TRIP_RIGHT: u8 = 2;
 
 /// One wheel's trip, laid out for the assembly handlers: counts still to
 /// go before it fires. Edges in the trip's direction take one off, edges
@@ -255,15 +243,6 @@ fn encoder_vectors() {
 #[used]
 static KEEP: fn() = encoder_vectors;
 
-/// Which wheel.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Side {
-    /// Left wheel (INT4, D2/D4).
-    Left,
-    /// Right wheel (INT5, D3/D5).
-    Right,
-}
-
 /// The encoders, owning their four input pins and the external interrupts.
 pub struct Encoders {
     _exint: ExtInts,
@@ -362,5 +341,27 @@ impl Encoders {
             };
             (t, Counts { left, right })
         })
+    }
+}
+
+impl WheelEncoders for Encoders {
+    #[inline(always)]
+    fn counts(&self) -> Counts {
+        Encoders::counts(self)
+    }
+
+    #[inline(always)]
+    fn arm(&mut self, side: Side, up: bool, at: i32) {
+        Encoders::arm(self, side, up, at)
+    }
+
+    #[inline(always)]
+    fn disarm_all(&mut self) {
+        Encoders::disarm_all(self)
+    }
+
+    #[inline(always)]
+    fn take_tripped(&mut self) -> (u8, Counts) {
+        Encoders::take_tripped(self)
     }
 }

@@ -5,32 +5,49 @@
 //!   interrupts, PWM, the tick timer, ADC, watchdog, USARTs, sleep);
 //! - [`board`]: the clock and every pin of the robot, named once;
 //! - drivers: [`encoder`] (with the segment-end trips), [`motors`],
-//!   [`battery`], and [`time`] (the robust build's clock);
+//!   [`battery`], and [`clock`] (the robust build's clock);
+//! - [`io`]: the small traits the drivers implement for the logic above them;
 //! - [`arduino`]: the pieces of the Arduino core the thesis build needs
 //!   (`millis`/`micros`/`delay` on timer 0, `Serial.print`);
 //! - the control law and the tests: [`pid`], [`odometry`], [`plan`], with the
 //!   robot's numbers in [`robot`] and the run-time parameters in [`settings`];
+//! - [`robust`]: the robust build's logic (control tick, progress watchdog,
+//!   sequencer, command dispatch), on the [`io`] traits only;
 //! - [`selector`]: when the robust build takes a raw byte as a selector;
+//! - [`time`]: the robust build's time unit;
 //! - [`bench`]: the variables the hardware-in-the-loop bench reads by symbol.
 //!
 //! The binaries in `src/bin/` build the applications from these parts and
 //! bind the interrupt vectors they use (the library defines no vector, so a
 //! build links only its own).
+//!
+//! What touches registers is compiled for the AVR only; the rest (the logic,
+//! the maths, [`bench`]'s variables as plain statics) also for the host,
+//! where its unit tests run (README.md says how).
 
-#![no_std]
-#![feature(asm_experimental_arch)]
+#![cfg_attr(not(test), no_std)]
+#![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
 
+#[cfg(target_arch = "avr")]
 pub mod arduino;
 pub mod battery;
 pub mod bench;
+#[cfg(target_arch = "avr")]
 pub mod board;
+#[cfg(target_arch = "avr")]
+pub mod clock;
+pub mod critical;
+#[cfg(target_arch = "avr")]
 pub mod encoder;
 pub mod hal;
+pub mod io;
+#[cfg(target_arch = "avr")]
 pub mod motors;
 pub mod odometry;
 pub mod pid;
 pub mod plan;
 pub mod robot;
+pub mod robust;
 pub mod selector;
 pub mod settings;
 pub mod time;

@@ -4,6 +4,7 @@
 //! and reverse low drives forward; the reverse pin alone drives backwards.
 
 use crate::hal::pwm::PwmChannel;
+use crate::io::{Bridges, Side};
 
 /// One motor's two bridge inputs.
 pub struct HBridge<F: PwmChannel, R: PwmChannel> {
@@ -55,5 +56,28 @@ impl<RF: PwmChannel, RR: PwmChannel, LF: PwmChannel, LR: PwmChannel> Motors<RF, 
         self.left.set_forward(0);
         self.right.set_reverse(0);
         self.left.set_reverse(0);
+    }
+}
+
+impl<RF: PwmChannel, RR: PwmChannel, LF: PwmChannel, LR: PwmChannel> Bridges for Motors<RF, RR, LF, LR> {
+    #[inline(always)]
+    fn set_forward(&mut self, side: Side, duty: u8) {
+        match side {
+            Side::Left => self.left.set_forward(duty),
+            Side::Right => self.right.set_forward(duty),
+        }
+    }
+
+    #[inline(always)]
+    fn set_reverse(&mut self, side: Side, duty: u8) {
+        match side {
+            Side::Left => self.left.set_reverse(duty),
+            Side::Right => self.right.set_reverse(duty),
+        }
+    }
+
+    #[inline(always)]
+    fn all_off(&mut self) {
+        Motors::all_off(self)
     }
 }

@@ -3,6 +3,9 @@
 
 use crate::pid::Gains;
 
+/// CPU clock: the Arduino Mega 2560's 16 MHz crystal (see `board.rs`).
+pub const CPU_HZ: u32 = 16_000_000;
+
 /// Encoder counts per wheel revolution used by the thesis' speed formula
 /// (100.37:1 gear, 6 counts per motor revolution on channel A, any edge).
 pub const COUNTS_PER_WHEEL_REV: f32 = 602.22;

@@ -24,7 +24,7 @@ use avr_device::interrupt;
 use henrytwo_firmware::arduino::print::{println_f32, println_i32, println_str};
 use henrytwo_firmware::arduino::time::{self as arduino_time, Timer0};
 use henrytwo_firmware::battery::{self, Leds};
-use henrytwo_firmware::bench::{self, Phase, State};
+use henrytwo_firmware::bench;
 use henrytwo_firmware::board::{self, DriveMotors};
 use henrytwo_firmware::encoder::Encoders;
 use henrytwo_firmware::hal::adc::Adc;
@@ -32,6 +32,7 @@ use henrytwo_firmware::hal::exint::ExtInts;
 use henrytwo_firmware::hal::usart::{self, Serial};
 use henrytwo_firmware::pid::output_to_duty;
 use henrytwo_firmware::robot;
+use henrytwo_protocol::{Phase, RunState};
 
 // ---- interrupt vectors of this build ----
 //
@@ -189,7 +190,7 @@ impl Sketch {
         let c = self.encoders.counts();
         bench::record_segment_start((2 * bench::flag_contador()) as u8, c.left, c.right);
         bench::set_phase(Phase::Leg);
-        bench::set_state(State::Driving);
+        bench::set_state(RunState::Driving);
     }
 
     /// Marks the start of a turn: segment 2 * (Flag_Contador - 1) + 1.
@@ -197,12 +198,12 @@ impl Sketch {
         let c = self.encoders.counts();
         bench::record_segment_start((2 * bench::flag_contador() - 1) as u8, c.left, c.right);
         bench::set_phase(Phase::Turn);
-        bench::set_state(State::Driving);
+        bench::set_state(RunState::Driving);
     }
 
     fn enter_braking(&mut self) {
         bench::set_phase(Phase::Braking);
-        bench::set_state(State::Braking);
+        bench::set_state(RunState::Braking);
     }
 
     // ---- setup() and loop() ----
@@ -233,7 +234,7 @@ impl Sketch {
             // Bench: the test function returned (whether it drove or not).
             bench::set_done_count(bench::done_count().wrapping_add(1));
             bench::set_phase(Phase::Idle);
-            bench::set_state(State::Idle);
+            bench::set_state(RunState::Idle);
         }
     }
 
@@ -659,7 +660,7 @@ fn main() -> ! {
     // offer the same bench interface.
     bench::set_fault(0);
     s.setup();
-    bench::set_state(State::Idle);
+    bench::set_state(RunState::Idle);
     loop {
         s.loop_();
     }

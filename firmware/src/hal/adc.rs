@@ -84,3 +84,20 @@ impl Adc {
         self.result()
     }
 }
+
+impl crate::io::BatteryInput for Adc {
+    #[inline(always)]
+    fn start(&mut self) {
+        Adc::start(self)
+    }
+
+    #[inline(always)]
+    fn busy(&self) -> bool {
+        Adc::busy(self)
+    }
+
+    #[inline(always)]
+    fn result(&self) -> u16 {
+        Adc::result(self)
+    }
+}

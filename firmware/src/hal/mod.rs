@@ -16,14 +16,27 @@
 //! - Timers 2 and 4 (PWM) are only ever written, never read, and none of their
 //!   interrupts is enabled: the bench emulates those two timers itself.
 
-pub mod adc;
 pub mod clock;
+
+// The rest programs registers: AVR only (`clock` is const arithmetic, which
+// the host-side logic shares).
+#[cfg(target_arch = "avr")]
+pub mod adc;
+#[cfg(target_arch = "avr")]
 pub mod exint;
+#[cfg(target_arch = "avr")]
 pub mod gpio;
+#[cfg(target_arch = "avr")]
 pub mod pwm;
+#[cfg(target_arch = "avr")]
 pub mod reg;
+#[cfg(target_arch = "avr")]
 pub mod ring;
+#[cfg(target_arch = "avr")]
 pub mod sleep;
+#[cfg(target_arch = "avr")]
 pub mod tick;
+#[cfg(target_arch = "avr")]
 pub mod usart;
+#[cfg(target_arch = "avr")]
 pub mod wdt;

@@ -3,7 +3,7 @@
 //! compare match B as an optional wake-up alarm inside the current period
 //! (in CTC mode OCF1B is set when TCNT1 passes OCR1B, once per period).
 //!
-//! The handlers belong to the code that keeps time (`crate::time`); this
+//! The handlers belong to the code that keeps time (`crate::clock`); this
 //! module only programs the timer.
 
 use avr_device::atmega2560::TC1;

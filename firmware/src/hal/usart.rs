@@ -128,6 +128,20 @@ impl<U: Instance> Serial<U> {
     }
 }
 
+impl<U: Instance> crate::io::Line for Serial<U> {
+    const RX_LEN: usize = RX_LEN;
+
+    #[inline(always)]
+    fn read(&mut self) -> Option<u8> {
+        Serial::read(self)
+    }
+
+    #[inline(always)]
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        Serial::write_all(self, bytes)
+    }
+}
+
 impl<U: Instance> ufmt::uWrite for Serial<U> {
     type Error = Error;
 

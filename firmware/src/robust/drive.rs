@@ -1,0 +1,111 @@
+//! The drive: both H-bridges, both encoders, and each wheel's run through
+//! the current segment (its stage, its PID, its watchdog window).
+
+use crate::io::{Bridges, Side};
+use crate::pid::TablePid;
+use crate::robot;
+
+use super::control::TABLE_COUNTS;
+
+/// Where a wheel is within its segment.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Stage {
+    /// Under PID control on its drive input.
+    Driving,
+    /// Cut (drive input 0), waiting for the counter-pulse.
+    Coast,
+    /// Counter-pulse: the opposite input at 255.
+    Pulse,
+    /// Both inputs 0.
+    Done,
+}
+
+/// One wheel's state.
+pub struct Wheel {
+    /// The wheel's drive input is its forward one.
+    pub(crate) forward: bool,
+    pub(crate) stage: Stage,
+    /// Deadline of the `Coast` or `Pulse` stage.
+    pub(crate) until: u32,
+    pub(crate) pid: TablePid<TABLE_COUNTS>,
+    /// Count at the last control period.
+    pub(crate) last_count: i32,
+    /// Count at the segment start.
+    pub(crate) start_count: i32,
+    /// Duty applied during the current control period.
+    pub(crate) applied: u8,
+    /// Stall watchdog: count at the start of the current window (the last
+    /// period not judged, or the last net progress of
+    /// [`super::progress::STALL_PROGRESS_COUNTS`]), low 16 bits: within a
+    /// window the count stays far closer to it than 2^15 (forward it
+    /// restarts the window, backward the wrong-way check stops the wheel) ...
+    pub(crate) mark: i16,
+    /// ... periods judged since then (driven at or above the stall duty) ...
+    pub(crate) still: u16,
+    /// ... and counts moved since then, each period's change either way
+    /// (valid while `still` > 0).
+    pub(crate) travel: u16,
+    /// Periods left before the watchdog judges this wheel.
+    pub(crate) grace: u8,
+}
+
+impl Wheel {
+    /// A wheel at rest, not in a segment.
+    pub const fn new() -> Self {
+        Wheel {
+            forward: true,
+            stage: Stage::Done,
+            until: 0,
+            pid: TablePid::new(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S),
+            last_count: 0,
+            start_count: 0,
+            applied: 0,
+            mark: 0,
+            still: 0,
+            travel: 0,
+            grace: 0,
+        }
+    }
+}
+
+impl Default for Wheel {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Motors, encoders and both wheels: everything the control tick touches.
+pub struct Drive<M, E> {
+    /// The H-bridges.
+    pub motors: M,
+    /// The encoders.
+    pub encoders: E,
+    pub(crate) left: Wheel,
+    pub(crate) right: Wheel,
+}
+
+impl<M: Bridges, E> Drive<M, E> {
+    /// The drive at rest: both wheels out of any segment.
+    #[inline(always)]
+    pub const fn new(motors: M, encoders: E) -> Self {
+        Drive { motors, encoders, left: Wheel::new(), right: Wheel::new() }
+    }
+
+    /// Sets one bridge input: the wheel's forward (`forward_input`) or
+    /// reverse input.
+    pub(crate) fn set(&mut self, side: Side, forward_input: bool, duty: u8) {
+        match (side, forward_input) {
+            (Side::Left, true) => self.motors.set_forward(Side::Left, duty),
+            (Side::Left, false) => self.motors.set_reverse(Side::Left, duty),
+            (Side::Right, true) => self.motors.set_forward(Side::Right, duty),
+            (Side::Right, false) => self.motors.set_reverse(Side::Right, duty),
+        }
+    }
+
+    pub(crate) fn wheel(&mut self, side: Side) -> &mut Wheel {
+        match side {
+            Side::Left => &mut self.left,
+            Side::Right => &mut self.right,
+        }
+    }
+}

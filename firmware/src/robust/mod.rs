@@ -1,0 +1,151 @@
+//! The robust build's logic: the thesis' four tests with the thesis' control
+//! law, driven by the framed protocol or the thesis' selector bytes, with
+//! the faults that stop the motors. `src/bin/robust.rs` wires it to the
+//! ATmega2560; everything here reaches the hardware only through the traits
+//! of [`crate::io`], so it runs on the host too (the unit tests).
+//!
+//! Parts:
+//! - [`drive`]: the H-bridges, the encoders and each wheel's state;
+//! - [`control`]: one control period (speed, PID, output stage);
+//! - [`progress`]: the watchdog of each wheel's progress;
+//! - [`sequencer`]: a test's segments, their stop rules, braking, waits,
+//!   faults;
+//! - [`dispatch`]: commands and selector bytes in, replies and notices out.
+//!
+//! [`App::poll`] looks at every event source once; the firmware calls it
+//! after each wake-up.
+
+pub mod control;
+pub mod dispatch;
+pub mod drive;
+pub mod progress;
+pub mod sequencer;
+
+#[cfg(test)]
+mod fake;
+
+use henrytwo_protocol::{Fault, FaultNotice, Parser, Status, NOTIFY_FAULT};
+
+use crate::bench;
+use crate::io::{BatteryInput, BatteryLeds, Bridges, Line, TickClock, WheelEncoders};
+use crate::robot;
+use crate::selector::Isolation;
+use crate::settings::Settings;
+
+use control::StallLimits;
+use dispatch::{INTER_BYTE_TIMEOUT, RAW_QUIET};
+pub use drive::Drive;
+use sequencer::Mode;
+
+/// The hardware the application runs on: one type per part.
+pub trait Hardware {
+    /// The H-bridges.
+    type Motors: Bridges;
+    /// The encoders.
+    type Encoders: WheelEncoders;
+    /// The clock and the control tick.
+    type Clock: TickClock;
+    /// The battery LEDs.
+    type Leds: BatteryLeds;
+    /// The battery input.
+    type Adc: BatteryInput;
+    /// The command link (Bluetooth UART).
+    type Link: Line;
+    /// The debug UART (text lines).
+    type Debug: Line + ufmt::uWrite;
+
+    /// One control period ([`control::tick`]). The firmware overrides this
+    /// with its out-of-line, named copy, so a timing tool finds the tick's
+    /// entry and exit.
+    #[inline(always)]
+    fn control_tick(d: &mut Drive<Self::Motors, Self::Encoders>, n: u32, stall: StallLimits) -> Fault {
+        control::tick(d, n, stall)
+    }
+}
+
+/// The robust application: the drive, the rest of the hardware, and where
+/// the robot is in its work.
+pub struct App<H: Hardware> {
+    pub(crate) drive: Drive<H::Motors, H::Encoders>,
+    pub(crate) clock: H::Clock,
+    pub(crate) leds: H::Leds,
+    pub(crate) adc: H::Adc,
+    pub(crate) adc_running: bool,
+    pub(crate) bluetooth: H::Link,
+    pub(crate) debug: H::Debug,
+    pub(crate) parser: Parser,
+    /// The isolation rule for raw selector bytes.
+    pub(crate) raw: Isolation,
+    pub(crate) settings: Settings,
+    pub(crate) mode: Mode,
+    /// Leg length of the running test (read at its start).
+    pub(crate) leg_mm: f32,
+    /// Ticks since the segment started, and its limit.
+    pub(crate) segment_ticks: u32,
+    pub(crate) segment_limit: u32,
+}
+
+impl<H: Hardware> App<H> {
+    /// Idle, with `settings` (the firmware starts from
+    /// [`Settings::DEFAULT`]).
+    #[inline(always)]
+    pub fn new(
+        drive: Drive<H::Motors, H::Encoders>,
+        clock: H::Clock,
+        leds: H::Leds,
+        adc: H::Adc,
+        bluetooth: H::Link,
+        debug: H::Debug,
+        settings: Settings,
+    ) -> Self {
+        App {
+            drive,
+            clock,
+            leds,
+            adc,
+            adc_running: false,
+            bluetooth,
+            debug,
+            parser: Parser::new(INTER_BYTE_TIMEOUT),
+            raw: Isolation::new(RAW_QUIET),
+            settings,
+            mode: Mode::Idle,
+            leg_mm: robot::DEFAULT_LEG_MM,
+            segment_ticks: 0,
+            segment_limit: 0,
+        }
+    }
+
+    /// Looks at every event source once. Called after each wake-up.
+    #[inline(always)]
+    pub fn poll(&mut self) {
+        let (tripped, counts) = self.drive.encoders.take_tripped();
+        if tripped != 0 {
+            self.on_trips(tripped, counts);
+        }
+        if self.next_deadline().is_some() {
+            self.on_time(self.clock.now());
+        }
+        let n = self.clock.take_ticks();
+        if n > 0 {
+            self.on_tick(n);
+        }
+        self.poll_commands();
+        self.arm_next_deadline();
+    }
+
+    /// Queues `line` on the debug UART (dropped if it does not fit).
+    #[inline(always)]
+    pub fn debug_line(&mut self, line: &[u8]) {
+        let _ = self.debug.write_all(line);
+    }
+
+    /// Reports a reset by the MCU watchdog: the fault, and its notice.
+    #[inline(always)]
+    pub fn report_watchdog_reset(&mut self) {
+        bench::set_fault(Fault::WatchdogReset as u8);
+        bench::set_phase(henrytwo_protocol::Phase::Fault);
+        let notice = FaultNotice { fault: Fault::WatchdogReset as u8, ..FaultNotice::default() };
+        self.send(NOTIFY_FAULT, Status::Ok, &notice.to_bytes());
+    }
+}

@@ -1,0 +1,626 @@
+//! A test's run: its segments in order ([`crate::plan`]), each driven until
+//! its stop rule, then the thesis' braking and waits; the control tick and
+//! its faults; the end of the test.
+//!
+//! - A leg ends when `w_left * dL + w_right * dR >= target`
+//!   ([`crate::odometry::leg_target`]): the encoder trips are armed at half
+//!   the remaining weighted distance ahead, so the main loop wakes a dozen
+//!   times per leg and both wheels are cut within one count of the end.
+//! - In a spin turn each wheel is cut when its own count reaches its own
+//!   target.
+//! - A cut wheel coasts [`BRAKE_COAST`], then gets a counter-pulse of
+//!   [`BRAKE_PULSE`]; when both are done, [`INERTIA_WAIT`] and
+//!   [`STOP_WAIT`] pass before the next segment (the thesis'
+//!   `Inercia_Stop_*` and `Stop_General`).
+//! - A fault (from the watchdogs, or the segment time-out) stops the motors
+//!   at once and ends the test.
+
+use henrytwo_protocol::{
+    Fault, FaultNotice, Param, Phase, RunState, Status, Test, TestDoneNotice, NOTIFY_FAULT, NOTIFY_TEST_DONE,
+};
+
+use crate::battery;
+use crate::bench;
+use crate::critical;
+use crate::io::{BatteryInput, BatteryLeds, Bridges, Counts, Side, TickClock, WheelEncoders, TRIP_LEFT, TRIP_RIGHT};
+use crate::odometry::{leg_progress, leg_target, leg_trip_ahead, leg_weight, spin_target_counts};
+use crate::plan::{self, Segment};
+use crate::robot;
+use crate::settings::PerWheel;
+use crate::time;
+
+use super::control::{StallLimits, PERIOD_US, RPM_OF_COUNTS, RPM_PER_COUNT};
+use super::drive::{Stage, Wheel};
+use super::progress::STALL_GRACE_TICKS;
+use super::{App, Hardware};
+
+/// Thesis `Inercia_Stop_*`: after a wheel is cut, 20 ms until its
+/// counter-pulse ...
+pub const BRAKE_COAST: u32 = time::ms(20);
+/// ... which lasts 5 ms at full duty ...
+pub const BRAKE_PULSE: u32 = time::ms(5);
+/// ... then the `delay(1000)` that ends `Inercia_Stop_*` ...
+pub const INERTIA_WAIT: u32 = time::ms(1000);
+/// ... and `Stop_General`'s `delay(1000)`.
+pub const STOP_WAIT: u32 = time::ms(1000);
+/// Segment time-out: this many times the nominal duration ...
+pub const TIMEOUT_FACTOR: f32 = 4.0;
+/// ... plus this many ticks (2 s).
+pub const TIMEOUT_EXTRA_TICKS: u32 = 134;
+
+/// What the robot is doing.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Mode {
+    /// Waiting for a command.
+    Idle,
+    /// Driving segment `index` of `test` (or braking its wheels).
+    Segment {
+        /// The running test.
+        test: Test,
+        /// The segment's index within it.
+        index: u8,
+        /// A leg's stop rule; `None` in a turn.
+        leg: Option<Leg>,
+    },
+    /// After segment `index`: the inertia wait, then (`stop_general`) the
+    /// `Stop_General` wait.
+    Wait {
+        /// The running test.
+        test: Test,
+        /// The segment just driven.
+        index: u8,
+        /// In the second wait.
+        stop_general: bool,
+        /// End of the wait.
+        until: u32,
+    },
+}
+
+/// The stop rule of the leg being driven: it ends when
+/// `w_left * dL + w_right * dR >= target` (see `odometry::leg_target`).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Leg {
+    /// Weight of the left wheel's counts.
+    pub w_left: i32,
+    /// Weight of the right wheel's counts.
+    pub w_right: i32,
+    /// The weighted distance to reach.
+    pub target: i32,
+}
+
+impl<H: Hardware> App<H> {
+    /// Starts `test` if idle and the leg length is valid.
+    pub(crate) fn start_test(&mut self, test: Test) -> Result<(), Status> {
+        if self.mode != Mode::Idle {
+            return Err(Status::Busy);
+        }
+        self.leg_mm = Param::LegLengthMm.check(bench::leg_length_mm())?;
+        bench::set_fault(Fault::None as u8);
+        bench::set_test(test as u8);
+        self.start_segment(test, 0);
+        Ok(())
+    }
+
+    /// Starts segment `index` of `test`, or finishes the test after its last.
+    fn start_segment(&mut self, test: Test, index: u8) {
+        let Some(segment) = plan::segment(test, index) else {
+            self.finish_test(test);
+            return;
+        };
+        let s = self.settings;
+        let c = self.drive.encoders.counts();
+        bench::record_segment_start(index, c.left, c.right);
+        self.drive.encoders.disarm_all();
+        let mut leg = None;
+        let (forward, wheel_counts) = match segment {
+            Segment::Leg => {
+                let l = Leg {
+                    w_left: leg_weight(s.correction.left),
+                    w_right: leg_weight(s.correction.right),
+                    target: leg_target(self.leg_mm),
+                };
+                leg = Some(l);
+                self.arm_leg(l, c, c);
+                let c_min = if s.correction.left < s.correction.right { s.correction.left } else { s.correction.right };
+                ((true, true), self.leg_mm / (c_min * robot::MM_PER_COUNT))
+            }
+            Segment::Turn { spin, triangle } => {
+                let angle = if triangle { s.turn_triangle_deg } else { s.turn_umbmark_deg };
+                let nl = spin_target_counts(angle, s.wheelbase_mm, s.correction.left);
+                let nr = spin_target_counts(angle, s.wheelbase_mm, s.correction.right);
+                let (fl, fr) = spin.forward();
+                let at = |start: i32, up: bool, n: i32| if up { start.wrapping_add(n) } else { start.wrapping_sub(n) };
+                self.drive.encoders.arm(Side::Left, fl, at(c.left, fl, nl));
+                self.drive.encoders.arm(Side::Right, fr, at(c.right, fr, nr));
+                ((fl, fr), (if nl > nr { nl } else { nr }) as f32)
+            }
+        };
+        // The set-points are ground speeds: a wheel whose counts are worth
+        // c times the nominal distance must turn 1/c times as fast in counts.
+        // That is where c_L, c_R straighten a leg (the wheels then cover equal
+        // ground per period); in the stop rules above they only measure it.
+        let raw = PerWheel { left: s.setpoint.left / s.correction.left, right: s.setpoint.right / s.correction.right };
+        // Time-out from the slower wheel's counts per period.
+        let set_min = if raw.left < raw.right { raw.left } else { raw.right };
+        let nominal = wheel_counts / (set_min / RPM_PER_COUNT);
+        self.segment_limit = (TIMEOUT_FACTOR * nominal) as u32 + TIMEOUT_EXTRA_TICKS;
+        self.segment_ticks = 0;
+        for (side, fwd, count, gains, set) in [
+            (Side::Left, forward.0, c.left, s.gains.left, raw.left),
+            (Side::Right, forward.1, c.right, s.gains.right, raw.right),
+        ] {
+            let w = self.drive.wheel(side);
+            w.forward = fwd;
+            w.stage = Stage::Driving;
+            w.pid.prepare(gains, set, robot::SAMPLE_PERIOD_S, &RPM_OF_COUNTS);
+            w.last_count = count;
+            w.start_count = count;
+            w.applied = robot::START_DUTY;
+            w.mark = count as i16;
+            w.still = 0;
+            w.grace = STALL_GRACE_TICKS;
+        }
+        self.clock.restart_period();
+        let duty = robot::START_DUTY;
+        self.drive.set(Side::Left, !forward.0, 0);
+        self.drive.set(Side::Right, !forward.1, 0);
+        self.drive.set(Side::Left, forward.0, duty);
+        self.drive.set(Side::Right, forward.1, duty);
+        bench::set_duty_left(duty);
+        bench::set_duty_right(duty);
+        bench::set_phase(if segment == Segment::Leg { Phase::Leg } else { Phase::Turn });
+        bench::set_state(RunState::Driving);
+        self.mode = Mode::Segment { test, index, leg };
+    }
+
+    /// Arms both trips of a leg from the counts `now` (start: `start`): each
+    /// wheel at half the remaining weighted distance ahead, so that the sum
+    /// cannot reach the target before one of them fires. Returns true when
+    /// the leg's end is already reached.
+    fn arm_leg(&mut self, l: Leg, start: Counts, now: Counts) -> bool {
+        let done =
+            leg_progress(l.w_left, l.w_right, now.left.wrapping_sub(start.left), now.right.wrapping_sub(start.right));
+        let remaining = l.target as i64 - done;
+        if remaining <= 0 {
+            return true;
+        }
+        let (al, ar) = (leg_trip_ahead(remaining, l.w_left), leg_trip_ahead(remaining, l.w_right));
+        self.drive.encoders.arm(Side::Left, true, now.left.wrapping_add(al));
+        self.drive.encoders.arm(Side::Right, true, now.right.wrapping_add(ar));
+        false
+    }
+
+    /// Trips fired: cut the wheels whose segment end came (a turn), or check
+    /// the leg's stop rule and re-arm closer to the end (a leg).
+    pub(crate) fn on_trips(&mut self, tripped: u8, counts: Counts) {
+        let Mode::Segment { leg, .. } = self.mode else { return };
+        let now = self.clock.now();
+        if let Some(l) = leg {
+            if self.drive.left.stage != Stage::Driving {
+                return;
+            }
+            let start = Counts { left: self.drive.left.start_count, right: self.drive.right.start_count };
+            if !self.arm_leg(l, start, counts) {
+                return;
+            }
+            // End of a leg: all four inputs to 0 first, then the counts.
+            let d = &mut self.drive;
+            let c = critical::free(|_| {
+                d.motors.all_off();
+                d.encoders.counts()
+            });
+            self.drive.encoders.disarm_all();
+            bench::set_stop_left(c.left);
+            bench::set_stop_right(c.right);
+            bench::record_cut(3, c.left, c.right);
+            for side in [Side::Left, Side::Right] {
+                let w = self.drive.wheel(side);
+                w.stage = Stage::Coast;
+                w.until = now.wrapping_add(BRAKE_COAST);
+            }
+        } else {
+            for (bit, side, mask) in [(TRIP_LEFT, Side::Left, 1), (TRIP_RIGHT, Side::Right, 2)] {
+                if tripped & bit == 0 || self.drive.wheel(side).stage != Stage::Driving {
+                    continue;
+                }
+                let fwd = self.drive.wheel(side).forward;
+                let d = &mut self.drive;
+                let c = critical::free(|_| {
+                    d.set(side, fwd, 0);
+                    d.encoders.counts()
+                });
+                bench::record_cut(mask, c.left, c.right);
+                let w = self.drive.wheel(side);
+                w.stage = Stage::Coast;
+                w.until = now.wrapping_add(BRAKE_COAST);
+            }
+        }
+        if self.drive.left.stage != Stage::Driving && self.drive.right.stage != Stage::Driving {
+            bench::set_phase(Phase::Braking);
+            bench::set_state(RunState::Braking);
+        }
+    }
+
+    /// Moves every deadline that has come: wheel braking stages, waits.
+    pub(crate) fn on_time(&mut self, now: u32) {
+        match self.mode {
+            Mode::Idle => {}
+            Mode::Segment { test, index, .. } => {
+                if self.drive.left.stage == Stage::Driving && self.drive.right.stage == Stage::Driving {
+                    return;
+                }
+                for side in [Side::Left, Side::Right] {
+                    let w = self.drive.wheel(side);
+                    let (stage, until, fwd) = (w.stage, w.until, w.forward);
+                    if !time::reached(now, until) {
+                        continue;
+                    }
+                    match stage {
+                        Stage::Coast => {
+                            self.drive.set(side, !fwd, 255);
+                            let w = self.drive.wheel(side);
+                            w.stage = Stage::Pulse;
+                            w.until = now.wrapping_add(BRAKE_PULSE);
+                        }
+                        Stage::Pulse => {
+                            self.drive.set(side, !fwd, 0);
+                            self.drive.wheel(side).stage = Stage::Done;
+                        }
+                        Stage::Driving | Stage::Done => {}
+                    }
+                }
+                if self.drive.left.stage == Stage::Done && self.drive.right.stage == Stage::Done {
+                    self.mode = Mode::Wait { test, index, stop_general: false, until: now.wrapping_add(INERTIA_WAIT) };
+                }
+            }
+            Mode::Wait { test, index, stop_general, until } => {
+                if !time::reached(now, until) {
+                    return;
+                }
+                if stop_general {
+                    self.start_segment(test, index + 1);
+                } else {
+                    self.drive.motors.all_off();
+                    self.mode = Mode::Wait { test, index, stop_general: true, until: now.wrapping_add(STOP_WAIT) };
+                }
+            }
+        }
+    }
+
+    /// The earliest pending deadline, if any.
+    #[inline(always)]
+    pub(crate) fn next_deadline(&self) -> Option<u32> {
+        match self.mode {
+            Mode::Idle => None,
+            Mode::Wait { until, .. } => Some(until),
+            Mode::Segment { .. } => {
+                let pending = |w: &Wheel| matches!(w.stage, Stage::Coast | Stage::Pulse).then_some(w.until);
+                match (pending(&self.drive.left), pending(&self.drive.right)) {
+                    (Some(a), Some(b)) => Some(if time::reached(b, a) { a } else { b }),
+                    (a, b) => a.or(b),
+                }
+            }
+        }
+    }
+
+    /// Arms the timer 1 alarm for the next deadline (handling the ones that
+    /// come while arming); bounded: at most four rounds, the tick catches
+    /// anything left.
+    pub(crate) fn arm_next_deadline(&mut self) {
+        for _ in 0..4 {
+            let Some(at) = self.next_deadline() else {
+                self.clock.disarm_alarm();
+                return;
+            };
+            if self.clock.arm_alarm(at) {
+                return;
+            }
+            self.on_time(self.clock.now());
+        }
+    }
+
+    /// A control tick: battery, control, watchdogs of the segment.
+    pub(crate) fn on_tick(&mut self, n: u32) {
+        self.battery();
+        let Mode::Segment { .. } = self.mode else { return };
+        if self.drive.left.stage != Stage::Driving && self.drive.right.stage != Stage::Driving {
+            return;
+        }
+        bench::set_period_us(if n == 1 { PERIOD_US } else { PERIOD_US * n as f32 });
+        let stall_ticks = (self.settings.stall_timeout_ms as u32).div_ceil(robot::SAMPLE_PERIOD_US / 1000);
+        let stall = StallLimits { duty: self.settings.stall_duty, ticks: stall_ticks as u16 };
+        let mut fault = H::control_tick(&mut self.drive, n, stall);
+        self.segment_ticks = self.segment_ticks.saturating_add(n);
+        if fault == Fault::None && self.segment_ticks > self.segment_limit {
+            fault = Fault::SegmentTimeout;
+        }
+        if fault != Fault::None {
+            self.fault(fault);
+        }
+    }
+
+    /// Reads the conversion started on the previous tick, shows its colour,
+    /// starts the next.
+    fn battery(&mut self) {
+        if self.adc_running && !self.adc.busy() {
+            let v = self.adc.result();
+            bench::set_battery_adc(v);
+            self.leds.show_if_changed(battery::robust_colour(v));
+        }
+        self.adc.start();
+        self.adc_running = true;
+    }
+
+    /// Motors off now, the fault reported; idle.
+    fn fault(&mut self, fault: Fault) {
+        let phase = bench::phase_code();
+        let d = &mut self.drive;
+        let c = critical::free(|_| {
+            d.motors.all_off();
+            d.encoders.counts()
+        });
+        self.stop_all();
+        bench::set_fault(fault as u8);
+        bench::set_phase(Phase::Fault);
+        let notice = FaultNotice {
+            fault: fault as u8,
+            test: bench::test(),
+            segment: bench::segment(),
+            phase,
+            left: c.left.wrapping_sub(bench::seg_start_left()),
+            right: c.right.wrapping_sub(bench::seg_start_right()),
+        };
+        self.send(NOTIFY_FAULT, Status::Ok, &notice.to_bytes());
+        let _ = ufmt::uwrite!(
+            &mut self.debug,
+            "fault {} in test {} segment {}: left={} right={}\r\n",
+            fault as u8,
+            notice.test,
+            notice.segment,
+            notice.left,
+            notice.right
+        );
+    }
+
+    /// Motors off, trips and alarm off, idle (phase 0).
+    pub(crate) fn stop_all(&mut self) {
+        self.drive.motors.all_off();
+        self.drive.encoders.disarm_all();
+        self.drive.left.stage = Stage::Done;
+        self.drive.right.stage = Stage::Done;
+        self.clock.disarm_alarm();
+        self.mode = Mode::Idle;
+        bench::set_phase(Phase::Idle);
+        bench::set_state(RunState::Idle);
+    }
+
+    /// End of a test: count it, report it.
+    fn finish_test(&mut self, test: Test) {
+        self.mode = Mode::Idle;
+        let done = bench::done_count().wrapping_add(1);
+        bench::set_done_count(done);
+        bench::set_phase(Phase::Idle);
+        bench::set_state(RunState::Idle);
+        self.send(NOTIFY_TEST_DONE, Status::Ok, &TestDoneNotice { test: test as u8, tests_done: done }.to_bytes());
+        // Queued, never waited for; a full buffer cuts the line.
+        let _ = ufmt::uwrite!(
+            &mut self.debug,
+            "test {} done: stop left={} right={}\r\n",
+            done,
+            bench::stop_left(),
+            bench::stop_right()
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::vec::Vec;
+
+    use henrytwo_protocol::{Command, FaultNotice, TestDoneNotice};
+
+    use super::*;
+    use crate::robust::fake::{self, Fake};
+
+    /// Which input of each wheel is driven: +1 forward, -1 reverse, 0 none.
+    fn directions(app: &App<Fake>) -> (i8, i8) {
+        let dir = |(f, r): (u8, u8)| match (f > 0, r > 0) {
+            (true, false) => 1,
+            (false, true) => -1,
+            _ => 0,
+        };
+        (dir(app.drive.motors.left), dir(app.drive.motors.right))
+    }
+
+    /// A segment's start: its index, `HT_PHASE`, the [`directions`].
+    type Start = (u8, u8, (i8, i8));
+
+    /// Runs `test` on the fake plant (`per_tick` counts per period) until it
+    /// ends; each segment's start.
+    fn run(test: Test, leg_mm: f32, per_tick: i32) -> (App<Fake>, Vec<Start>) {
+        let mut app = App::fake();
+        bench::set_leg_length_mm(leg_mm);
+        app.receive(Command::StartTest(test));
+        app.poll();
+        let mut starts = Vec::new();
+        for _ in 0..20_000 {
+            if let Mode::Segment { index, .. } = app.mode {
+                if starts.last().map(|s: &Start| s.0) != Some(index) {
+                    starts.push((index, bench::phase_code(), directions(&app)));
+                }
+            }
+            if app.mode == Mode::Idle {
+                break;
+            }
+            app.tick_plant(per_tick);
+        }
+        (app, starts)
+    }
+
+    const LEG: u8 = Phase::Leg as u8;
+    const TURN: u8 = Phase::Turn as u8;
+
+    #[test]
+    fn umbmark_cw_drives_four_legs_and_four_right_turns_then_reports() {
+        let _bench = fake::lock();
+        let (mut app, starts) = run(Test::UmbmarkCw, 50.0, 13);
+        let expected: Vec<_> = (0..8).map(|i| if i % 2 == 0 { (i, LEG, (1, 1)) } else { (i, TURN, (1, -1)) }).collect();
+        assert_eq!(starts, expected);
+        let done = TestDoneNotice { test: Test::UmbmarkCw as u8, tests_done: 1 };
+        assert!(app.sent().contains(&(NOTIFY_TEST_DONE, 0, done.to_bytes().to_vec())));
+        assert_eq!((bench::done_count(), bench::phase_code(), bench::state_code()), (1, 0, RunState::Idle as u8));
+    }
+
+    #[test]
+    fn ccw_and_triangle_turn_left_and_a_line_is_one_leg() {
+        let _bench = fake::lock();
+        let (_, starts) = run(Test::UmbmarkCcw, 50.0, 13);
+        assert_eq!(starts.len(), 8);
+        assert!(starts.iter().all(|s| s.2 == if s.1 == LEG { (1, 1) } else { (-1, 1) }), "{starts:?}");
+        let (_, starts) = run(Test::Triangle, 50.0, 13);
+        assert_eq!(starts.iter().map(|s| s.1).collect::<Vec<_>>(), [LEG, TURN, LEG, TURN, LEG, TURN]);
+        assert!(starts.iter().all(|s| s.2 == if s.1 == LEG { (1, 1) } else { (-1, 1) }), "{starts:?}");
+        let (_, starts) = run(Test::Line, 50.0, 13);
+        assert_eq!(starts, [(0, LEG, (1, 1))]);
+    }
+
+    #[test]
+    fn a_leg_ends_on_the_edge_that_reaches_the_weighted_target() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        app.settings.correction = PerWheel { left: 1.02, right: 0.97 };
+        bench::set_leg_length_mm(100.0);
+        app.start_test(Test::Line).unwrap();
+        let (wl, wr, target) = (leg_weight(1.02), leg_weight(0.97), leg_target(100.0) as i64);
+        // The right wheel makes two edges for each of the left's three.
+        let mut k = 0;
+        loop {
+            let side = if k % 5 < 3 { Side::Left } else { Side::Right };
+            k += 1;
+            let c = app.drive.encoders.counts;
+            let before = leg_progress(wl, wr, c.left, c.right);
+            app.drive.encoders.edge(side, 1);
+            app.poll();
+            let c = app.drive.encoders.counts;
+            if app.drive.left.stage != Stage::Driving {
+                assert!(before < target && leg_progress(wl, wr, c.left, c.right) >= target);
+                break;
+            }
+            assert!(k < 10_000, "the leg never ended");
+        }
+        let c = app.drive.encoders.counts;
+        assert_eq!((app.drive.motors.left, app.drive.motors.right), ((0, 0), (0, 0)));
+        assert_eq!((app.drive.left.stage, app.drive.right.stage), (Stage::Coast, Stage::Coast));
+        assert_eq!((bench::stop_left(), bench::stop_right()), (c.left, c.right));
+        assert_eq!((bench::cut_mask(), bench::phase_code()), (3, Phase::Braking as u8));
+    }
+
+    #[test]
+    fn a_turn_cuts_each_wheel_at_its_own_target() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        app.settings.correction = PerWheel { left: 1.0, right: 0.9 };
+        app.mode = Mode::Idle;
+        app.start_segment(Test::UmbmarkCw, 1);
+        let s = app.settings;
+        let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0);
+        let nr = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 0.9);
+        assert!(nr > nl);
+        // Left forward, right backward (clockwise); the left gets there first.
+        app.drive.encoders.move_by(Side::Left, nl - 1);
+        app.drive.encoders.move_by(Side::Right, -(nl - 1));
+        app.poll();
+        assert_eq!((app.drive.left.stage, bench::cut_mask()), (Stage::Driving, 0));
+        app.drive.encoders.edge(Side::Left, 1);
+        app.poll();
+        assert_eq!((app.drive.left.stage, app.drive.right.stage), (Stage::Coast, Stage::Driving));
+        assert_eq!((app.drive.motors.left.0, bench::cut_left(), bench::cut_mask()), (0, nl, 1));
+        assert!(app.drive.motors.right.1 > 0);
+        app.drive.encoders.move_by(Side::Right, -(nr - nl));
+        app.poll();
+        assert_eq!(app.drive.right.stage, Stage::Driving, "one count short");
+        app.drive.encoders.edge(Side::Right, -1);
+        app.poll();
+        assert_eq!(app.drive.right.stage, Stage::Coast);
+        assert_eq!((app.drive.motors.right.1, bench::cut_right(), bench::cut_mask()), (0, -nr, 3));
+        assert_eq!(bench::phase_code(), Phase::Braking as u8);
+    }
+
+    #[test]
+    fn a_cut_wheel_coasts_gets_its_counter_pulse_then_both_waits_pass() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        bench::set_leg_length_mm(10.0);
+        app.start_test(Test::UmbmarkCw).unwrap();
+        while app.drive.left.stage == Stage::Driving {
+            app.drive.encoders.edge(Side::Left, 1);
+            app.drive.encoders.edge(Side::Right, 1);
+            app.poll();
+        }
+        let off = ((0, 0), (0, 0));
+        let motors = |app: &App<Fake>| (app.drive.motors.left, app.drive.motors.right);
+        app.wait(BRAKE_COAST - 1);
+        assert_eq!(motors(&app), off);
+        app.wait(1);
+        assert_eq!(motors(&app), ((0, 255), (0, 255)), "the counter-pulse is on the reverse inputs");
+        app.wait(BRAKE_PULSE - 1);
+        assert_eq!(motors(&app), ((0, 255), (0, 255)));
+        app.wait(1);
+        assert_eq!(motors(&app), off);
+        assert!(matches!(app.mode, Mode::Wait { index: 0, stop_general: false, .. }));
+        app.wait(INERTIA_WAIT);
+        assert!(matches!(app.mode, Mode::Wait { index: 0, stop_general: true, .. }));
+        app.wait(STOP_WAIT - 1);
+        assert!(matches!(app.mode, Mode::Wait { .. }));
+        app.wait(1);
+        assert!(matches!(app.mode, Mode::Segment { index: 1, .. }));
+        assert_eq!(directions(&app), (1, -1));
+    }
+
+    #[test]
+    fn a_segment_that_overruns_its_time_is_a_fault() {
+        let _bench = fake::lock();
+        // Two counts per period: slow, but enough progress for the stall
+        // watchdog.
+        let (mut app, _) = run(Test::Line, 2000.0, 2);
+        // Four times the nominal time of the leg (in periods), and 2 s.
+        let counts = 2000.0 / robot::MM_PER_COUNT;
+        let nominal = counts / (robot::ROBUST_SETPOINT / RPM_PER_COUNT);
+        assert_eq!(app.segment_limit, (4.0 * nominal) as u32 + 134);
+        let faults: Vec<_> = app.sent().into_iter().filter(|s| s.0 == NOTIFY_FAULT).collect();
+        assert_eq!(faults.len(), 1, "{faults:?}");
+        let notice = FaultNotice::decode(&faults[0].2).unwrap();
+        assert_eq!(notice.fault, Fault::SegmentTimeout as u8);
+        assert_eq!(app.segment_ticks, app.segment_limit + 1);
+        assert_eq!((app.drive.motors.left, app.drive.motors.right), ((0, 0), (0, 0)));
+        assert_eq!((bench::phase_code(), bench::fault()), (Phase::Fault as u8, Fault::SegmentTimeout as u8));
+        let line = std::format!("fault {} in test 4 segment 0:", Fault::SegmentTimeout as u8);
+        assert!(app.debug.text().contains(&line), "{}", app.debug.text());
+    }
+
+    #[test]
+    fn a_still_wheel_is_stopped_as_stalled() {
+        let _bench = fake::lock();
+        let (mut app, _) = run(Test::Line, 50.0, 0);
+        let faults: Vec<_> = app.sent().into_iter().filter(|s| s.0 == NOTIFY_FAULT).collect();
+        assert_eq!(faults.len(), 1, "{faults:?}");
+        assert_eq!(FaultNotice::decode(&faults[0].2).unwrap().fault, Fault::StallLeft as u8);
+        assert_eq!((app.drive.motors.left, app.drive.motors.right), ((0, 0), (0, 0)));
+        assert_eq!(app.mode, Mode::Idle);
+        assert!(app.segment_ticks < 40, "stopped after {} ticks", app.segment_ticks);
+    }
+
+    #[test]
+    fn each_tick_reads_the_battery_and_shows_its_colour() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        app.tick_plant(0);
+        assert_eq!(app.adc.started, 1);
+        assert_eq!(app.leds.shown, None, "no conversion was running before the first tick");
+        app.adc.value = 900;
+        app.tick_plant(0);
+        assert_eq!((app.leds.shown, bench::battery_adc()), (Some(battery::Colour::Red), 900));
+        app.tick_plant(0);
+        assert_eq!(app.leds.writes, 1, "an unchanged colour is not written again");
+    }
+}
