@@ -30,7 +30,7 @@
 //! ripple, the bridge's dead time and its on-resistance are not modelled: the motor fit
 //! includes whatever they did on the real robot.
 
-use crate::units::Duty;
+use crate::Duty;
 
 /// What the motor does while the driven part of the period is off.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

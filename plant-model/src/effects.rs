@@ -247,7 +247,7 @@ pub(crate) mod test_support {
     //! Driving the plant in the signature tests.
 
     use crate::side::Side;
-    use crate::units::{Duty, Seconds};
+    use crate::{units::Seconds, Duty};
     use crate::{Robot, RobotConfig};
 
     /// The nominal robot with the right motor on both sides (both wheels behave alike), with

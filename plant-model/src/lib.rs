@@ -60,6 +60,7 @@
 pub mod bridge;
 mod check;
 pub mod config;
+mod duty;
 pub mod effects;
 pub mod encoder;
 mod error;
@@ -75,6 +76,7 @@ pub mod units;
 
 pub use bridge::{Decay, DriveState};
 pub use config::RobotConfig;
+pub use duty::Duty;
 pub use effects::Effects;
 pub use encoder::Encoder;
 pub use error::Error;
@@ -83,4 +85,4 @@ pub use motor::{FirstOrderMotor, Modifiers, MotorModel, Relaxation, Segment};
 pub use pose::{Frame, Pose, World};
 pub use robot::{Robot, MAX_POSE_STEP, TRANSITION_HORIZON, TRANSITION_RESOLUTION};
 pub use side::{PerSide, Side};
-pub use units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};
+pub use units::{Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};

@@ -590,7 +590,7 @@ fn expm1_near_zero(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::units::Duty;
+    use crate::Duty;
     use approx::assert_relative_eq;
     use proptest::prelude::*;
 

@@ -49,7 +49,8 @@ use crate::ground::{effective_radius_mm, Ground};
 use crate::motor::{Around, Modifiers, MotorModel, Segment};
 use crate::pose::{Pose, World};
 use crate::side::{PerSide, Side};
-use crate::units::{Duty, Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};
+use crate::units::{Millimetres, RadPerSec, Radians, Seconds, ThesisRpm, TimeGrid, Volts};
+use crate::Duty;
 use crate::Error;
 use std::cell::Cell;
 

@@ -3,16 +3,14 @@
 //!
 //! Each quantity wraps an `f64` in the unit its name says (`Seconds`, `Millimetres`,
 //! `Radians`, `RadPerSec`, `Volts`, `ThesisRpm`). Arithmetic is provided only where it keeps
-//! the unit (sum and difference of two values, scaling by a plain number). [`Duty`] is the
-//! exception: it is validated to lie in `[0, 1]`, so its field is private.
+//! the unit (sum and difference of two values, scaling by a plain number). The one checked
+//! quantity, [`crate::Duty`], has a module of its own: its constructor can fail.
 
 use std::f64::consts::PI;
 use std::fmt;
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 
 use serde::{Deserialize, Serialize};
-
-use crate::Error;
 
 macro_rules! quantity {
     ($(#[$meta:meta])* $name:ident, $unit:literal) => {
@@ -161,54 +159,6 @@ impl Div for Seconds {
     }
 }
 
-/// The fraction of a PWM period during which an input is high, in `[0, 1]`.
-///
-/// Construct it with [`Duty::new`] (checked) or [`Duty::from_pwm8`] (an 8-bit compare value
-/// as the thesis firmware writes it with `analogWrite`: `compare / 255`).
-#[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default, Serialize)]
-#[serde(transparent)]
-pub struct Duty(f64);
-
-impl Duty {
-    /// Always low.
-    pub const OFF: Duty = Duty(0.0);
-    /// Always high.
-    pub const FULL: Duty = Duty(1.0);
-
-    /// A duty from a fraction; an error unless the fraction is finite and in `[0, 1]`.
-    pub fn new(fraction: f64) -> Result<Duty, Error> {
-        if fraction.is_finite() && (0.0..=1.0).contains(&fraction) {
-            Ok(Duty(fraction))
-        } else {
-            Err(Error::InvalidDuty { value: fraction })
-        }
-    }
-
-    /// The duty of an 8-bit PWM output whose compare register holds `compare`, as the thesis
-    /// firmware uses it (phase-correct 8-bit PWM, `analogWrite`): `compare / 255`.
-    pub fn from_pwm8(compare: u8) -> Duty {
-        Duty(f64::from(compare) / 255.0)
-    }
-
-    /// The fraction in `[0, 1]`.
-    pub const fn get(self) -> f64 {
-        self.0
-    }
-}
-
-impl<'de> Deserialize<'de> for Duty {
-    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let fraction = f64::deserialize(deserializer)?;
-        Duty::new(fraction).map_err(serde::de::Error::custom)
-    }
-}
-
-impl fmt::Display for Duty {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "duty {}", self.0)
-    }
-}
-
 /// The instants a sampled reader can observe: `t_k = k / hz` for `k = 0, 1, ...` (a CPU's
 /// clock cycles). The one rounding rule between such a reader and the plant's continuous
 /// time: a search on the grid ([`crate::Robot::next_encoder_transition_on`]) answers with
@@ -285,17 +235,5 @@ mod tests {
             );
         }
         assert_eq!(grid.index_at_or_after(Seconds(-1.0)), 0);
-    }
-
-    /// Duties outside `[0, 1]` or not finite are refused; 8-bit compare values map to /255.
-    #[test]
-    fn duty_is_checked() {
-        assert!(Duty::new(-0.01).is_err());
-        assert!(Duty::new(1.01).is_err());
-        assert!(Duty::new(f64::NAN).is_err());
-        assert_eq!(Duty::new(1.0).unwrap(), Duty::FULL);
-        assert_eq!(Duty::from_pwm8(255), Duty::FULL);
-        assert_eq!(Duty::from_pwm8(0), Duty::OFF);
-        assert_relative_eq!(Duty::from_pwm8(210).get(), 210.0 / 255.0);
     }
 }
