@@ -27,6 +27,7 @@ use crate::data::{Dataset, Group, ObservedRun, SplitRule};
 use crate::diagnose::{diagnose, DiagnoseOptions, Diagnosis};
 use crate::effects::{EffectParams, ParamKind};
 use crate::fit::{hash, FitOptions};
+use crate::manifest::LoadedManifest;
 use crate::model::{Experiment, Firmware, Model, Reference, StraightLegs, TestKind};
 use crate::rng::Rng;
 
@@ -393,42 +394,232 @@ pub fn confusion_table(model: &dyn Model, seed: u64, trials: usize) -> Confusion
     }
 }
 
-/// The self-test cases as a text table.
+impl SplitRule {
+    /// The thesis' own procedure on real data: fit on UMBmark experiment 1
+    /// (`umbmark-1`) and predict the rest; without it, fit on the first
+    /// experiment with end points by name.
+    pub fn thesis_default(manifests: &[LoadedManifest]) -> Self {
+        let mut names: Vec<&str> = manifests
+            .iter()
+            .filter(|m| m.manifest.endpoints.is_some())
+            .map(|m| m.manifest.experiment.as_str())
+            .collect();
+        names.sort_unstable();
+        let train = names
+            .iter()
+            .find(|n| **n == "umbmark-1")
+            .or(names.first())
+            .map(|n| n.to_string());
+        SplitRule::TrainOnExperiments(train.into_iter().collect())
+    }
+}
+
+/// Which columns a table of self-test cases shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaseColumns {
+    /// Every measure with the verdicts: pass and identifiability.
+    Full,
+    /// The measures alone, with the held-out gaps' full names (`hil gap --self-test`).
+    Measures,
+}
+
+/// One column of a case table: its header, width and cell (already formatted).
+struct Column {
+    head: &'static str,
+    width: usize,
+    /// What stands before the column.
+    sep: &'static str,
+    cell: fn(&SelfTestCase) -> String,
+}
+
+/// A column after a space.
+const fn col(head: &'static str, width: usize, cell: fn(&SelfTestCase) -> String) -> Column {
+    Column {
+        head,
+        width,
+        sep: " ",
+        cell,
+    }
+}
+
+fn effect(c: &SelfTestCase) -> String {
+    c.effect.clone()
+}
+
+fn gap_before(c: &SelfTestCase) -> String {
+    format!("{:.3}", c.heldout_gap_before)
+}
+
+fn gap_after(c: &SelfTestCase) -> String {
+    format!("{:.3}", c.heldout_gap_after)
+}
+
+fn injected(c: &SelfTestCase) -> String {
+    format!("{:.5}", c.injected)
+}
+
+fn fitted(c: &SelfTestCase) -> String {
+    format!("{:.5}", c.fitted)
+}
+
+fn value_error(c: &SelfTestCase) -> String {
+    format!("{:.2}", c.value_error_pct)
+}
+
+fn verdict(c: &SelfTestCase) -> String {
+    let v = if !c.identifiable {
+        "n/a"
+    } else if c.passed() {
+        "yes"
+    } else {
+        "NO"
+    };
+    v.to_owned()
+}
+
+fn identifiable(c: &SelfTestCase) -> String {
+    match &c.reason {
+        None => "yes".to_owned(),
+        Some(r) => format!("no: {r}"),
+    }
+}
+
+const FULL: &[Column] = &[
+    Column {
+        sep: "",
+        ..col("effect", 22, effect)
+    },
+    col("injected", 10, injected),
+    col("fitted", 10, fitted),
+    col("err %", 8, value_error),
+    col("first", 7, |c| {
+        (if c.ranked_first { "yes" } else { "no" }).to_owned()
+    }),
+    col("gap in", 9, gap_before),
+    col("gap out", 9, gap_after),
+    col("pass", 6, verdict),
+    Column {
+        sep: "  ",
+        ..col("identifiable", 0, identifiable)
+    },
+];
+
+const MEASURES: &[Column] = &[
+    Column {
+        sep: "",
+        ..col("effect", 26, effect)
+    },
+    col("injected", 12, injected),
+    col("first", 6, |c| {
+        (if c.ranked_first { "yes" } else { "NO" }).to_owned()
+    }),
+    col("fitted", 12, fitted),
+    col("error %", 9, value_error),
+    col("gap before", 12, gap_before),
+    col("gap after", 12, gap_after),
+];
+
+/// The self-test cases as a text table with every column ([`CaseColumns::Full`]).
 pub fn render_cases(cases: &[SelfTestCase]) -> String {
-    let mut s = format!(
-        "{:<22} {:>10} {:>10} {:>8} {:>7} {:>9} {:>9} {:>6}  {}\n",
-        "effect",
-        "injected",
-        "fitted",
-        "err %",
-        "first",
-        "gap in",
-        "gap out",
-        "pass",
-        "identifiable"
-    );
-    for c in cases {
-        s.push_str(&format!(
-            "{:<22} {:>10.5} {:>10.5} {:>8.2} {:>7} {:>9.3} {:>9.3} {:>6}  {}\n",
-            c.effect,
-            c.injected,
-            c.fitted,
-            c.value_error_pct,
-            if c.ranked_first { "yes" } else { "no" },
-            c.heldout_gap_before,
-            c.heldout_gap_after,
-            if !c.identifiable {
-                "n/a"
-            } else if c.passed() {
-                "yes"
+    render_cases_with(cases, CaseColumns::Full)
+}
+
+/// The self-test cases as a text table of `columns`: the first column
+/// left-aligned, the others right-aligned.
+pub fn render_cases_with(cases: &[SelfTestCase], columns: CaseColumns) -> String {
+    let columns = match columns {
+        CaseColumns::Full => FULL,
+        CaseColumns::Measures => MEASURES,
+    };
+    let line = |cells: &mut dyn Iterator<Item = String>| {
+        let mut s = String::new();
+        for (i, (col, cell)) in columns.iter().zip(cells).enumerate() {
+            s.push_str(col.sep);
+            if i == 0 {
+                s.push_str(&format!("{cell:<w$}", w = col.width));
             } else {
-                "NO"
-            },
-            match &c.reason {
-                None => "yes".to_owned(),
-                Some(r) => format!("no: {r}"),
+                s.push_str(&format!("{cell:>w$}", w = col.width));
             }
-        ));
+        }
+        s.push('\n');
+        s
+    };
+    let mut s = line(&mut columns.iter().map(|c| c.head.to_owned()));
+    for case in cases {
+        s.push_str(&line(&mut columns.iter().map(|c| (c.cell)(case))));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cases() -> Vec<SelfTestCase> {
+        let case =
+            |effect: &str, injected, ranked_first, fitted, err, before, after| SelfTestCase {
+                effect: effect.to_owned(),
+                injected,
+                ranked_first,
+                fitted,
+                value_error_pct: err,
+                heldout_gap_before: before,
+                heldout_gap_after: after,
+                identifiable: true,
+                reason: None,
+            };
+        let mut noise = case("floor_noise", 0.0125, false, 0.0119, 4.8, 3.2109, 2.9);
+        noise.identifiable = false;
+        noise.reason = Some("indistinguishable from coast".to_owned());
+        vec![
+            case(
+                "wheel_diameter_ratio",
+                1.00321,
+                true,
+                1.003187,
+                0.712345,
+                12.3456,
+                0.54321,
+            ),
+            noise,
+        ]
+    }
+
+    /// Both layouts keep their columns, widths and precisions to the character.
+    #[test]
+    fn case_tables_keep_their_layouts() {
+        assert_eq!(
+            render_cases(&cases()),
+            concat!(
+                "effect                   injected     fitted    err %   first    gap in   gap out   pass  identifiable\n",
+                "wheel_diameter_ratio      1.00321    1.00319     0.71     yes    12.346     0.543    yes  yes\n",
+                "floor_noise               0.01250    0.01190     4.80      no     3.211     2.900    n/a  no: indistinguishable from coast\n",
+            )
+        );
+        assert_eq!(
+            render_cases_with(&cases(), CaseColumns::Measures),
+            concat!(
+                "effect                         injected  first       fitted   error %   gap before    gap after\n",
+                "wheel_diameter_ratio            1.00321    yes      1.00319      0.71       12.346        0.543\n",
+                "floor_noise                     0.01250     NO      0.01190      4.80        3.211        2.900\n",
+            )
+        );
+    }
+
+    /// The thesis data train on `umbmark-1`; without it, on the first experiment by name.
+    #[test]
+    fn thesis_default_trains_on_umbmark_1_else_the_first_by_name() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/real/thesis");
+        let mut manifests = crate::manifest::load_dir(std::path::Path::new(dir)).unwrap();
+        assert_eq!(
+            SplitRule::thesis_default(&manifests),
+            SplitRule::TrainOnExperiments(vec!["umbmark-1".to_owned()])
+        );
+        // `motor-steps` has no end points; of the others `triangle-1` is first.
+        manifests.retain(|m| m.manifest.experiment != "umbmark-1");
+        assert_eq!(
+            SplitRule::thesis_default(&manifests),
+            SplitRule::TrainOnExperiments(vec!["triangle-1".to_owned()])
+        );
+    }
 }

@@ -1,23 +1,79 @@
 //! `hil serve` and `hil ui`: the operator's station from the command line.
 
 use std::io::Write;
+use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use hil::bench::BenchOptions;
 use hil::elf::Firmware;
 use hil::station::emulated::{EmulatedRobot, ServeOptions};
 use plant_model::RobotConfig;
 
-/// Serve the emulated robot's USART1 on a pty until the emulator stops.
-pub fn serve(firmware: Firmware, robot: &RobotConfig, seed: u64, speed: f64) -> Result<()> {
-    let options = ServeOptions {
-        speed,
-        bench: BenchOptions {
-            seed,
+use super::args::Common;
+
+#[derive(clap::Args)]
+pub struct Serve {
+    /// Expose USART1 on a pseudo-terminal (its path is printed).
+    #[arg(long, required = true)]
+    pty: bool,
+    /// Robot seconds per wall-clock second.
+    #[arg(long, default_value_t = 1.0)]
+    speed: f64,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Serve {
+    pub fn run(self) -> Result<()> {
+        let target = &self.common.target;
+        let options = ServeOptions {
+            speed: self.speed,
+            bench: target.bench(),
             ..Default::default()
-        },
-        ..Default::default()
-    };
+        };
+        let (robot, firmware) = target.load()?;
+        serve(firmware, &robot, options)
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Ui {
+    /// A serial port to offer first (a real robot, or `hil serve --pty`).
+    #[arg(long, value_name = "DEVICE")]
+    port: Option<String>,
+    /// Baud rate of the serial port (the HC-05's is 9600).
+    #[arg(long, default_value_t = 9600)]
+    baud: u32,
+    /// TCP port of the page on 127.0.0.1 (0: any free port).
+    #[arg(long, default_value_t = 8317)]
+    listen_port: u16,
+    /// Folder of the session files, one per robot.
+    #[arg(long, value_name = "DIR", default_value = "station-sessions")]
+    sessions: PathBuf,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Ui {
+    pub fn run(self) -> Result<()> {
+        let target = &self.common.target;
+        let options = hil::station::ui::UiOptions {
+            sessions_dir: self.sessions,
+            robots: hil::station::ui::robot_configs(
+                &hil::paths::workspace_root().join("fixtures/robots"),
+                target.robot.clone(),
+            ),
+            firmware: target.firmware()?,
+            port: self.port,
+            baud: self.baud,
+            seed: target.seed,
+        };
+        ui(options, self.listen_port)
+    }
+}
+
+/// Serve the emulated robot's USART1 on a pty until the emulator stops.
+fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Result<()> {
+    let speed = options.speed;
     let name = firmware.name();
     let emu =
         EmulatedRobot::spawn(firmware, robot, options).context("starting the emulated robot")?;
@@ -48,26 +104,7 @@ pub fn serve(firmware: Firmware, robot: &RobotConfig, seed: u64, speed: f64) -> 
 }
 
 /// Run the station's web page on loopback until interrupted.
-pub fn ui(
-    firmware: Firmware,
-    robot: Option<std::path::PathBuf>,
-    port: Option<String>,
-    baud: u32,
-    listen_port: u16,
-    sessions: std::path::PathBuf,
-    seed: u64,
-) -> Result<()> {
-    let options = hil::station::ui::UiOptions {
-        sessions_dir: sessions,
-        robots: hil::station::ui::robot_configs(
-            &hil::paths::workspace_root().join("fixtures/robots"),
-            robot,
-        ),
-        firmware,
-        port,
-        baud,
-        seed,
-    };
+fn ui(options: hil::station::ui::UiOptions, listen_port: u16) -> Result<()> {
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
     runtime.block_on(async {
         let server = hil::station::ui::serve(options, listen_port, |addr| {

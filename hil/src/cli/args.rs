@@ -1,0 +1,256 @@
+//! The argument groups several commands share, each parsed and checked once.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::ValueEnum;
+use hil::bench::BenchOptions;
+use hil::elf::Firmware;
+use hil::experiment::TestOptions;
+use plant_model::RobotConfig;
+
+/// A `clap::ValueEnum` for a library enum whose crate knows nothing of clap:
+/// the same variants, kebab-case on the command line, converted with `From`.
+macro_rules! value_enum {
+    ($(#[$doc:meta])* $name:ident => $target:path { $($variant:ident),+ $(,)? }) => {
+        $(#[$doc])*
+        #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum $name {
+            $($variant),+
+        }
+
+        impl From<$name> for $target {
+            fn from(v: $name) -> Self {
+                match v {
+                    $($name::$variant => <$target>::$variant),+
+                }
+            }
+        }
+    };
+}
+
+value_enum! {
+    /// `--method`: which calibration test.
+    MethodArg => hil::calibrate::Method { Umbmark, Triangle }
+}
+
+value_enum! {
+    /// `--frame`: the frame end points are recorded in.
+    FrameArg => calib::Frame { Default, ThesisGui }
+}
+
+value_enum! {
+    /// `--side`: which motor.
+    SideArg => plant_model::Side { Left, Right }
+}
+
+/// `--firmware`: which build of firmware/target to run.
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum Build {
+    Robust,
+    Thesis,
+}
+
+/// What to run: the firmware, the robot and the plant's seed.
+#[derive(clap::Args, Clone)]
+pub struct Target {
+    /// Which firmware build to run.
+    #[arg(long, value_enum, default_value_t = Build::Robust)]
+    pub firmware: Build,
+    /// Firmware ELF to run instead of the build in firmware/target.
+    #[arg(long, value_name = "FILE")]
+    pub elf: Option<PathBuf>,
+    /// Robot config TOML (default: fixtures/robots/henrytwo.toml, the best
+    /// estimate of the thesis robot).
+    #[arg(long, value_name = "FILE")]
+    pub robot: Option<PathBuf>,
+    /// Seed of the plant's random effects.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+impl Target {
+    /// The robot config asked for, else the best estimate of the thesis
+    /// robot, else the ideal one.
+    fn robot(&self) -> Result<RobotConfig> {
+        let path = self.robot.clone().unwrap_or_else(|| {
+            let best = hil::paths::robot_config("henrytwo");
+            if best.exists() {
+                best
+            } else {
+                hil::paths::robot_config("henrytwo-ideal")
+            }
+        });
+        RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
+    }
+
+    /// The ELF of `--elf`, else of the `--firmware` build.
+    pub fn firmware(&self) -> Result<Firmware> {
+        let path = match &self.elf {
+            Some(path) => path.clone(),
+            None => {
+                let build = self.firmware.to_possible_value().context("no such build")?;
+                hil::paths::firmware_elf(build.get_name())
+            }
+        };
+        Ok(Firmware::load(&path)?)
+    }
+
+    /// The robot and the firmware, read in that order.
+    pub fn load(&self) -> Result<(RobotConfig, Firmware)> {
+        let robot = self.robot()?;
+        Ok((robot, self.firmware()?))
+    }
+
+    /// Bench options with this seed.
+    pub fn bench(&self) -> BenchOptions {
+        BenchOptions {
+            seed: self.seed,
+            ..Default::default()
+        }
+    }
+}
+
+/// `--json` alone, for commands without host timing.
+#[derive(clap::Args, Clone, Copy)]
+pub struct Json {
+    /// Print one JSON object instead of the text summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl Json {
+    /// Print `value` as JSON, or its text rendering for people.
+    pub fn emit<T: serde::Serialize>(self, value: &T, text: impl FnOnce() -> String) -> Result<()> {
+        if self.json {
+            println!("{}", serde_json::to_string_pretty(value)?);
+        } else {
+            print!("{}", text());
+        }
+        Ok(())
+    }
+}
+
+/// What a simulation prints: JSON or text, with or without host timing.
+#[derive(clap::Args, Clone, Copy)]
+pub struct Print {
+    #[command(flatten)]
+    pub json: Json,
+    /// Leave host timing (wall time, real-time factor) out of the output,
+    /// so that two runs print byte-identical results.
+    #[arg(long)]
+    pub deterministic: bool,
+}
+
+impl Print {
+    /// A wall clock started now, which reads nothing under `--deterministic`.
+    pub fn wall_clock(self) -> hil::report::WallClock {
+        hil::report::WallClock::start(!self.deterministic)
+    }
+}
+
+/// The VCD trace of a run.
+#[derive(clap::Args, Clone)]
+pub struct Trace {
+    /// Write a VCD trace (encoder lines, bridge inputs, UART bytes, plant
+    /// pose) for GTKWave or Surfer.
+    #[arg(long, value_name = "FILE")]
+    pub vcd: Option<PathBuf>,
+    /// In the VCD, write the 31 kHz PWM waveforms edge by edge (large).
+    #[arg(long)]
+    pub vcd_pwm: bool,
+}
+
+/// The options every simulation takes.
+#[derive(clap::Args, Clone)]
+pub struct Common {
+    #[command(flatten)]
+    pub target: Target,
+    #[command(flatten)]
+    pub print: Print,
+    #[command(flatten)]
+    pub trace: Trace,
+}
+
+impl Common {
+    /// A test run as these options ask for it.
+    pub fn test_options(&self, leg_mm: f64) -> TestOptions {
+        TestOptions {
+            leg_mm,
+            bench: self.target.bench(),
+            record: self.trace.vcd.is_some(),
+            ..Default::default()
+        }
+    }
+}
+
+/// The leg of a test: the side of the square or triangle, the line's length.
+#[derive(clap::Args, Clone, Copy)]
+pub struct Leg {
+    /// Leg length in millimetres.
+    #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+    pub leg_mm: f64,
+}
+
+/// How the error model is solved.
+#[derive(clap::Args, Clone, Copy)]
+pub struct Solve {
+    /// Solve the error model exactly instead of with the published
+    /// first-order formulas (better when turns miss by degrees).
+    #[arg(long)]
+    pub exact: bool,
+}
+
+impl Solve {
+    /// The solution `--exact` selects.
+    pub fn solution(self) -> calib::Solution {
+        if self.exact {
+            calib::Solution::Exact
+        } else {
+            calib::Solution::FirstOrder
+        }
+    }
+}
+
+/// How end errors become a correction: the wheelbase of the firmware's
+/// odometry, which the correction scales, and how the model is solved.
+#[derive(clap::Args, Clone, Copy)]
+pub struct Correction {
+    /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`).
+    #[arg(long, default_value_t = 130.0)]
+    pub firmware_wheelbase_mm: f64,
+    #[command(flatten)]
+    pub solve: Solve,
+}
+
+/// Where result files go.
+#[derive(clap::Args, Clone)]
+pub struct OutDir {
+    /// Output folder for the report and the plot.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// A length in millimetres: positive, finite, at most 100 m.
+pub fn parse_length(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of millimetres"))?;
+    if !v.is_finite() || v <= 0.0 || v > 100_000.0 {
+        return Err(format!(
+            "{s} mm is out of range: give a length above 0 and up to 100000 mm"
+        ));
+    }
+    Ok(v)
+}
+
+/// A robot time in seconds: positive and finite.
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of seconds"))?;
+    if !v.is_finite() || v <= 0.0 {
+        return Err(format!("{s} s is out of range: give a positive robot time"));
+    }
+    Ok(v)
+}

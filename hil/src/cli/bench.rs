@@ -1,0 +1,122 @@
+//! The bench measuring itself and the firmware: `hil bench` (speed), `hil fuzz`
+//! (the parser against invalid frames) and `hil identify` (a motor from its
+//! step response).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use hil::elf::Firmware;
+use hil::experiment::Test;
+
+use super::args::{Common, Json, Leg, SideArg};
+
+#[derive(clap::Args)]
+pub struct Bench {
+    /// The test to time.
+    #[arg(long, default_value = "umbmark-cw")]
+    test: Test,
+    #[command(flatten)]
+    leg: Leg,
+    /// Skip the thesis build's runs (the slowest: busy loops; timed on
+    /// a square of legs of at most 500 mm).
+    #[arg(long)]
+    without_thesis: bool,
+    /// Skip raw simavr with its own PWM timers (slow, and not what the
+    /// bench is compared with).
+    #[arg(long)]
+    without_simavr_pwm: bool,
+    /// Time each run this many times, interleaved; the fastest counts.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
+    repeats: u32,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Bench {
+    pub fn run(self) -> Result<()> {
+        let (robot, firmware) = self.common.target.load()?;
+        let thesis_path = hil::paths::firmware_elf("thesis");
+        let thesis = if !self.without_thesis && thesis_path.exists() {
+            Some(Firmware::load(&thesis_path)?)
+        } else {
+            None
+        };
+        let spinner = indicatif::ProgressBar::new_spinner();
+        spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+        let report = hil::perf::measure(&hil::perf::BenchPlan {
+            robust: &firmware,
+            thesis: thesis.as_ref(),
+            robot: &robot,
+            test: self.test,
+            leg_mm: self.leg.leg_mm,
+            repeats: self.repeats as usize,
+            raw_with_pwm_timers: !self.without_simavr_pwm,
+            progress: &|what: &str| spinner.set_message(what.to_string()),
+        });
+        spinner.finish_and_clear();
+        let report = report?;
+        self.common.print.json.emit(&report, || report.render())
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Fuzz {
+    /// Number of invalid frames.
+    #[arg(long, default_value_t = 100_000)]
+    frames: usize,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Fuzz {
+    pub fn run(self) -> Result<()> {
+        let target = &self.common.target;
+        let (robot, firmware) = target.load()?;
+        let bar = indicatif::ProgressBar::new(self.frames as u64);
+        let report = hil::fuzz::fuzz(firmware, &robot, self.frames, target.seed, &|n| {
+            bar.set_position(n as u64)
+        })?;
+        bar.finish_and_clear();
+        if self.common.print.json.json {
+            println!("{}", serde_json::to_string_pretty(&report)?);
+        } else {
+            println!(
+                "{} invalid frames (seed {}) over {:.0} s of robot time: {} error replies, {} ok replies, {} resets, {}, state {}",
+                report.frames,
+                report.seed,
+                report.robot_time_s,
+                report.error_replies,
+                report.ok_replies,
+                report.resets,
+                if report.hung { "HUNG" } else { "still answering" },
+                if report.state_changed { "CHANGED" } else { "unchanged" }
+            );
+            for (m, n) in &report.by_mutation {
+                println!("  {m:?}: {n}");
+            }
+        }
+        if !report.passed() {
+            anyhow::bail!("the firmware did not survive the fuzzing unchanged");
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Identify {
+    /// Step-response CSV (e.g. fixtures/thesis-data/motor_step_right.csv).
+    csv: PathBuf,
+    /// Which motor, when the file name does not say.
+    #[arg(long, value_enum)]
+    side: Option<SideArg>,
+    #[command(flatten)]
+    json: Json,
+}
+
+impl Identify {
+    pub fn run(self) -> Result<()> {
+        let id = plant_model::identify::identify_csv(&self.csv, self.side.map(Into::into))
+            .with_context(|| format!("identifying {}", self.csv.display()))?;
+        self.json.emit(&id, || id.render())
+    }
+}

@@ -1,0 +1,346 @@
+//! The experiments over many runs: `hil umbmark`, `hil triangle`, `hil merge`
+//! and `hil calibrate`.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use hil::bench::BenchOptions;
+use hil::elf::Firmware;
+use hil::report::{json_with_pace, Pace, PaceFields};
+use hil::umbmark::{execute, IndexedRun, Partial, Plan, RunSpec, Shard};
+use plant_model::RobotConfig;
+
+use super::args::{Common, Correction, FrameArg, Json, Leg, MethodArg, OutDir, Solve};
+
+#[derive(clap::Args)]
+#[command(mut_arg("leg_mm", |a| a.help("Side of the square in millimetres")))]
+#[command(mut_arg("out", |a| a.help("Output folder for partial results, reports and plots")))]
+pub struct Umbmark {
+    #[command(flatten)]
+    leg: Leg,
+    #[command(flatten)]
+    correction: Correction,
+    /// Run only shard K of N (K/N) and write its partial result to --out.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<Shard>,
+    #[command(flatten)]
+    out: OutDir,
+    /// Parallel runs (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Umbmark {
+    pub fn run(self) -> Result<()> {
+        let Umbmark {
+            leg,
+            correction,
+            shard,
+            out,
+            jobs,
+            common,
+        } = self;
+        let (robot, firmware, plan) = setup(&common, leg)?;
+        let specs = match shard {
+            Some(s) => plan.shard(s),
+            None => plan.runs(),
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs.unwrap_or(0))
+            .build()
+            .context("starting the worker threads")?;
+        let clock = common.print.wall_clock();
+        let runs = pool.install(|| execute_with_progress(&firmware, &robot, &plan, &specs))?;
+        let wall_s = clock.stop();
+        let partial = Partial {
+            kind: if shard.is_some() {
+                "umbmark-partial".into()
+            } else {
+                "umbmark".into()
+            },
+            plan,
+            shard,
+            runs,
+        };
+        if let Some(s) = shard {
+            let dir = out.out.unwrap_or_else(|| PathBuf::from("."));
+            let path = hil::umbmark::partial_path(&dir, s);
+            hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
+            eprintln!("wrote {} ({} runs)", path.display(), partial.runs.len());
+            return Ok(());
+        }
+        let report = hil::umbmark::report(
+            &partial,
+            correction.firmware_wheelbase_mm,
+            correction.solve.solution(),
+        )?;
+        if let Some(dir) = &out.out {
+            for f in hil::umbmark::write_outputs(dir, &partial, &report)? {
+                eprintln!("wrote {}", f.display());
+            }
+        }
+        let pace = Pace::of(report.robot_time_s, wall_s);
+        if common.print.json.json {
+            let v = json_with_pace(&report, pace, PaceFields::RtfAndWall)?;
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            print!("{}", report.render());
+            if let Some(p) = pace {
+                println!(
+                    "  wall time {:.2} s on {} threads: {:.0}x real time",
+                    p.wall_s,
+                    pool.current_num_threads(),
+                    p.rtf()
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+#[command(mut_arg("leg_mm", |a| a.help("Length of the line and side of the triangle, mm")))]
+pub struct Triangle {
+    #[command(flatten)]
+    leg: Leg,
+    #[command(flatten)]
+    correction: Correction,
+    #[command(flatten)]
+    out: OutDir,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Triangle {
+    pub fn run(self) -> Result<()> {
+        let Triangle {
+            leg,
+            correction,
+            out,
+            common,
+        } = self;
+        let (robot, firmware, plan) = setup(&common, leg)?;
+        let plan = plan.triangle();
+        let clock = common.print.wall_clock();
+        let runs = execute_with_progress(&firmware, &robot, &plan, &plan.runs())?;
+        let wall_s = clock.stop();
+        let full = Partial {
+            kind: "triangle".into(),
+            plan,
+            shard: None,
+            runs,
+        };
+        let report = hil::umbmark::triangle_report(
+            &full,
+            correction.firmware_wheelbase_mm,
+            correction.solve.solution(),
+        )?;
+        if let Some(dir) = &out.out {
+            for f in hil::umbmark::write_triangle_outputs(dir, &full, &report)? {
+                eprintln!("wrote {}", f.display());
+            }
+        }
+        if common.print.json.json {
+            let pace = Pace::of(report.robot_time_s, wall_s);
+            let v = json_with_pace(&report, pace, PaceFields::Rtf)?;
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            print!("{}", report.render());
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Merge {
+    /// Partial result files (JSON).
+    #[arg(required = true)]
+    parts: Vec<PathBuf>,
+    #[command(flatten)]
+    correction: Correction,
+    #[command(flatten)]
+    json: Json,
+}
+
+impl Merge {
+    pub fn run(self) -> Result<()> {
+        let mut partials = Vec::new();
+        for p in &self.parts {
+            let text =
+                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            let part: Partial = serde_json::from_str(&text).with_context(|| {
+                format!(
+                    "{} is not a partial result of `hil umbmark --shard`",
+                    p.display()
+                )
+            })?;
+            partials.push(part);
+        }
+        let full = hil::umbmark::merge(partials)?;
+        let report = hil::umbmark::report(
+            &full,
+            self.correction.firmware_wheelbase_mm,
+            self.correction.solve.solution(),
+        )?;
+        self.json.emit(&report, || report.render())
+    }
+}
+
+#[derive(clap::Args)]
+#[command(mut_arg("leg_mm", |a| a.help("Side of the square for the rounds, mm")))]
+pub struct Calibrate {
+    /// End points in the layout of umbmark_endpoints.csv or triangular_endpoints.csv.
+    #[arg(long, value_name = "FILE")]
+    from_csv: Option<PathBuf>,
+    /// The experiment number in the table.
+    #[arg(long, default_value_t = 1)]
+    experiment: u32,
+    /// The test (default: umbmark, or with --from-csv from the table's header).
+    #[arg(long, value_enum)]
+    method: Option<MethodArg>,
+    /// The thesis GUI's formulas exactly as printed (its bugs included).
+    #[arg(long)]
+    thesis_compat: bool,
+    /// The frame the end points are recorded in: default (x along the
+    /// first leg, y to the left) or thesis-gui (x mirrored). Default:
+    /// default, or in --thesis-compat the GUI's.
+    #[arg(long, value_enum)]
+    frame: Option<FrameArg>,
+    /// Square side / line length, cm (default 200).
+    #[arg(long)]
+    side_cm: Option<f64>,
+    /// The wheelbase the robot's odometry used, mm.
+    #[arg(long)]
+    wheelbase_mm: Option<f64>,
+    #[command(flatten)]
+    solve: Solve,
+    /// Correction rounds on the emulated robot (without --from-csv).
+    #[arg(long, default_value_t = 2)]
+    rounds: usize,
+    #[command(flatten)]
+    leg: Leg,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Calibrate {
+    pub fn run(self) -> Result<()> {
+        match &self.from_csv {
+            Some(path) => self.measured(path),
+            None => self.rounds(),
+        }
+    }
+
+    /// Corrections from measured end points.
+    fn measured(&self, path: &std::path::Path) -> Result<()> {
+        let method = match self.method {
+            None => hil::calibrate::detect(path)?,
+            Some(m) => m.into(),
+        };
+        if let Some(l) = self.side_cm.filter(|l| !(l.is_finite() && *l > 0.0)) {
+            anyhow::bail!("--side-cm {l}: give a positive length in centimetres");
+        }
+        let opts = hil::calibrate::FromCsv {
+            experiment: self.experiment,
+            thesis_compat: self.thesis_compat,
+            frame: self.frame.map(Into::into),
+            side_cm: self.side_cm,
+            wheelbase_mm: self.wheelbase_mm,
+            solution: self.solve.solution(),
+        };
+        let result = hil::calibrate::from_csv(path, method, &opts)
+            .with_context(|| format!("{}", path.display()))?;
+        self.common.print.json.emit(&result, || result.render())
+    }
+
+    /// Calibration rounds on the emulated robot.
+    fn rounds(&self) -> Result<()> {
+        let (robot, firmware, plan) = setup(&self.common, self.leg)?;
+        let plan = match self.method {
+            None | Some(MethodArg::Umbmark) => plan,
+            Some(MethodArg::Triangle) => plan.triangle(),
+        };
+        let total = 2 * plan.runs_per_direction;
+        let bar = progress_bar((self.rounds + 1) * total, self.leg.leg_mm);
+        let results = hil::umbmark::calibrate(
+            &firmware,
+            &robot,
+            &plan,
+            self.wheelbase_mm.unwrap_or(130.0),
+            self.rounds,
+            self.solve.solution(),
+            &|round, n, _| {
+                bar.set_position((round * total + n) as u64);
+                bar.set_message(format!("round {round}"));
+            },
+        )?;
+        bar.finish_and_clear();
+        let table = hil::umbmark::table10(&results)?;
+        if self.common.print.json.json {
+            let v = serde_json::json!({ "rounds": results, "table10": table });
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            for r in &results {
+                println!(
+                    "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm -> {}",
+                    r.round,
+                    r.c_left,
+                    r.c_right,
+                    r.wheelbase_mm,
+                    r.report.summary()
+                );
+            }
+            let rows: Vec<(&str, calib::Round)> =
+                table.iter().map(|(n, r)| (n.as_str(), *r)).collect();
+            print!(
+                "{}",
+                calib::round::format_table10(&rows, calib::round::TableStyle::Rounded)
+            );
+        }
+        Ok(())
+    }
+}
+
+/// The robot and firmware `common` names, and the plan of a UMBmark on them.
+fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
+    let (robot, firmware) = common.target.load()?;
+    let plan = Plan::new(leg.leg_mm, common.target.seed, &robot, &firmware);
+    Ok((robot, firmware, plan))
+}
+
+/// Run `specs` of `plan` with a progress bar of runs and robot time.
+fn execute_with_progress(
+    firmware: &Firmware,
+    robot: &RobotConfig,
+    plan: &Plan,
+    specs: &[RunSpec],
+) -> Result<Vec<IndexedRun>> {
+    let bar = progress_bar(specs.len(), plan.leg_mm);
+    let runs = execute(
+        firmware,
+        robot,
+        plan,
+        specs,
+        BenchOptions::default(),
+        &|n, robot_s| {
+            bar.set_position(n as u64);
+            bar.set_message(format!("{robot_s:.0} s of robot time"));
+        },
+    )?;
+    bar.finish_and_clear();
+    Ok(runs)
+}
+
+fn progress_bar(runs: usize, leg_mm: f64) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(runs as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{{bar:30}} {{pos}}/{{len}} runs of a {:.0} mm square, {{msg}} [{{elapsed}}]",
+            leg_mm
+        ))
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}

@@ -1,0 +1,96 @@
+//! `hil faults`: the fault library (or a scenario's faults) against both builds.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use hil::elf::Firmware;
+use hil::faults::{FaultCase, FaultOptions};
+use rayon::prelude::*;
+
+use super::args::{parse_seconds, Common};
+
+#[derive(clap::Args)]
+pub struct Faults {
+    /// Run every fault of the library.
+    #[arg(long)]
+    all: bool,
+    /// Run only these faults (names as listed by `hil faults --list`).
+    #[arg(long = "fault", value_name = "NAME")]
+    only: Vec<String>,
+    /// List the faults and their expected reactions.
+    #[arg(long)]
+    list: bool,
+    /// Run the faults of a scenario file (TOML or JSON) against both
+    /// builds instead of the library (reported, not judged).
+    #[arg(long, value_name = "FILE")]
+    scenario: Option<PathBuf>,
+    /// Robot seconds without progress after which a busy firmware is
+    /// reported hung, with its PC and symbol.
+    #[arg(long, value_name = "S", default_value_t = hil::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
+    hang_after: f64,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Faults {
+    pub fn run(self) -> Result<()> {
+        let options = FaultOptions {
+            seed: self.common.target.seed,
+            hang_after_s: self.hang_after,
+        };
+        let library = match &self.scenario {
+            Some(path) => vec![hil::faults::from_scenario(
+                path,
+                &hil::scenario::Scenario::load(path)?,
+            )],
+            None => hil::faults::library(),
+        };
+        if self.list {
+            for f in &library {
+                println!(
+                    "{:<20} {}\n{:<20} expected: {}",
+                    f.name, f.what, "", f.expected
+                );
+            }
+            return Ok(());
+        }
+        let selected = self.select(library)?;
+        let (robot, robust) = self.common.target.load()?;
+        let thesis_path = hil::paths::firmware_elf("thesis");
+        let thesis = thesis_path
+            .exists()
+            .then(|| Firmware::load(&thesis_path))
+            .transpose()?;
+        let rows = selected
+            .par_iter()
+            .map(|case| hil::faults::run_fault(case, &robust, thesis.as_ref(), &robot, &options))
+            .collect::<Result<Vec<_>, _>>()?;
+        let failed = rows.iter().filter(|r| !r.pass).count();
+        self.common
+            .print
+            .json
+            .emit(&rows, || hil::faults::render(&rows))?;
+        if failed > 0 {
+            anyhow::bail!("{failed} fault reaction(s) not as expected");
+        }
+        Ok(())
+    }
+
+    /// The cases `--all`, `--fault` or `--scenario` ask for.
+    fn select(&self, library: Vec<FaultCase>) -> Result<Vec<FaultCase>> {
+        let only = &self.only;
+        if let Some(unknown) = only.iter().find(|o| library.iter().all(|f| f.name != *o)) {
+            anyhow::bail!("no fault is called {unknown:?}: `hil faults --list` names them");
+        }
+        let selected: Vec<_> = library
+            .into_iter()
+            .filter(|f| self.all || self.scenario.is_some() || only.iter().any(|o| o == f.name))
+            .collect();
+        if selected.is_empty() {
+            anyhow::bail!(
+                "no fault selected: give --all, --fault NAME (see --list) or --scenario FILE"
+            );
+        }
+        Ok(selected)
+    }
+}

@@ -1,0 +1,135 @@
+//! The `hil` command line: one module per family of commands, each command an
+//! argument struct with its `run`; the groups several share are in [`args`].
+
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+mod args;
+mod bench;
+mod experiments;
+mod faults;
+mod gap;
+mod run;
+mod station;
+mod timing;
+
+#[derive(Parser)]
+#[command(
+    name = "hil",
+    version,
+    about = "Hardware-in-the-loop bench for the Henrytwo robot firmware"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The reduced UMBmark: 5 runs clockwise, 5 counter-clockwise, and the correction.
+    Umbmark(experiments::Umbmark),
+    /// Measure the firmware's timing cycle-exactly over a run and check it
+    /// against the budgets; fails when one is exceeded.
+    Timing(timing::Timing),
+    /// Identify a motor from a step-response CSV (the thesis' layout):
+    /// 63.2 % fit, first order plus dead time, Ziegler-Nichols, ZOH model,
+    /// and which thesis figures it reproduces or contradicts.
+    Identify(bench::Identify),
+    /// Odometry corrections from measured end points (a real robot's, or the
+    /// thesis' tables), or calibration rounds on the emulated robot.
+    Calibrate(experiments::Calibrate),
+    /// Measure the bench's speed: real-time factors of the bench, raw simavr
+    /// on the same ELF, and the thesis build; the bench's overhead.
+    Bench(bench::Bench),
+    /// Inject each fault of the library into the robust and the thesis
+    /// builds; check the robust build's reaction against the expectation.
+    Faults(faults::Faults),
+    /// The Triangular Path test: 5 straight lines, 5 counter-clockwise
+    /// triangles, and the correction (Ed from the lines, Eb from the turns).
+    Triangle(experiments::Triangle),
+    /// Fuzz the robust firmware's UART parser in the emulator with seeded
+    /// invalid frames: no hang, no reset, no state change allowed.
+    Fuzz(bench::Fuzz),
+    /// Sim-to-real gap: where the real data and the model disagree, which
+    /// effect explains it, how far it shrinks on held-out data.
+    Gap(gap::Gap),
+    /// Combine the partial results of `hil umbmark --shard` into the full result.
+    Merge(experiments::Merge),
+    /// Run one of the firmware's tests and report each leg and turn.
+    Run(run::Run),
+    /// Run the straight-line test (command byte 4) and summarise it.
+    Line(run::Line),
+    /// Run the emulated robot paced to real time (or N x real time) and
+    /// expose its Bluetooth UART (USART1) as a pseudo-terminal, for any
+    /// serial client.
+    Serve(station::Serve),
+    /// The operator's station: a web page on 127.0.0.1 to pick a robot
+    /// (emulated or on a serial port), run tests, watch telemetry, enter end
+    /// points and send the correction.
+    Ui(station::Ui),
+}
+
+impl Command {
+    fn run(self) -> Result<()> {
+        match self {
+            Command::Umbmark(c) => c.run(),
+            Command::Timing(c) => c.run(),
+            Command::Identify(c) => c.run(),
+            Command::Calibrate(c) => c.run(),
+            Command::Bench(c) => c.run(),
+            Command::Faults(c) => c.run(),
+            Command::Triangle(c) => c.run(),
+            Command::Fuzz(c) => c.run(),
+            Command::Gap(c) => c.run(),
+            Command::Merge(c) => c.run(),
+            Command::Run(c) => c.run(),
+            Command::Line(c) => c.run(),
+            Command::Serve(c) => c.run(),
+            Command::Ui(c) => c.run(),
+        }
+    }
+}
+
+/// Parse the command line and run it: exit code 0 on success, 1 when the
+/// command fails, 2 for bad arguments; every error is one line on stderr.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
+    match cli.command.run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Help and version go to stdout as clap writes them; a usage error is one
+/// line: what is wrong and, for a value outside a fixed set, the set.
+/// `--help` says the rest.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    let text = e.render().to_string();
+    let first = text.lines().next().unwrap_or("error: bad arguments");
+    let valid = match (e.kind(), e.get(ContextKind::ValidValue)) {
+        (ErrorKind::InvalidValue, Some(ContextValue::Strings(values))) => {
+            format!(": use {}", values.join(", "))
+        }
+        _ => String::new(),
+    };
+    eprintln!("{first}{valid} (see `hil --help`)");
+    ExitCode::from(2)
+}

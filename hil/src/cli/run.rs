@@ -1,0 +1,135 @@
+//! Single runs: `hil run` (one test, per leg and turn) and `hil line`.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use hil::bench::BenchOptions;
+use hil::experiment::{run_test, Test, TestRun};
+use hil::line::{run_line, LineOptions};
+use hil::report::{json_with_pace, Pace, PaceFields};
+
+use super::args::{parse_length, parse_seconds, Common, Leg};
+
+#[derive(clap::Args)]
+pub struct Run {
+    /// umbmark-cw, umbmark-ccw, line or triangle.
+    test: Test,
+    #[command(flatten)]
+    leg: Leg,
+    /// Inject the faults of a scenario file (TOML or JSON).
+    #[arg(long, value_name = "FILE")]
+    scenario: Option<PathBuf>,
+    /// Stop and report a hang (PC and symbol) after this many robot
+    /// seconds without progress while the firmware is busy in the test.
+    #[arg(long, value_name = "S", value_parser = parse_seconds)]
+    hang_after: Option<f64>,
+    /// Serve gdb's remote protocol on 127.0.0.1:PORT, the run paused at
+    /// reset until the debugger continues (`target remote :PORT`).
+    #[arg(long, value_name = "PORT")]
+    gdb: Option<u16>,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Run {
+    pub fn run(self) -> Result<()> {
+        let Run {
+            test,
+            leg,
+            scenario,
+            hang_after,
+            gdb,
+            common,
+        } = self;
+        let (robot, firmware) = common.target.load()?;
+        let mut opts = common.test_options(leg.leg_mm);
+        opts.hang_after_s = hang_after;
+        if let Some(path) = &scenario {
+            let s = hil::scenario::Scenario::load(path)?;
+            opts.faults = s.scheduled();
+            opts.framed = s.framed;
+        }
+        let clock = common.print.wall_clock();
+        let run = match gdb {
+            Some(port) => {
+                let server = hil::gdb::GdbServer::bind(port)?;
+                eprintln!(
+                    "gdb: paused at reset; connect with avr-gdb {} -ex 'target remote {}'",
+                    firmware.path.display(),
+                    server.local_addr()?
+                );
+                match hil::experiment::run_test_debugged(firmware, &robot, test, &opts, server)? {
+                    Some(run) => run,
+                    None => {
+                        eprintln!("gdb: the debugger killed the run");
+                        return Ok(());
+                    }
+                }
+            }
+            None => run_test(firmware, &robot, test, &opts)?,
+        };
+        if let Some(path) = &common.trace.vcd {
+            write_vcd(path, &run, common.trace.vcd_pwm)?;
+        }
+        let pace = Pace::of(run.robot_time_s, clock.stop());
+        if common.print.json.json {
+            let v = json_with_pace(&run, pace, PaceFields::Rtf)?;
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            print!("{}", hil::report::render_run(&run));
+            if let Some(p) = pace {
+                println!("  real-time x    {:.1}", p.rtf());
+            }
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Line {
+    /// Length of the line in millimetres.
+    #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+    length_mm: f64,
+    /// Write the plant trace (10 ms samples) as CSV.
+    #[arg(long, value_name = "FILE")]
+    trace_csv: Option<PathBuf>,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Line {
+    pub fn run(self) -> Result<()> {
+        let target = &self.common.target;
+        let (robot, firmware) = target.load()?;
+        let opts = LineOptions {
+            length_mm: self.length_mm,
+            bench: target.bench(),
+        };
+        let clock = self.common.print.wall_clock();
+        let mut run = run_line(firmware, &robot, &opts)?;
+        run.summary.rtf = Pace::of(run.summary.robot_time_s, clock.stop()).map(|p| p.rtf());
+        if let Some(path) = &self.trace_csv {
+            hil::output::write_atomic(path, hil::report::trace_csv(&run.trace).as_bytes())
+                .with_context(|| format!("writing the trace to {}", path.display()))?;
+        }
+        self.common
+            .print
+            .json
+            .emit(&run.summary, || run.summary.render())
+    }
+}
+
+fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool) -> Result<()> {
+    let text = hil::vcd::render(&hil::vcd::VcdInput {
+        clock_hz: BenchOptions::default().clock.hz(),
+        edges: &run.edges,
+        drive: &run.drive,
+        uart: &run.uart,
+        samples: &run.trace,
+        pwm_edges,
+    });
+    hil::output::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))?;
+    eprintln!("wrote {}", path.display());
+    Ok(())
+}

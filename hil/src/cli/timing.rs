@@ -1,0 +1,90 @@
+//! `hil timing`: the firmware's control loop timed cycle-exactly against its budgets.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use hil::bench::BenchOptions;
+use hil::experiment::{run_test_observed, Test};
+use hil::timing::{Budgets, TimingProbe};
+
+use super::args::{Common, Leg};
+
+#[derive(clap::Args)]
+pub struct Timing {
+    /// The test to run while measuring.
+    #[arg(long, default_value = "line")]
+    test: Test,
+    #[command(flatten)]
+    leg: Leg,
+    /// Budgets (TOML; default: fixtures/timing-budgets.toml).
+    #[arg(long, value_name = "FILE")]
+    budgets: Option<PathBuf>,
+    /// The control function to time.
+    #[arg(long, default_value = "ht_control_tick")]
+    function: String,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl Timing {
+    pub fn run(self) -> Result<()> {
+        let Timing {
+            test,
+            leg,
+            budgets,
+            function,
+            common,
+        } = self;
+        let (robot, firmware) = common.target.load()?;
+        let budgets_path = budgets
+            .unwrap_or_else(|| hil::paths::workspace_root().join("fixtures/timing-budgets.toml"));
+        let budgets = Budgets::load(&budgets_path)?;
+        let clock = BenchOptions::default().clock;
+        let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
+        let probe = TimingProbe::new(&firmware, &function, period)?;
+        let opts = common.test_options(leg.leg_mm);
+        let (run, observer) =
+            run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
+        let probe = observer
+            .and_then(|o| o.into_any().downcast::<TimingProbe>().ok())
+            .context("the timing probe was lost")?;
+        let report = probe.report(&firmware, &function, clock.hz());
+        let rows = report.check(&budgets);
+        let failed: Vec<&str> = rows
+            .iter()
+            .filter(|r| !r.pass)
+            .map(|r| r.what.as_str())
+            .collect();
+        if common.print.json.json {
+            let v = serde_json::json!({
+                "test": test.name(),
+                "completed": run.completed,
+                "report": report,
+                "budgets": rows,
+                "pass": failed.is_empty(),
+            });
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            println!(
+                "timing of {} over {} ({}):",
+                firmware.path.display(),
+                test.name(),
+                if run.completed {
+                    "completed"
+                } else {
+                    "did not complete"
+                }
+            );
+            print!("{}", report.render(&rows));
+        }
+        if !failed.is_empty() {
+            anyhow::bail!(
+                "{} timing budget(s) exceeded: {} (budgets in {})",
+                failed.len(),
+                failed.join("; "),
+                budgets_path.display()
+            );
+        }
+        Ok(())
+    }
+}
