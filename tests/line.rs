@@ -136,9 +136,9 @@ fn line_summary_snapshot() {
         "distance_firmware_mm": round(s.distance_firmware_mm, 1),
         "distance_plant_mm": round(s.distance_plant_mm, 1),
         "pose": {
-            "x_mm": round(s.pose.x_mm, 0),
-            "y_mm": round(s.pose.y_mm, 0),
-            "theta_deg": round(s.pose.theta_rad.to_degrees(), 1),
+            "x_mm": round(s.pose.x().0, 0),
+            "y_mm": round(s.pose.y().0, 0),
+            "theta_deg": round(s.pose.theta().0.to_degrees(), 1),
         },
         "left": {"edges": s.wheels.left.plant_edges, "count": s.wheels.left.firmware_count, "stop": s.wheels.left.stop_count},
         "right": {"edges": s.wheels.right.plant_edges, "count": s.wheels.right.firmware_count, "stop": s.wheels.right.stop_count},

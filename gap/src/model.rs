@@ -7,26 +7,40 @@
 //! ([`crate::KinematicModel`]) implements it here; the full bench will implement it in its
 //! own crate.
 
+use henrytwo_protocol::Test;
 use serde::{Deserialize, Serialize};
 
 use crate::effects::{EffectParams, ParamSpec, Unsupported, ALL_EFFECTS};
 use crate::series::Telemetry;
 
-/// The test a run executed. Coordinates of the answer: [`calib::Frame::Default`] (origin at
-/// the start, x along the first leg, y to the left).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+/// The test a run executed: one of the firmware's tests ([`Test`], the protocol's, the one
+/// definition firmware and hosts share), or the Triangular Path driven clockwise, which a real
+/// robot's table may hold but the firmware has no selector for. Coordinates of the answer:
+/// [`calib::Frame::Default`] (origin at the start, x along the first leg, y to the left).
+///
+/// Written in manifests and reports by its snake_case name ([`TestKind::as_str`]); the kinds
+/// have associated constants named as the tests are, usable in patterns (`TestKind::Line`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum TestKind {
-    /// UMBmark square, clockwise: 4 × (leg, spin right by the UMBmark angle).
-    UmbmarkCw,
-    /// UMBmark square, counter-clockwise: 4 × (leg, spin left).
-    UmbmarkCcw,
-    /// One straight leg; the end error is measured from the commanded end (L, 0).
-    Line,
-    /// Triangle, counter-clockwise: 3 × (leg, spin left by the triangle angle).
-    TriangleCcw,
+    /// A test the firmware runs: the UMBmark squares (4 × (leg, spin by the UMBmark angle),
+    /// right or left), the line (one straight leg, the end error measured from the commanded
+    /// end (L, 0)), the counter-clockwise triangle (3 × (leg, spin left by the triangle
+    /// angle)).
+    Firmware(Test),
     /// Triangle, clockwise: 3 × (leg, spin right by the triangle angle).
     TriangleCw,
+}
+
+#[allow(non_upper_case_globals)]
+impl TestKind {
+    /// UMBmark square, clockwise.
+    pub const UmbmarkCw: TestKind = TestKind::Firmware(Test::UmbmarkCw);
+    /// UMBmark square, counter-clockwise.
+    pub const UmbmarkCcw: TestKind = TestKind::Firmware(Test::UmbmarkCcw);
+    /// One straight leg.
+    pub const Line: TestKind = TestKind::Firmware(Test::Line);
+    /// Triangle, counter-clockwise: the firmware's triangle.
+    pub const TriangleCcw: TestKind = TestKind::Firmware(Test::Triangle);
 }
 
 impl TestKind {
@@ -40,40 +54,56 @@ impl TestKind {
     ];
 
     /// The snake_case name used in manifests and reports.
-    pub fn as_str(self) -> &'static str {
+    pub const fn as_str(self) -> &'static str {
         match self {
-            TestKind::UmbmarkCw => "umbmark_cw",
-            TestKind::UmbmarkCcw => "umbmark_ccw",
-            TestKind::Line => "line",
-            TestKind::TriangleCcw => "triangle_ccw",
+            TestKind::Firmware(Test::UmbmarkCw) => "umbmark_cw",
+            TestKind::Firmware(Test::UmbmarkCcw) => "umbmark_ccw",
+            TestKind::Firmware(Test::Line) => "line",
+            TestKind::Firmware(Test::Triangle) => "triangle_ccw",
             TestKind::TriangleCw => "triangle_cw",
+        }
+    }
+
+    /// The names of [`TestKind::ALL`], in order.
+    const NAMES: [&'static str; 5] = {
+        let mut names = [""; 5];
+        let mut i = 0;
+        while i < names.len() {
+            names[i] = TestKind::ALL[i].as_str();
+            i += 1;
+        }
+        names
+    };
+
+    /// The path driven: the firmware's test, or for the clockwise triangle the firmware's
+    /// triangle it mirrors.
+    fn path(self) -> Test {
+        match self {
+            TestKind::Firmware(t) => t,
+            TestKind::TriangleCw => Test::Triangle,
         }
     }
 
     /// Number of legs (each followed by a turn, except for the line).
     pub fn legs(self) -> usize {
-        match self {
-            TestKind::UmbmarkCw | TestKind::UmbmarkCcw => 4,
-            TestKind::Line => 1,
-            TestKind::TriangleCcw | TestKind::TriangleCw => 3,
-        }
+        self.path().legs()
     }
 
     /// +1 for left (counter-clockwise) turns, −1 for right turns, 0 without turns.
     pub fn turn_sign(self) -> f64 {
         match self {
-            TestKind::UmbmarkCcw | TestKind::TriangleCcw => 1.0,
-            TestKind::UmbmarkCw | TestKind::TriangleCw => -1.0,
-            TestKind::Line => 0.0,
+            TestKind::TriangleCw => -1.0,
+            TestKind::Firmware(t) if t.turns() == 0 => 0.0,
+            TestKind::Firmware(t) => t.turn_deg().signum(),
         }
     }
 
     /// The commanded turn of each corner for `firmware`, degrees (0 for the line).
     pub fn turn_deg(self, firmware: &Firmware) -> f64 {
-        match self {
-            TestKind::UmbmarkCw | TestKind::UmbmarkCcw => firmware.turn_umbmark_deg,
-            TestKind::TriangleCcw | TestKind::TriangleCw => firmware.turn_triangle_deg,
-            TestKind::Line => 0.0,
+        match self.path() {
+            Test::UmbmarkCw | Test::UmbmarkCcw => firmware.turn_umbmark_deg,
+            Test::Triangle => firmware.turn_triangle_deg,
+            Test::Line => 0.0,
         }
     }
 }
@@ -81,6 +111,31 @@ impl TestKind {
 impl std::fmt::Display for TestKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())
+    }
+}
+
+impl Serialize for TestKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for TestKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Name;
+        impl serde::de::Visitor<'_> for Name {
+            type Value = TestKind;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("variant identifier")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<TestKind, E> {
+                TestKind::ALL
+                    .into_iter()
+                    .find(|k| k.as_str() == v)
+                    .ok_or_else(|| E::unknown_variant(v, &TestKind::NAMES))
+            }
+        }
+        d.deserialize_str(Name)
     }
 }
 
@@ -303,4 +358,37 @@ pub fn check_params(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Manifests and reports name the kinds in snake_case, the clockwise triangle included;
+    /// the shapes are the firmware's tests', mirrored for that triangle; groups sort in the
+    /// order of [`TestKind::ALL`].
+    #[test]
+    fn each_kind_keeps_its_name_shape_and_order() {
+        let table = [
+            (TestKind::UmbmarkCw, "umbmark_cw", 4, -1.0),
+            (TestKind::UmbmarkCcw, "umbmark_ccw", 4, 1.0),
+            (TestKind::Line, "line", 1, 0.0),
+            (TestKind::TriangleCcw, "triangle_ccw", 3, 1.0),
+            (TestKind::TriangleCw, "triangle_cw", 3, -1.0),
+        ];
+        for (i, (kind, name, legs, sign)) in table.into_iter().enumerate() {
+            assert_eq!(kind, TestKind::ALL[i]);
+            assert_eq!(kind.to_string(), name);
+            assert_eq!(serde_json::to_string(&kind).unwrap(), format!("\"{name}\""));
+            let back: TestKind = serde_json::from_str(&format!("\"{name}\"")).unwrap();
+            assert_eq!(back, kind);
+            assert_eq!((kind.legs(), kind.turn_sign()), (legs, sign), "{name}");
+        }
+        assert!(TestKind::ALL.windows(2).all(|w| w[0] < w[1]));
+        let err = serde_json::from_str::<TestKind>("\"triangle\"").unwrap_err();
+        assert!(
+            err.to_string().contains("unknown variant `triangle`"),
+            "{err}"
+        );
+    }
 }

@@ -16,73 +16,9 @@ use crate::bench::{
 use crate::elf::Firmware;
 use crate::line::ready_bench;
 
-/// The tests the firmware's selector knows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Test {
-    UmbmarkCw,
-    UmbmarkCcw,
-    Line,
-    Triangle,
-}
-
-impl Test {
-    pub const ALL: [Test; 4] = [
-        Test::UmbmarkCw,
-        Test::UmbmarkCcw,
-        Test::Line,
-        Test::Triangle,
-    ];
-
-    /// The thesis' selector byte on USART1.
-    pub fn command_byte(self) -> u8 {
-        match self {
-            Test::UmbmarkCw => 2,
-            Test::UmbmarkCcw => 3,
-            Test::Line => 4,
-            Test::Triangle => 5,
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Test::UmbmarkCw => "umbmark-cw",
-            Test::UmbmarkCcw => "umbmark-ccw",
-            Test::Line => "line",
-            Test::Triangle => "triangle",
-        }
-    }
-
-    /// (legs, turns, turn angle in degrees, positive counter-clockwise).
-    pub fn shape(self) -> (usize, usize, f64) {
-        match self {
-            Test::UmbmarkCw => (4, 4, -90.0),
-            Test::UmbmarkCcw => (4, 4, 90.0),
-            Test::Line => (1, 0, 0.0),
-            Test::Triangle => (3, 3, 120.0),
-        }
-    }
-
-    /// Where an ideal robot ends, in the start frame (mm).
-    pub fn ideal_end(self, leg_mm: f64) -> (f64, f64) {
-        match self {
-            Test::Line => (leg_mm, 0.0),
-            _ => (0.0, 0.0),
-        }
-    }
-}
-
-impl std::str::FromStr for Test {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        Test::ALL
-            .into_iter()
-            .find(|t| t.name() == s)
-            .ok_or_else(|| {
-                format!("unknown test {s:?}: use umbmark-cw, umbmark-ccw, line or triangle")
-            })
-    }
-}
+/// The tests the firmware's selector knows: the protocol's own, shared with
+/// the firmware (their names, selector bytes and shapes are defined there).
+pub use henrytwo_protocol::Test;
 
 #[derive(Debug, Clone)]
 pub struct TestOptions {
@@ -280,11 +216,11 @@ fn start(bench: &mut Bench, test: Test, opts: &TestOptions) {
         bench.start_recording();
     }
     if opts.framed || !opts.params.is_empty() {
-        use crate::link::{frame, proto_test, Command};
+        use crate::link::{frame, Command};
         for (p, v) in &opts.params {
             bench.send(1, &frame(&Command::SetParam(*p, *v)));
         }
-        bench.send(1, &frame(&Command::StartTest(proto_test(test))));
+        bench.send(1, &frame(&Command::StartTest(test)));
     } else {
         bench.send(1, &[test.command_byte()]);
     }

@@ -1,7 +1,7 @@
 //! The straight-line test: command byte 4 on the Bluetooth UART, the robot
 //! drives until its own odometry says `length_mm`, brakes and stops.
 
-use plant_model::{RobotConfig, Side};
+use plant_model::{Pose, RobotConfig, Side, World};
 
 use crate::bench::{Bench, BenchError, BenchOptions, Cutoff, PinStats, Sample};
 use crate::elf::Firmware;
@@ -17,13 +17,6 @@ pub const CMD_LINE: u8 = 4;
 pub struct LineOptions {
     pub length_mm: f64,
     pub bench: BenchOptions,
-}
-
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Pose {
-    pub x_mm: f64,
-    pub y_mm: f64,
-    pub theta_rad: f64,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -79,13 +72,26 @@ pub struct LineSummary {
     pub distance_plant_mm: f64,
     /// Mean wheel arc at the end, after braking and coasting.
     pub distance_plant_final_mm: f64,
-    pub pose: Pose,
+    /// Where the robot ended, by the plant.
+    #[serde(serialize_with = "pose_mm")]
+    pub pose: Pose<World>,
     pub wheels: Wheels,
     pub pwm: Vec<PwmPin>,
     pub cycles: u64,
     pub awake_fraction: f64,
     pub cutoff_cycle: Option<u64>,
     pub firmware_log: String,
+}
+
+/// A pose as the line's JSON has always written it: `x_mm`, `y_mm`,
+/// `theta_rad` (the plant's pose has no serde of its own).
+fn pose_mm<S: serde::Serializer>(pose: &Pose<World>, s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let mut st = s.serialize_struct("Pose", 3)?;
+    st.serialize_field("x_mm", &pose.x().0)?;
+    st.serialize_field("y_mm", &pose.y().0)?;
+    st.serialize_field("theta_rad", &pose.theta().0)?;
+    st.end()
 }
 
 /// Everything a line run produced.
@@ -198,11 +204,7 @@ pub fn run_line(
         distance_firmware_mm: (stop_left as f64 + stop_right as f64) / 2.0 * MM_PER_COUNT,
         distance_plant_mm,
         distance_plant_final_mm: (wheels.left.distance_mm + wheels.right.distance_mm) / 2.0,
-        pose: Pose {
-            x_mm: pose.x().0,
-            y_mm: pose.y().0,
-            theta_rad: pose.theta().0,
-        },
+        pose,
         wheels,
         pwm: pins
             .iter()
@@ -253,10 +255,10 @@ impl LineSummary {
         let _ = writeln!(
             s,
             "  final pose     x {:.1} mm, y {:.1} mm, theta {:.4} rad ({:.2} deg)",
-            self.pose.x_mm,
-            self.pose.y_mm,
-            self.pose.theta_rad,
-            self.pose.theta_rad.to_degrees()
+            self.pose.x().0,
+            self.pose.y().0,
+            self.pose.theta().0,
+            self.pose.theta().0.to_degrees()
         );
         for (name, w) in [("left", &self.wheels.left), ("right", &self.wheels.right)] {
             let _ = writeln!(

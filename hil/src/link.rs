@@ -4,10 +4,8 @@
 
 use henrytwo_protocol::frame::{encode_frame, Event, Parser, MAX_FRAME, MAX_PAYLOAD};
 pub use henrytwo_protocol::message::{Command, Test as ProtoTest};
-use henrytwo_protocol::message::{Reply, Status};
+use henrytwo_protocol::message::{Reply, Status, Test};
 pub use henrytwo_protocol::param::Param;
-
-use crate::experiment::Test;
 
 /// The frame carrying `cmd`.
 pub fn frame(cmd: &Command) -> Vec<u8> {
@@ -20,14 +18,10 @@ pub fn frame(cmd: &Command) -> Vec<u8> {
     out[..len].to_vec()
 }
 
-/// The protocol's test for one of the bench's tests.
+/// The protocol's test for one of the bench's tests: the same one (the bench
+/// runs the protocol's [`Test`]); kept for callers that still convert.
 pub fn proto_test(test: Test) -> ProtoTest {
-    match test {
-        Test::UmbmarkCw => ProtoTest::UmbmarkCw,
-        Test::UmbmarkCcw => ProtoTest::UmbmarkCcw,
-        Test::Line => ProtoTest::Line,
-        Test::Triangle => ProtoTest::Triangle,
-    }
+    test
 }
 
 /// A reply or notification the firmware sent, owned.
@@ -75,5 +69,23 @@ mod tests {
             }
         }
         assert_eq!(got, Some(Command::StartTest(ProtoTest::Line)));
+    }
+
+    /// Scenario files, plans and JSON outputs write a test by the name the
+    /// command line takes: the protocol's serde names must stay those.
+    #[test]
+    fn a_test_is_written_and_parsed_by_its_name() {
+        let names = ["umbmark-cw", "umbmark-ccw", "line", "triangle"];
+        for (test, name) in Test::ALL.into_iter().zip(names) {
+            assert_eq!(test.name(), name);
+            assert_eq!(serde_json::to_string(&test).unwrap(), format!("\"{name}\""));
+            assert_eq!(
+                serde_json::from_str::<Test>(&format!("\"{name}\"")).unwrap(),
+                test
+            );
+            assert_eq!(name.parse::<Test>(), Ok(test));
+            assert_eq!(Test::from_u8(test.command_byte()), Some(test));
+        }
+        assert!("umbmark_cw".parse::<Test>().is_err());
     }
 }

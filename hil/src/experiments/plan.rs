@@ -1,0 +1,131 @@
+//! What an experiment runs: the plan (everything that changes a result), every
+//! run's index, test and seed, and which of them one shard runs.
+
+use plant_model::RobotConfig;
+
+use super::ExperimentError;
+use crate::elf::Firmware;
+use crate::experiment::Test;
+
+/// Which experiment a plan runs: a set of the firmware's tests, run in two
+/// groups.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Experiment {
+    /// UMBmark: CW squares, then CCW squares.
+    #[default]
+    Umbmark,
+    /// Triangular Path: straight lines, then counter-clockwise triangles.
+    Triangle,
+}
+
+impl Experiment {
+    /// The `kind` of its run sets.
+    pub fn kind(self) -> &'static str {
+        match self {
+            Experiment::Umbmark => "umbmark",
+            Experiment::Triangle => "triangle",
+        }
+    }
+
+    /// The test of each group: the first (CW squares, or the lines), then
+    /// the second (CCW squares, or the triangles).
+    pub fn tests(self) -> [Test; 2] {
+        match self {
+            Experiment::Umbmark => [Test::UmbmarkCw, Test::UmbmarkCcw],
+            Experiment::Triangle => [Test::Line, Test::Triangle],
+        }
+    }
+}
+
+/// What to run. Everything that changes a result is in here.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Plan {
+    #[serde(default)]
+    pub experiment: Experiment,
+    pub leg_mm: f64,
+    pub runs_per_direction: usize,
+    /// Run `i` uses seed `seed + i`.
+    pub seed: u64,
+    /// The robot config, by content (a file name would not pin it).
+    pub robot: String,
+    /// The firmware, by name and content hash.
+    pub firmware: String,
+    pub firmware_hash: String,
+    /// Firmware parameters set over the protocol before each run: (id, value)
+    /// (see protocol/README.md: 1 cL, 2 cR, 3 wheelbase mm, ...).
+    #[serde(default)]
+    pub params: Vec<(u8, f32)>,
+}
+
+/// One run of a plan: its index, direction and seed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct RunSpec {
+    pub index: usize,
+    pub test: Test,
+    pub seed: u64,
+}
+
+/// K of N, 1-based: runs whose index i has i % N == K - 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shard {
+    pub k: usize,
+    pub n: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = ExperimentError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || ExperimentError::BadShard(s.into());
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let k: usize = k.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        if n == 0 || k == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+impl Plan {
+    pub fn new(leg_mm: f64, seed: u64, robot: &RobotConfig, firmware: &Firmware) -> Self {
+        let name = firmware.name();
+        Self {
+            experiment: Experiment::Umbmark,
+            leg_mm,
+            runs_per_direction: 5,
+            seed,
+            robot: toml::to_string(robot).unwrap_or_default(),
+            firmware: name,
+            firmware_hash: firmware.content_hash(),
+            params: Vec::new(),
+        }
+    }
+
+    /// The same plan for the Triangular Path.
+    pub fn triangle(mut self) -> Self {
+        self.experiment = Experiment::Triangle;
+        self
+    }
+
+    /// Every run: the first group (CW, or the lines), then the second.
+    pub fn runs(&self) -> Vec<RunSpec> {
+        let n = self.runs_per_direction;
+        let [first, second] = self.experiment.tests();
+        (0..2 * n)
+            .map(|i| RunSpec {
+                index: i,
+                test: if i < n { first } else { second },
+                seed: self.seed.wrapping_add(i as u64),
+            })
+            .collect()
+    }
+
+    /// The runs of one shard.
+    pub fn shard(&self, shard: Shard) -> Vec<RunSpec> {
+        self.runs()
+            .into_iter()
+            .filter(|r| r.index % shard.n == shard.k - 1)
+            .collect()
+    }
+}
