@@ -3,6 +3,7 @@
 
 use thiserror::Error;
 
+use super::faults::Action;
 use crate::elf::{ElfError, Firmware, Location};
 use crate::pwm::PwmError;
 use crate::sim::SimError;
@@ -23,6 +24,15 @@ pub enum BenchError {
         timer: u8,
         wgm: u8,
         cs: u8,
+        at: Location,
+    },
+    /// A scheduled action the plant refused (a slip outside [0, 1], a
+    /// negative battery voltage, ...): it was not applied, and the run ends
+    /// rather than go on without the fault it was asked for.
+    #[error("the plant refused the scheduled action {action:?}: {error} ({at})")]
+    ActionRefused {
+        action: Box<Action>,
+        error: Box<plant_model::Error>,
         at: Location,
     },
     #[error("the firmware crashed {at}")]
@@ -50,6 +60,12 @@ pub(super) enum PendingError {
         cycle: u64,
         pc: u32,
     },
+    Refused {
+        action: Action,
+        error: plant_model::Error,
+        cycle: u64,
+        pc: u32,
+    },
 }
 
 impl PendingError {
@@ -71,6 +87,16 @@ impl PendingError {
                 timer,
                 wgm,
                 cs,
+                at: at(cycle, pc),
+            },
+            PendingError::Refused {
+                action,
+                error,
+                cycle,
+                pc,
+            } => BenchError::ActionRefused {
+                action: Box::new(action),
+                error: Box::new(error),
                 at: at(cycle, pc),
             },
         }

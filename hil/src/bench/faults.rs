@@ -2,11 +2,16 @@
 //! at a [`Trigger`] (a robot time, the n-th turn or leg, the n-th byte from
 //! the host), as scenario files and the fault library schedule them
 //! ([`ScheduledFault`]), and the scheduler that applies them at their cycle.
+//!
+//! An action the plant refuses (a slip outside [0, 1], ...) is not applied
+//! and not logged as applied: the run ends with
+//! [`BenchError::ActionRefused`](super::BenchError::ActionRefused).
 
 use plant_model::{Seconds, Side};
 use serde::{Deserialize, Serialize};
 
 use super::core::{BenchCore, NEVER};
+use super::error::PendingError;
 use super::recorder::Motion;
 use crate::inject::{Channel, EncoderFault, LinkFault};
 use crate::sim::Core;
@@ -236,11 +241,18 @@ impl BenchCore {
         self.apply_due_actions(core, when);
     }
 
-    /// Log `action` as applied at `cycle`, and apply it.
+    /// Apply `action` at `cycle` and log it; an action the plant refuses is
+    /// not logged but left for the run loop to report.
     fn apply_action(&mut self, core: &mut Core, cycle: u64, action: Action) {
-        self.faults.applied.push((cycle, action.clone()));
-        // (The plant's refusals are not reported yet.)
-        let _ = self.act(core, cycle, &action);
+        match self.act(core, cycle, &action) {
+            Ok(()) => self.faults.applied.push((cycle, action)),
+            Err(error) => self.requests.fail(PendingError::Refused {
+                action,
+                error,
+                cycle,
+                pc: core.pc(),
+            }),
+        }
     }
 
     fn act(
