@@ -43,3 +43,41 @@ fn robust_firmware_reacts_as_expected_to_every_fault() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// A scheduled action the plant refuses (a slip outside [0, 1]) is not
+/// applied, nor logged as applied: the run ends with an error naming it,
+/// rather than go on without the fault it was asked for.
+#[test]
+fn an_action_the_plant_refuses_ends_the_run_naming_it() {
+    use hil::bench::{Action, Bench, BenchError, BenchOptions, Trigger};
+    use plant_model::Side;
+    let mut bench = Bench::new(
+        support::firmware("robust"),
+        &support::robot("henrytwo-ideal"),
+        BenchOptions::default(),
+    )
+    .unwrap();
+    let good = Action::SlipBurst {
+        side: Side::Left,
+        slip: 0.5,
+    };
+    let bad = Action::SlipBurst {
+        side: Side::Right,
+        slip: 1.5,
+    };
+    bench.schedule(Trigger::Time { s: 0.05 }, good.clone(), None);
+    bench.schedule(Trigger::Time { s: 0.1 }, bad.clone(), None);
+    let err = bench
+        .run_for(0.5)
+        .expect_err("the refused action ends the run");
+    assert!(err.to_string().contains("SlipBurst"), "{err}");
+    match err {
+        BenchError::ActionRefused { action, at, .. } => {
+            assert_eq!(*action, bad);
+            assert!((0.1..0.1001).contains(&at.robot_time_s), "{at}");
+        }
+        other => panic!("not the refused action: {other}"),
+    }
+    let applied: Vec<&Action> = bench.core().applied().iter().map(|a| &a.1).collect();
+    assert_eq!(applied, [&good]);
+}

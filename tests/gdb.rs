@@ -10,7 +10,6 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 
 use hil::bench::{Bench, BenchOptions};
-use hil::fwvars::FwState;
 use hil::gdb::{Flow, GdbServer, SessionEnd};
 
 /// A raw RSP client: one packet out, one reply back.
@@ -167,7 +166,7 @@ fn debug_session(
     let mut sent = false;
     let end = server
         .serve(&mut bench, &mut |b: &mut Bench| {
-            if !sent && b.fw_state() == FwState::Idle {
+            if !sent && b.is_idle() {
                 b.send(1, &[4]);
                 sent = true;
             }

@@ -73,17 +73,17 @@ fn edges_raised_from_the_plan_change_nothing() {
         bench.send(1, &[Test::UmbmarkCw.command_byte()]);
         let done = bench
             .run_until(40.0, |b| {
-                b.read_u16(vars.done_count) != before && b.read_u8(vars.state) == 1
+                b.read_u16(vars.done_count) != before && b.is_idle()
             })
             .unwrap();
         assert!(done, "the square did not complete (lean {lean})");
         let core = bench.core();
-        let pose = core.robot.pose();
+        let pose = core.robot().pose();
         let sram: Vec<u8> = (0x200..0x2200).map(|a| bench.read_u8(a)).collect();
         let stats = core
             .pin_stats()
             .map(|p| (p.active_s.to_bits(), p.mean_active_duty.to_bits()));
-        let lines = core.recording.clone().unwrap();
+        let lines = core.recording().unwrap().to_vec();
         let a_lines: Vec<_> = lines.iter().copied().filter(|e| e.line % 2 == 0).collect();
         (
             bench.cycle(),
@@ -91,9 +91,9 @@ fn edges_raised_from_the_plan_change_nothing() {
             (a_lines, if true_waveforms { lines } else { Vec::new() }),
             [pose.x().0, pose.y().0, pose.theta().0].map(f64::to_bits),
             stats,
-            core.edges_raised,
-            core.lean_edge_callbacks,
-            core.quiet_b_reads,
+            core.edges_raised(),
+            core.lean_edge_callbacks(),
+            core.quiet_b_reads(),
         )
     };
     for true_waveforms in [false, true] {

@@ -32,7 +32,7 @@ fn firmware_pwm_is_31372_hz_with_8_bit_duty() {
         assert!(p.active_s > 1.0, "D{pin} active only {} s", p.active_s);
     }
     let log: Vec<_> = core
-        .drive_log
+        .drive_log()
         .iter()
         .filter(|e| e.pin == 7 || e.pin == 9)
         .collect();

@@ -12,6 +12,8 @@ use object::read::elf::{ElfFile32, FileHeader, ProgramHeader};
 use object::{Endianness, Object, ObjectSymbol, SymbolKind};
 use thiserror::Error;
 
+use crate::time::Clock;
+
 /// AVR ELF files put data space at this offset in the address space.
 pub const DATA_OFFSET: u32 = 0x80_0000;
 
@@ -45,6 +47,29 @@ pub struct Symbol {
     pub addr: u32,
     pub size: u64,
     pub is_data: bool,
+}
+
+/// Where in the firmware something happened (see [`Firmware::location`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Location {
+    pub cycle: u64,
+    pub robot_time_s: f64,
+    pub pc: u32,
+    pub function: Option<String>,
+}
+
+impl std::fmt::Display for Location {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "at robot time {:.6} s (cycle {}), PC 0x{:05x}",
+            self.robot_time_s, self.cycle, self.pc
+        )?;
+        if let Some(func) = &self.function {
+            write!(f, " in {func}")?;
+        }
+        Ok(())
+    }
 }
 
 /// A loaded firmware image.
@@ -183,6 +208,18 @@ impl Firmware {
             Some((name.as_str(), pc - start))
         } else {
             None
+        }
+    }
+
+    /// Where the firmware is when it executes `pc` at `cycle`.
+    pub fn location(&self, clock: Clock, cycle: u64, pc: u32) -> Location {
+        Location {
+            cycle,
+            robot_time_s: clock.seconds(cycle).0,
+            pc,
+            function: self
+                .function_at(pc)
+                .map(|(name, off)| format!("{name}+0x{off:x}")),
         }
     }
 

@@ -7,11 +7,11 @@
 //! from the firmware's own idea of them, so the same analysis holds for the
 //! thesis build and the robust build.
 
-use plant_model::RobotConfig;
+use plant_model::{RobotConfig, Side};
 
 use crate::bench::{
     Action, Bench, BenchError, BenchOptions, DriveEvent, LedEvent, Motion, MotionEvent, Observer,
-    PinEvent, Sample, ScheduledFault, SideName, Snapshot,
+    PinEvent, Sample, ScheduledFault, Snapshot,
 };
 use crate::elf::Firmware;
 use crate::line::ready_bench;
@@ -174,7 +174,7 @@ pub fn run_test_observed(
     let limit = limit_s(test, opts);
     bench.set_hang_after(opts.hang_after_s);
     let outcome = bench.run_until(limit, |b| {
-        b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
+        b.read_u16(vars.done_count) != done_before && b.is_idle()
     });
     bench.set_hang_after(None);
     // A hang is what the firmware did: a finding of the run, not an error.
@@ -256,14 +256,14 @@ pub fn run_test_debugged(
     let mut started: Option<(u16, u64)> = None;
     let host = |b: &mut Bench, started: &mut Option<(u16, u64)>| -> Flow {
         match *started {
-            None if b.read_u8(vars.state) == 1 => {
+            None if b.is_idle() => {
                 b.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
                 *started = Some((b.read_u16(vars.done_count), b.cycle()));
                 start(b, test, opts);
                 Flow::Continue
             }
             Some((done_before, at))
-                if (b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1)
+                if (b.read_u16(vars.done_count) != done_before && b.is_idle())
                     || b.cycle() >= at + b.clock().cycles_in(plant_model::Seconds(limit)) =>
             {
                 Flow::Finished
@@ -284,13 +284,12 @@ pub fn run_test_debugged(
         if let Some((done_before, at)) = started {
             let remaining = left(&bench, at).max(0.0);
             bench.run_until(remaining, |b| {
-                b.read_u16(vars.done_count) != done_before && b.read_u8(vars.state) == 1
+                b.read_u16(vars.done_count) != done_before && b.is_idle()
             })?;
         }
     }
     let (done_before, start_cycle) = started.unwrap_or((0, bench.cycle()));
-    let completed =
-        bench.read_u16(vars.done_count) != done_before && bench.read_u8(vars.state) == 1;
+    let completed = bench.read_u16(vars.done_count) != done_before && bench.is_idle();
     let finding = (!completed).then(|| {
         format!(
             "did not complete within {limit:.0} s of robot time; the firmware is {}",
@@ -319,7 +318,7 @@ fn analyse(
 ) -> TestRun {
     let core = bench.core();
     let motions: Vec<MotionEvent> = core
-        .motions
+        .motions()
         .iter()
         .filter(|m| m.at.cycle >= start_cycle)
         .copied()
@@ -358,14 +357,14 @@ fn analyse(
                 let until = segments
                     .get(k + 1)
                     .map_or(u64::MAX, |n| motions[n.start].at.cycle);
-                let cutoff = |side: SideName| {
-                    core.cutoffs
+                let cutoff = |side: Side| {
+                    core.cutoffs()
                         .iter()
                         .find(|c| c.side == side && c.at.cycle >= start.cycle && c.at.cycle < until)
                         .map(|c| c.at)
                 };
-                let left = cutoff(SideName::Left);
-                let right = cutoff(SideName::Right);
+                let left = cutoff(Side::Left);
+                let right = cutoff(Side::Right);
                 turns.push(Turn {
                     count_left_at_cutoff: left.map(|c| c.left_count - start.left_count),
                     count_right_at_cutoff: right.map(|c| c.right_count - start.right_count),
@@ -399,21 +398,21 @@ fn analyse(
         y_cm: (end.y_mm - iy) / 10.0,
         robot_time_s: bench.robot_time_s(),
         awake_fraction: bench.awake_fraction(),
-        trace: core.trace.clone(),
+        trace: core.trace().to_vec(),
         motions,
-        applied: core.applied.clone(),
+        applied: core.applied().to_vec(),
         fault_code: bench
             .firmware()
             .variable("HT_FAULT", 1)
             .ok()
             .map(|a| bench.read_u8(a)),
         bluetooth_out: bench.uart_output(1).to_vec(),
-        edges: core.recording.clone().unwrap_or_default(),
-        drive: core.drive_log.clone(),
-        uart: core.uart_log.clone(),
-        leds: core.leds.clone(),
+        edges: core.recording().unwrap_or_default().to_vec(),
+        drive: core.drive_log().to_vec(),
+        uart: core.uart_log().to_vec(),
+        leds: core.leds().to_vec(),
         brownouts: core
-            .brownouts
+            .brownouts()
             .iter()
             .map(|(on, off)| {
                 let s = |c: u64| bench.clock().seconds(c).0;
@@ -465,7 +464,7 @@ fn segments(motions: &[MotionEvent], pulse_cycles: u64) -> Vec<Segment> {
 
 fn bench_now(bench: &Bench) -> Snapshot {
     let core = bench.core();
-    let pose = core.robot.pose();
+    let pose = core.robot().pose();
     let vars = bench.vars();
     Snapshot {
         cycle: bench.cycle(),
@@ -474,9 +473,9 @@ fn bench_now(bench: &Bench) -> Snapshot {
         theta_rad: pose.theta().0,
         left_count: bench.read_i32(vars.left_count),
         right_count: bench.read_i32(vars.right_count),
-        left_edges: core.robot.a_edges(plant_model::Side::Left),
-        right_edges: core.robot.a_edges(plant_model::Side::Right),
-        left_mm: core.robot.distance_travelled(plant_model::Side::Left).0,
-        right_mm: core.robot.distance_travelled(plant_model::Side::Right).0,
+        left_edges: core.robot().a_edges(plant_model::Side::Left),
+        right_edges: core.robot().a_edges(plant_model::Side::Right),
+        left_mm: core.robot().distance_travelled(plant_model::Side::Left).0,
+        right_mm: core.robot().distance_travelled(plant_model::Side::Right).0,
     }
 }

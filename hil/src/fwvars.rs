@@ -1,29 +1,10 @@
 //! The firmware's bench interface: variables the bench reads from SRAM by
-//! their ELF symbol names (documented in firmware/README.md).
+//! their ELF symbol names (documented in firmware/README.md). What their
+//! bytes mean is the protocol's: `HT_STATE` is a
+//! [`henrytwo_protocol::RunState`], `HT_PHASE` a [`henrytwo_protocol::Phase`]
+//! (the bench decodes them in `Bench::run_state` and `Bench::phase`).
 
 use crate::elf::{ElfError, Firmware};
-
-/// Firmware states reported in `HT_STATE`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum FwState {
-    Booting,
-    Idle,
-    Driving,
-    Braking,
-    Other(u8),
-}
-
-impl From<u8> for FwState {
-    fn from(v: u8) -> Self {
-        match v {
-            0 => FwState::Booting,
-            1 => FwState::Idle,
-            2 => FwState::Driving,
-            3 => FwState::Braking,
-            other => FwState::Other(other),
-        }
-    }
-}
 
 /// Data-space addresses of the interface variables.
 #[derive(Debug, Clone, Copy)]
@@ -40,6 +21,10 @@ pub struct FwVars {
     pub speed_right: u16,
     pub duty_left: u16,
     pub duty_right: u16,
+    /// Optional variables: a build without them is judged on the others.
+    pub phase: Option<u16>,
+    pub segment: Option<u16>,
+    pub fault: Option<u16>,
 }
 
 impl FwVars {
@@ -57,6 +42,9 @@ impl FwVars {
             speed_right: fw.variable("HT_SPEED_RIGHT", 4)?,
             duty_left: fw.variable("HT_DUTY_LEFT", 1)?,
             duty_right: fw.variable("HT_DUTY_RIGHT", 1)?,
+            phase: fw.variable("HT_PHASE", 1).ok(),
+            segment: fw.variable("HT_SEGMENT", 1).ok(),
+            fault: fw.variable("HT_FAULT", 1).ok(),
         })
     }
 }

@@ -23,15 +23,35 @@
 //! part of it). A limit above that (the bench's default is 3 s) never calls a
 //! healthy run a hang.
 
-use crate::bench::{Bench, Location};
-use crate::elf::Firmware;
-use crate::fwvars::FwState;
+use henrytwo_protocol::RunState;
+
+use crate::elf::{Firmware, Location};
+use crate::sim::{Avr, Handler};
 
 /// The default robot time without progress after which a busy firmware is
 /// hung: above the 2.025 s of braking and waits between two segments.
 pub const DEFAULT_HANG_AFTER_S: f64 = 3.0;
 
-/// What the bench compares to see progress.
+/// What the bench shows the watch at one check: the plant's wheels and the
+/// firmware's test state (the optional interface variables read as 0 in a
+/// build without them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progress {
+    pub cycle: u64,
+    /// A edges the plant produced, before any injected encoder fault.
+    pub left_edges: i64,
+    pub right_edges: i64,
+    /// `HT_STATE`, `HT_PHASE`, `HT_SEGMENT`, `HT_DONE_COUNT`, `HT_FAULT`.
+    pub state: u8,
+    pub phase: u8,
+    pub segment: u8,
+    pub done: u16,
+    pub fault: u8,
+    /// The brown-out detector holds the MCU in reset.
+    pub held_in_reset: bool,
+}
+
+/// What the watch compares to see progress.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Signature {
     left_edges: i64,
@@ -47,25 +67,16 @@ struct Signature {
 #[derive(Debug, Clone)]
 pub struct HangWatch {
     after_cycles: u64,
-    /// Optional interface variables: a build without them is judged on the
-    /// others.
-    phase: Option<u16>,
-    segment: Option<u16>,
-    fault: Option<u16>,
     last: Option<Signature>,
     /// Cycle of the last progress seen.
     since: u64,
 }
 
 impl HangWatch {
-    /// A watch on `firmware` that calls `after_cycles` without progress a
-    /// hang.
-    pub fn new(firmware: &Firmware, after_cycles: u64) -> Self {
+    /// A watch that calls `after_cycles` without progress a hang.
+    pub fn new(after_cycles: u64) -> Self {
         Self {
             after_cycles,
-            phase: firmware.variable("HT_PHASE", 1).ok(),
-            segment: firmware.variable("HT_SEGMENT", 1).ok(),
-            fault: firmware.variable("HT_FAULT", 1).ok(),
             last: None,
             since: 0,
         }
@@ -77,29 +88,25 @@ impl HangWatch {
     }
 
     /// Cycles since the last progress, when the firmware is hung now.
-    pub fn check(&mut self, bench: &Bench) -> Option<u64> {
-        let now = bench.cycle();
-        let vars = bench.vars();
-        let read = |a: Option<u16>| a.map_or(0, |a| bench.read_u8(a));
-        let core = bench.core();
+    pub fn check(&mut self, p: &Progress) -> Option<u64> {
         let sig = Signature {
-            left_edges: core.robot.a_edges(plant_model::Side::Left),
-            right_edges: core.robot.a_edges(plant_model::Side::Right),
-            state: bench.read_u8(vars.state),
-            phase: read(self.phase),
-            segment: read(self.segment),
-            done: bench.read_u16(vars.done_count),
-            fault: read(self.fault),
+            left_edges: p.left_edges,
+            right_edges: p.right_edges,
+            state: p.state,
+            phase: p.phase,
+            segment: p.segment,
+            done: p.done,
+            fault: p.fault,
         };
         // A MCU held in reset by the brown-out detector runs nothing: it is
         // not hung.
-        let busy = FwState::from(sig.state) != FwState::Idle && !core.held_in_reset();
+        let busy = RunState::from_u8(sig.state) != Some(RunState::Idle) && !p.held_in_reset;
         if self.last != Some(sig) || !busy {
             self.last = Some(sig);
-            self.since = now;
+            self.since = p.cycle;
             return None;
         }
-        let still = now - self.since;
+        let still = p.cycle - self.since;
         (still >= self.after_cycles).then_some(still)
     }
 }
@@ -131,8 +138,7 @@ impl std::fmt::Display for HangReport {
 /// instruction before it is a call (`call`, `rcall`, `icall`, `eicall`); an
 /// interrupted PC, pushed by no call, is skipped with the ISR's frame. The
 /// walk ends at the firmware's entry (`main`).
-pub fn callers(bench: &Bench, max: usize) -> Vec<String> {
-    let mcu = bench.mcu();
+pub fn callers<H: Handler>(mcu: &Avr<H>, firmware: &Firmware, max: usize) -> Vec<String> {
     let after_call = |ret: u32| {
         ret >= 4
             && (mcu.flash_word(ret - 4) & 0xfe0e == 0x940e
@@ -146,9 +152,7 @@ pub fn callers(bench: &Bench, max: usize) -> Vec<String> {
             break;
         };
         let ret = (u32::from(b[0]) << 16 | u32::from(b[1]) << 8 | u32::from(b[2])) * 2;
-        let named = after_call(ret)
-            .then(|| bench.firmware().function_at(ret))
-            .flatten();
+        let named = after_call(ret).then(|| firmware.function_at(ret)).flatten();
         match named {
             Some((name, off)) => {
                 out.push(format!("{name}+0x{off:x}"));

@@ -5,7 +5,6 @@ use plant_model::{Pose, RobotConfig, Side, World};
 
 use crate::bench::{Bench, BenchError, BenchOptions, Cutoff, PinStats, Sample};
 use crate::elf::Firmware;
-use crate::fwvars::FwState;
 
 /// The thesis' odometry constant: mm per encoder count (pi * 32 / 602.22).
 pub const MM_PER_COUNT: f64 = 0.166_933_952_6;
@@ -107,11 +106,10 @@ pub struct LineRun {
 
 /// Wait for the firmware to report idle after reset.
 pub fn wait_ready(bench: &mut Bench) -> Result<(), BenchError> {
-    let state = bench.vars().state;
     bench.run_expect(
         "the firmware did not report idle (HT_STATE = 1) after reset",
         2.0,
-        |b| b.read_u8(state) == 1,
+        |b| b.is_idle(),
     )
 }
 
@@ -145,14 +143,14 @@ pub fn run_line(
     // Generous: a third of the nominal speed, plus braking and waits.
     let limit = opts.length_mm / 50.0 + 5.0;
     let completed = bench.run_until(limit, |b| {
-        b.read_u16(vars.done_count) != done_before && b.fw_state() == FwState::Idle
+        b.read_u16(vars.done_count) != done_before && b.is_idle()
     })?;
     if !completed {
         return Err(BenchError::Timeout {
             what: format!(
                 "the straight line of {} mm did not complete (HT_DONE_COUNT unchanged, state {:?})",
                 opts.length_mm,
-                bench.fw_state()
+                bench.run_state()
             ),
             robot_s: limit,
             at: bench.location(),
@@ -163,18 +161,18 @@ pub fn run_line(
     bench.run_for(0.1)?;
     let core = bench.core();
     let cutoff = core
-        .cutoffs
+        .cutoffs()
         .iter()
         .find(|c| c.at.cycle > start_cycle)
         .map(|c| c.at);
     let clock = bench.clock();
     let stop_left = bench.read_i32(vars.stop_left);
     let stop_right = bench.read_i32(vars.stop_right);
-    let robot = &core.robot;
+    let robot = core.robot();
     let pose = robot.pose();
     let wheel = |side: Side, idx: usize, count_addr: u16, stop: i32| WheelSummary {
         plant_edges: robot.a_edges(side),
-        raised_edges: core.edges_raised[idx],
+        raised_edges: core.edges_raised()[idx],
         firmware_count: bench.read_i32(count_addr),
         stop_count: stop,
         distance_mm: robot.distance_travelled(side).0,
@@ -222,8 +220,8 @@ pub fn run_line(
     };
     Ok(LineRun {
         summary,
-        trace: core.trace.clone(),
-        cutoffs: core.cutoffs.clone(),
+        trace: core.trace().to_vec(),
+        cutoffs: core.cutoffs().to_vec(),
         pins,
         start_cycle,
     })

@@ -110,7 +110,7 @@ pub fn bench_run(
     let (legs, turns, _) = test.shape();
     let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0;
     let completed = bench.run_until(limit, |b| {
-        b.read_u16(vars.done_count) != before && b.read_u8(vars.state) == 1
+        b.read_u16(vars.done_count) != before && b.is_idle()
     })?;
     let wall_s = wall.elapsed().as_secs_f64();
     let end_cycle = bench.cycle();
@@ -119,18 +119,18 @@ pub fn bench_run(
     Ok(Recorded {
         measured: Measured::new(bench.robot_time_s(), wall_s),
         awake_fraction: bench.awake_fraction(),
-        callbacks: core.callbacks,
-        lean_edge_callbacks: core.lean_edge_callbacks,
-        quiet_b_reads: core.quiet_b_reads,
-        b_reads: core.quiet_b_reads + core.b_reads_evaluated,
+        callbacks: core.callbacks(),
+        lean_edge_callbacks: core.lean_edge_callbacks(),
+        quiet_b_reads: core.quiet_b_reads(),
+        b_reads: core.quiet_b_reads() + core.b_reads_evaluated(),
         command_cycle,
         command: test.command_byte(),
         pokes: (vars.leg_length_mm..)
             .zip((leg_mm as f32).to_le_bytes())
             .collect(),
         end_cycle,
-        edges: core.recording.clone().unwrap_or_default(),
-        analog: core.analog_log.clone(),
+        edges: core.recording().unwrap_or_default().to_vec(),
+        analog: core.analog_log().to_vec(),
         completed,
         fingerprint,
     })

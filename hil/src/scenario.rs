@@ -298,7 +298,7 @@ fn check_action(a: &Action) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::SideName;
+    use plant_model::Side;
 
     const EXAMPLE: &str = r#"
 name = "example"
@@ -331,7 +331,7 @@ duration_s = 0.0005
             Some((
                 1.5,
                 Action::SlipBurst {
-                    side: SideName::Left,
+                    side: Side::Left,
                     slip: 0.0
                 }
             ))

@@ -18,6 +18,15 @@ impl Side {
     /// Both sides, left first.
     pub const BOTH: [Side; 2] = [Side::Left, Side::Right];
 
+    /// The side's place in [`Side::BOTH`] (left 0, right 1): the index of
+    /// its entry in a per-side array.
+    pub const fn index(self) -> usize {
+        match self {
+            Side::Left => 0,
+            Side::Right => 1,
+        }
+    }
+
     /// The lower-case name used in config keys (`left`, `right`).
     pub const fn name(self) -> &'static str {
         match self {
@@ -65,6 +74,32 @@ impl<T> PerSide<T> {
         PerSide {
             left: f(Side::Left, self.left),
             right: f(Side::Right, self.right),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn index_is_the_place_in_both() {
+        for (i, side) in Side::BOTH.into_iter().enumerate() {
+            assert_eq!(side.index(), i);
+        }
+    }
+
+    /// Scenario files and the bench's JSON name sides `left` and `right`.
+    #[test]
+    fn serde_names_are_the_lower_case_names() {
+        #[derive(Serialize, Deserialize)]
+        struct S {
+            side: Side,
+        }
+        for side in Side::BOTH {
+            let text = toml::to_string(&S { side }).unwrap();
+            assert_eq!(text.trim(), format!("side = \"{}\"", side.name()));
+            assert_eq!(toml::from_str::<S>(&text).unwrap().side, side);
         }
     }
 }

@@ -2,7 +2,9 @@
 //! their level, the firmware sees the wheel stop while it drives it.
 
 use super::{stopped_with_code, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 use crate::inject::EncoderFault;
 
@@ -17,7 +19,7 @@ pub fn case() -> FaultCase {
         faults: vec![ScheduledFault::new(
             Trigger::Time { s: 3.0 },
             Action::Encoder {
-                side: SideName::Left,
+                side: Side::Left,
                 fault: EncoderFault::Dropout,
             },
         )],

@@ -3,7 +3,9 @@
 //! two extra edges on the interrupt pin, 16 cycles apart.
 
 use super::{FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 use crate::inject::Channel;
 
@@ -17,7 +19,7 @@ pub fn case() -> FaultCase {
             ScheduledFault::new(
                 Trigger::Time { s },
                 Action::EncoderGlitch {
-                    side: SideName::Left,
+                    side: Side::Left,
                     channel: Channel::A,
                     pulses: 20,
                     width_us: 1.0,

@@ -2,7 +2,9 @@
 //! so the count stops advancing although the wheel turns.
 
 use super::{stopped_with_code, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 use crate::inject::EncoderFault;
 
@@ -16,7 +18,7 @@ pub fn case() -> FaultCase {
         faults: vec![ScheduledFault::new(
             Trigger::Time { s: 3.0 },
             Action::Encoder {
-                side: SideName::Right,
+                side: Side::Right,
                 fault: EncoderFault::StuckB { level: false },
             },
         )],

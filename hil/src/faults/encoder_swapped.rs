@@ -2,7 +2,9 @@
 //! the count runs backwards while the wheel turns forwards.
 
 use super::{FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 use crate::inject::EncoderFault;
 
@@ -16,7 +18,7 @@ pub fn case() -> FaultCase {
         faults: vec![ScheduledFault::new(
             Trigger::Time { s: 0.0 },
             Action::Encoder {
-                side: SideName::Left,
+                side: Side::Left,
                 fault: EncoderFault::Swapped,
             },
         )],

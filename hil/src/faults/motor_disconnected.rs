@@ -2,7 +2,9 @@
 //! the wheel coasts to a stop while the firmware keeps asking for speed.
 
 use super::{stopped_with_code, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 
 pub fn case() -> FaultCase {
@@ -15,7 +17,7 @@ pub fn case() -> FaultCase {
         faults: vec![ScheduledFault::new(
             Trigger::Time { s: 3.0 },
             Action::MotorDisconnected {
-                side: SideName::Right,
+                side: Side::Right,
                 disconnected: true,
             },
         )],

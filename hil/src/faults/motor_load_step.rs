@@ -2,7 +2,9 @@
 //! torque of 15 % of the motor's stall torque from the middle of a leg.
 
 use super::{leg_overrun, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 
 /// A load of `torque_fraction` of the stall torque on the left wheel from
@@ -11,7 +13,7 @@ pub(super) fn left_load_from_3_s(torque_fraction: f64) -> Vec<ScheduledFault> {
     vec![ScheduledFault::new(
         Trigger::Time { s: 3.0 },
         Action::Motor {
-            side: SideName::Left,
+            side: Side::Left,
             fault: plant_model::MotorFault::LoadStep { torque_fraction },
         },
     )]

@@ -2,7 +2,9 @@
 //! middle of a leg: the plant holds it still whatever the bridge does.
 
 use super::{stopped_with_code, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 
 pub fn case() -> FaultCase {
@@ -15,7 +17,7 @@ pub fn case() -> FaultCase {
         faults: vec![ScheduledFault::new(
             Trigger::Time { s: 3.0 },
             Action::Motor {
-                side: SideName::Left,
+                side: Side::Left,
                 fault: plant_model::MotorFault::Stall,
             },
         )],

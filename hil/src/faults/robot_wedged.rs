@@ -2,7 +2,9 @@
 //! middle of a leg. Nothing moves any more, whatever the bridge does.
 
 use super::{stopped_with_code, FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 
 pub fn case() -> FaultCase {
@@ -21,7 +23,7 @@ pub fn case() -> FaultCase {
         expected: "stall watchdog: motors off within 300 ms with a fault code; the firmware goes idle and keeps answering (no hang)",
         test: Test::Line,
         leg_mm: 2000.0,
-        faults: vec![stall(SideName::Left), stall(SideName::Right)],
+        faults: vec![stall(Side::Left), stall(Side::Right)],
         limit_s: 25.0,
         framed: false,
         check,

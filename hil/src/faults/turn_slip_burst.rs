@@ -2,13 +2,15 @@
 //! the encoders count the full turn, the ground sees less of it.
 
 use super::{FaultCase, Observed};
-use crate::bench::{Action, ScheduledFault, SideName, Trigger};
+use plant_model::Side;
+
+use crate::bench::{Action, ScheduledFault, Trigger};
 use crate::experiment::Test;
 
 pub fn case() -> FaultCase {
     let slip = |side, slip| Action::SlipBurst { side, slip };
     let mut faults = Vec::new();
-    for side in [SideName::Left, SideName::Right] {
+    for side in [Side::Left, Side::Right] {
         faults.push(ScheduledFault {
             trigger: Trigger::TurnStart { n: 3 },
             action: slip(side, 0.3),

@@ -285,7 +285,7 @@ fn serve_loop(
             pending.drain(..extra);
         }
         let elapsed = bench.robot_time_s() - t0;
-        let pose = bench.core().robot.pose();
+        let pose = bench.core().robot().pose();
         if let Ok(mut v) = view.lock() {
             v.robot_time_s = bench.robot_time_s();
             v.x_mm = pose.x().0;

@@ -61,13 +61,6 @@ fn output_to_duty(u: f32) -> f32 {
     m.clamp(0, 255) as f32
 }
 
-fn index(side: Side) -> usize {
-    match side {
-        Side::Left => 0,
-        Side::Right => 1,
-    }
-}
-
 /// Direction of a UMBmark run, as the sketch names its routines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Routine {
@@ -114,11 +107,11 @@ impl Thesis {
     }
 
     fn count(&self, side: Side) -> i32 {
-        (self.robot.a_edges(side) - self.zero[index(side)]) as i32
+        (self.robot.a_edges(side) - self.zero[side.index()]) as i32
     }
 
     fn zero_count(&mut self, side: Side) {
-        self.zero[index(side)] = self.robot.a_edges(side);
+        self.zero[side.index()] = self.robot.a_edges(side);
     }
 
     fn micros(&self) -> f32 {
@@ -142,7 +135,7 @@ impl Thesis {
         if self.flag_one {
             self.tiempo_actual = self.micros();
             for side in Side::BOTH {
-                self.conteo_actual[index(side)] = self.count(side).abs() as f32;
+                self.conteo_actual[side.index()] = self.count(side).abs() as f32;
             }
             self.flag_one = false;
         }
@@ -155,7 +148,7 @@ impl Thesis {
                     // count is read: the left's window is longer than tiempo_s.
                     self.wait(PRINT_S);
                 }
-                let i = index(side);
+                let i = side.index();
                 let conteo = self.count(side).abs() as f32 - self.conteo_actual[i];
                 let frecuencia = conteo / (tiempo_s / 1_000_000.0);
                 let rpm_enc = frecuencia * 60.0 / 6.0;

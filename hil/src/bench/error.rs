@@ -1,0 +1,104 @@
+//! What can end a run: [`BenchError`], and the errors a callback records for
+//! the run loop to report ([`PendingError`]: a callback cannot return one).
+
+use thiserror::Error;
+
+use super::faults::Action;
+use crate::elf::{ElfError, Firmware, Location};
+use crate::pwm::PwmError;
+use crate::sim::SimError;
+use crate::time::Clock;
+
+#[derive(Debug, Error)]
+pub enum BenchError {
+    #[error(transparent)]
+    Elf(#[from] ElfError),
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    #[error(transparent)]
+    Plant(#[from] plant_model::Error),
+    #[error("{error} ({at})")]
+    Pwm { error: PwmError, at: Location },
+    #[error("timer {timer}: waveform mode {wgm} with clock select {cs} is not verified on this bench ({at}); the bench runs simavr's timers only in modes it has tested (timers 1 and 3: CTC; timer 0: fast PWM at /64)")]
+    UnverifiedTimer {
+        timer: u8,
+        wgm: u8,
+        cs: u8,
+        at: Location,
+    },
+    /// A scheduled action the plant refused (a slip outside [0, 1], a
+    /// negative battery voltage, ...): it was not applied, and the run ends
+    /// rather than go on without the fault it was asked for.
+    #[error("the plant refused the scheduled action {action:?}: {error} ({at})")]
+    ActionRefused {
+        action: Box<Action>,
+        error: Box<plant_model::Error>,
+        at: Location,
+    },
+    #[error("the firmware crashed {at}")]
+    Crashed { at: Location },
+    #[error("the firmware stopped (sleep with interrupts disabled or a break) {at}")]
+    Stopped { at: Location },
+    #[error("{what}: no progress within {robot_s} s of robot time ({at})")]
+    Timeout {
+        what: String,
+        robot_s: f64,
+        at: Location,
+    },
+    /// The firmware was busy in a test without progress (see [`crate::hang`]).
+    #[error("the firmware hung: busy in a test without progress (no wheel motion, no change of state, phase, segment or fault) for {still:.3} s of robot time, {report}", still = .0.still_s, report = .0)]
+    Hang(crate::hang::HangReport),
+}
+
+/// An error met inside a callback, with the cycle and PC it happened at.
+pub(super) enum PendingError {
+    Pwm(PwmError, u64, u32),
+    Timer {
+        timer: u8,
+        wgm: u8,
+        cs: u8,
+        cycle: u64,
+        pc: u32,
+    },
+    Refused {
+        action: Action,
+        error: plant_model::Error,
+        cycle: u64,
+        pc: u32,
+    },
+}
+
+impl PendingError {
+    /// The error to report, located in `firmware`.
+    pub(super) fn located(self, firmware: &Firmware, clock: Clock) -> BenchError {
+        let at = |cycle, pc| firmware.location(clock, cycle, pc);
+        match self {
+            PendingError::Pwm(error, cycle, pc) => BenchError::Pwm {
+                error,
+                at: at(cycle, pc),
+            },
+            PendingError::Timer {
+                timer,
+                wgm,
+                cs,
+                cycle,
+                pc,
+            } => BenchError::UnverifiedTimer {
+                timer,
+                wgm,
+                cs,
+                at: at(cycle, pc),
+            },
+            PendingError::Refused {
+                action,
+                error,
+                cycle,
+                pc,
+            } => BenchError::ActionRefused {
+                action: Box::new(action),
+                error: Box::new(error),
+                at: at(cycle, pc),
+            },
+        }
+    }
+}

@@ -1,0 +1,357 @@
+//! The bench: one emulated MCU running the firmware ELF, wired to the plant.
+//!
+//! Everything that happens in the plant is an event on one simavr cycle timer:
+//! the next encoder transition of either wheel (computed exactly by the plant),
+//! the next buffered PWM update (at the PWM timer's TOP), and a periodic plant
+//! step (pose integration and trace samples). Register writes that change what
+//! the H-bridge sees advance the plant to the cycle of the write and re-plan
+//! the queue. Nothing polls the MCU per instruction, and nothing reads the
+//! host clock: a run is a pure function of the ELF, the config and the seed.
+//!
+//! Where each concern lives:
+//!
+//! | file | what |
+//! |---|---|
+//! | `mod.rs` | [`Bench`], its public API, [`BenchOptions`] |
+//! | `setup.rs` | building a bench: flash, register claims, the IRQs a [`Wiring`] connects |
+//! | `run.rs` | the run loops ([`Bench::run_until`]), [`Step`] and [`Observer`] |
+//! | `core.rs` | [`BenchCore`], the handler simavr calls back, dispatching to the parts below |
+//! | `bridge.rs` | the H-bridge inputs from the PWM timers and port H, to the plant; [`PinStats`] |
+//! | `edges.rs` | where an encoder edge is born: planning, raising, lazy channel B |
+//! | `uart.rs` | the host's side of the USARTs |
+//! | `power.rs` | A0, VCC and the brown-out detector |
+//! | `faults.rs` | [`Action`], [`Trigger`], [`ScheduledFault`] and their scheduler |
+//! | `recorder.rs` | what a run records: [`Sample`], [`DriveEvent`], [`Cutoff`], [`Motion`], ... |
+//! | `error.rs` | [`BenchError`] |
+//! | `registers.rs` | the MCU registers the bench reads or watches, by address |
+
+mod bridge;
+mod core;
+mod edges;
+mod error;
+mod faults;
+mod power;
+mod recorder;
+mod registers;
+mod run;
+mod setup;
+mod uart;
+
+use henrytwo_protocol::{Phase, RunState};
+use plant_model::{RobotConfig, Seconds, Side};
+
+pub use self::bridge::PinStats;
+pub use self::core::BenchCore;
+pub use self::edges::decode_a_edge;
+pub use self::error::BenchError;
+pub use self::faults::{Action, ScheduledFault, Trigger};
+pub use self::recorder::{
+    AnalogEvent, AnalogInput, Cutoff, DriveEvent, LedEvent, Motion, MotionEvent, PinEvent, Sample,
+    Snapshot,
+};
+pub use self::run::{Observer, Step, CHECK_PERIOD_S};
+pub use crate::elf::Location;
+
+use crate::elf::Firmware;
+use crate::fwvars::FwVars;
+use crate::hang::{HangWatch, Progress};
+use crate::sim::Avr;
+use crate::supply::Supply;
+use crate::time::Clock;
+use crate::wiring::{Wiring, HENRYTWO};
+
+/// Bench settings that are not the robot's.
+#[derive(Debug, Clone, Copy)]
+pub struct BenchOptions {
+    pub clock: Clock,
+    /// Plant step for pose integration when no other event happens.
+    pub plant_step_s: f64,
+    /// Interval of trace samples (a multiple of the plant step).
+    pub trace_interval_s: f64,
+    pub seed: u64,
+    /// The battery divider on A0: volts at A0 per battery volt. 0.55 puts
+    /// the thesis' LED thresholds (ADC 942 and 901 of 1023 at 5 V) at a
+    /// battery of 8.37 V and 8.01 V: a 2S LiPo full, half, low.
+    pub battery_divider: f64,
+    /// The MCU's supply from the battery, and its brown-out detector.
+    pub supply: Supply,
+}
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        Self {
+            clock: Clock::MEGA_16MHZ,
+            // The pose is stepped on its own 1 ms grid whenever the plant is
+            // advanced; the step bounds the gap between the bench's looks at
+            // the plant (A0, the trace) while nothing else happens.
+            plant_step_s: 10e-3,
+            trace_interval_s: 10e-3,
+            seed: 0,
+            battery_divider: 0.55,
+            supply: Supply::default(),
+        }
+    }
+}
+
+/// The bench: firmware, MCU, plant.
+pub struct Bench {
+    avr: Avr<BenchCore>,
+    firmware: Firmware,
+    vars: FwVars,
+    clock: Clock,
+    sleep_cycles: u64,
+    /// Awake cycles per flash word, when profiling.
+    profile: Option<Vec<u64>>,
+    observer: Option<Box<dyn Observer>>,
+    hang: Option<HangWatch>,
+}
+
+impl Bench {
+    /// The firmware on `robot`, wired as Henrytwo is ([`HENRYTWO`]).
+    pub fn new(
+        firmware: Firmware,
+        robot: &RobotConfig,
+        options: BenchOptions,
+    ) -> Result<Self, BenchError> {
+        Self::with_wiring(firmware, robot, options, &HENRYTWO)
+    }
+
+    /// The firmware on `robot`, its parts on the MCU pins `wiring` names.
+    pub fn with_wiring(
+        firmware: Firmware,
+        robot: &RobotConfig,
+        options: BenchOptions,
+        wiring: &Wiring,
+    ) -> Result<Self, BenchError> {
+        let vars = FwVars::resolve(&firmware)?;
+        let avr = setup::build(&firmware, robot, &options, wiring, vars)?;
+        Ok(Self {
+            avr,
+            firmware,
+            vars,
+            clock: options.clock,
+            sleep_cycles: 0,
+            profile: None,
+            observer: None,
+            hang: None,
+        })
+    }
+
+    pub fn clock(&self) -> Clock {
+        self.clock
+    }
+
+    pub fn cycle(&self) -> u64 {
+        self.avr.cycle()
+    }
+
+    pub fn robot_time_s(&self) -> f64 {
+        self.clock.seconds(self.avr.cycle()).0
+    }
+
+    pub fn core(&self) -> &BenchCore {
+        self.avr.handler()
+    }
+
+    pub fn vars(&self) -> &FwVars {
+        &self.vars
+    }
+
+    pub fn firmware(&self) -> &Firmware {
+        &self.firmware
+    }
+
+    /// Watch every step from now on (see [`Observer`]).
+    pub fn set_observer(
+        &mut self,
+        observer: Option<Box<dyn Observer>>,
+    ) -> Option<Box<dyn Observer>> {
+        std::mem::replace(&mut self.observer, observer)
+    }
+
+    /// Take the observer back.
+    pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
+        self.observer.take()
+    }
+
+    /// From now on, stop with [`BenchError::Hang`] when the firmware is busy
+    /// in a test without progress for `after_s` of robot time (None: never).
+    pub fn set_hang_after(&mut self, after_s: Option<f64>) {
+        self.hang = after_s.map(|s| HangWatch::new(self.clock.cycles_in(Seconds(s))));
+    }
+
+    /// What the hang watch looks at, now.
+    fn progress(&self) -> Progress {
+        let read = |a: Option<u16>| a.map_or(0, |a| self.read_u8(a));
+        let core = self.core();
+        Progress {
+            cycle: self.cycle(),
+            left_edges: core.robot().a_edges(Side::Left),
+            right_edges: core.robot().a_edges(Side::Right),
+            state: self.read_u8(self.vars.state),
+            phase: read(self.vars.phase),
+            segment: read(self.vars.segment),
+            done: self.read_u16(self.vars.done_count),
+            fault: read(self.vars.fault),
+            held_in_reset: core.held_in_reset(),
+        }
+    }
+
+    /// Record every encoder pin change from now on. A lazily raised B line
+    /// is recorded as the firmware saw it (changes at the reads that noticed
+    /// them): a replay gives the firmware the same inputs. For B's true edge
+    /// times, call [`Bench::true_waveforms`] first.
+    /// The recording starts with the four lines' levels now.
+    pub fn start_recording(&mut self) {
+        let cycle = self.avr.cycle();
+        self.avr.handler_mut().start_recording(cycle);
+    }
+
+    /// Raise every encoder transition at its own cycle, B included (for
+    /// traces that show the lines as they are). Costs speed, changes nothing
+    /// the firmware sees.
+    pub fn true_waveforms(&mut self) {
+        self.avr.with_core(|core, c| {
+            core.true_waveforms(c);
+            c.schedule(core.next_event());
+        });
+    }
+
+    /// Bring the plant to the cycle of every encoder edge, as for any other
+    /// event, instead of raising planned edges from the plan alone (and
+    /// answering reads of a lazy B right after them from it): slower, and
+    /// the same run (to check that it is).
+    pub fn advance_plant_at_every_edge(&mut self) {
+        self.avr.handler_mut().edges.keep_plant_at_every_edge();
+    }
+
+    /// Attribute awake cycles to the instruction executing them, from now on.
+    pub fn start_profiling(&mut self) {
+        self.profile = Some(vec![0; 0x2_0000]);
+    }
+
+    /// Awake cycles per function since [`Bench::start_profiling`], most first.
+    /// (Cycles spent in an interrupt's entry are the interrupted instruction's.)
+    pub fn profile_by_function(&self) -> Vec<(String, u64)> {
+        let Some(profile) = &self.profile else {
+            return Vec::new();
+        };
+        let mut by: std::collections::BTreeMap<String, u64> = Default::default();
+        for (word, &c) in profile.iter().enumerate() {
+            if c > 0 {
+                let name = self
+                    .firmware
+                    .function_at(word as u32 * 2)
+                    .map(|(n, _)| n.to_owned())
+                    .unwrap_or_else(|| format!("0x{:05x}", word * 2));
+                *by.entry(name).or_default() += c;
+            }
+        }
+        let mut v: Vec<_> = by.into_iter().collect();
+        v.sort_by_key(|e| std::cmp::Reverse(e.1));
+        v
+    }
+
+    /// Fraction of cycles the CPU was awake.
+    pub fn awake_fraction(&self) -> f64 {
+        let c = self.avr.cycle();
+        if c == 0 {
+            return 0.0;
+        }
+        1.0 - self.sleep_cycles as f64 / c as f64
+    }
+
+    pub fn location(&self) -> Location {
+        self.firmware
+            .location(self.clock, self.avr.cycle(), self.avr.pc())
+    }
+
+    pub fn read_u8(&self, addr: u16) -> u8 {
+        self.avr.data(addr)
+    }
+
+    pub fn read_u16(&self, addr: u16) -> u16 {
+        u16::from_le_bytes(self.avr.read_bytes::<2>(addr))
+    }
+
+    pub fn read_i32(&self, addr: u16) -> i32 {
+        i32::from_le_bytes(self.avr.read_bytes::<4>(addr))
+    }
+
+    pub fn read_u32(&self, addr: u16) -> u32 {
+        u32::from_le_bytes(self.avr.read_bytes::<4>(addr))
+    }
+
+    pub fn read_f32(&self, addr: u16) -> f32 {
+        f32::from_le_bytes(self.avr.read_bytes::<4>(addr))
+    }
+
+    pub fn write_f32(&mut self, addr: u16, v: f32) {
+        self.avr.write_bytes(addr, &v.to_le_bytes());
+    }
+
+    /// The firmware's `HT_STATE` (None: a byte no firmware sends).
+    pub fn run_state(&self) -> Option<RunState> {
+        RunState::from_u8(self.read_u8(self.vars.state))
+    }
+
+    /// The firmware is idle: ready for a command (`HT_STATE` = 1).
+    pub fn is_idle(&self) -> bool {
+        self.run_state() == Some(RunState::Idle)
+    }
+
+    /// The firmware's `HT_PHASE` (None: a build without it, or a byte no
+    /// firmware sends).
+    pub fn phase(&self) -> Option<Phase> {
+        self.vars
+            .phase
+            .and_then(|a| Phase::from_u8(self.read_u8(a)))
+    }
+
+    /// Send bytes to USART `n`'s receiver (simavr paces them at the baud rate).
+    pub fn send(&mut self, n: u8, bytes: &[u8]) {
+        let now = self.avr.cycle();
+        self.avr.handler_mut().queue_uart(n as usize, bytes, now);
+        let next = self.avr.handler().next_event();
+        self.avr.schedule(next);
+    }
+
+    /// Schedule a fault action (see [`Trigger`]); `undo` runs `duration_s`
+    /// after it.
+    pub fn schedule(&mut self, trigger: Trigger, action: Action, undo: Option<(f64, Action)>) {
+        let clock = self.clock;
+        let undo = undo.map(|(d, a)| (clock.cycles_in(Seconds(d)), a));
+        self.avr
+            .handler_mut()
+            .schedule_triggered(trigger, action, undo);
+        let next = self.avr.handler().next_event();
+        self.avr.schedule(next);
+    }
+
+    /// Pull the reset line now: the firmware restarts from its reset vector,
+    /// the plant carries on. simavr drops its cycle timers on reset, so the
+    /// bench's is scheduled again.
+    pub fn reset_mcu(&mut self) {
+        self.avr.reset();
+        // The MCU's registers are back at their reset values, the bench's
+        // emulated timers and its view of port H too: all pins inputs, the
+        // bridge sees low (its inputs have pull-downs).
+        self.avr.with_core(|core, c| core.after_reset(c));
+        let next = self.avr.handler().next_event();
+        self.avr.schedule(next);
+    }
+
+    /// Bytes the firmware sent on USART `n` so far.
+    pub fn uart_output(&self, n: u8) -> &[u8] {
+        self.avr.handler().uart_out(n as usize)
+    }
+
+    /// The simulated MCU, for a debugger's register and memory access.
+    pub fn mcu(&self) -> &Avr<BenchCore> {
+        &self.avr
+    }
+
+    pub fn mcu_mut(&mut self) -> &mut Avr<BenchCore> {
+        &mut self.avr
+    }
+}

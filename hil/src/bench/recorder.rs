@@ -1,0 +1,327 @@
+//! What the bench records of a run, for reports, traces and replays: trace
+//! samples of the plant, every change of the H-bridge inputs (the drive
+//! log), motor cut-offs, [`Motion`] changes, the battery LEDs, encoder pin
+//! changes (when recording) and the analog inputs.
+
+use plant_model::Side;
+
+use super::core::BenchCore;
+use crate::sim::Core;
+use crate::wiring::{LedWiring, Pin};
+
+/// One trace sample of the plant.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Sample {
+    pub t_s: f64,
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_rad: f64,
+    pub left_edges: i64,
+    pub right_edges: i64,
+    pub left_duty: f64,
+    pub right_duty: f64,
+}
+
+/// An encoder line change raised on a pin: line 0/1 = left A/B, 2/3 = right A/B.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct PinEvent {
+    pub cycle: u64,
+    pub line: u8,
+    pub level: bool,
+}
+
+/// An analog input the bench drives, changed at `cycle` to `mv` millivolts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct AnalogEvent {
+    pub cycle: u64,
+    pub input: AnalogInput,
+    pub mv: u32,
+}
+
+/// The analog inputs the bench drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum AnalogInput {
+    /// A0: the battery through its divider.
+    Adc0,
+    /// VCC, AVCC and AREF (one rail on the Mega).
+    Supply,
+}
+
+/// The battery LEDs after a change (each lit by a high pin).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct LedEvent {
+    pub cycle: u64,
+    pub green: bool,
+    pub blue: bool,
+    pub red: bool,
+}
+
+impl LedEvent {
+    /// The colour shown: one LED lit, else a description.
+    pub fn colour(&self) -> &'static str {
+        match (self.green, self.blue, self.red) {
+            (false, false, false) => "off",
+            (true, false, false) => "green",
+            (false, true, false) => "blue",
+            (false, false, true) => "red",
+            _ => "several",
+        }
+    }
+}
+
+/// A change of one H-bridge input, as the plant saw it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct DriveEvent {
+    pub cycle: u64,
+    /// Arduino pin number.
+    pub pin: u8,
+    pub duty: f64,
+    /// When the timer drives the pin: the counter's BOTTOM cycle and
+    /// prescaler, from which the exact waveform follows (see pwm.rs).
+    #[serde(skip)]
+    pub wave: Option<(crate::pwm::PhaseCorrect, u32, crate::pwm::Com)>,
+}
+
+/// The plant and the firmware's counters at one cycle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Snapshot {
+    pub cycle: u64,
+    pub x_mm: f64,
+    pub y_mm: f64,
+    pub theta_rad: f64,
+    /// The firmware's counters, read from SRAM at that cycle.
+    pub left_count: i32,
+    pub right_count: i32,
+    /// Net A edges the plant produced.
+    pub left_edges: i64,
+    pub right_edges: i64,
+    /// Wheel arcs travelled by the plant.
+    pub left_mm: f64,
+    pub right_mm: f64,
+}
+
+/// A motor switched off: its forward or reverse drive went to zero.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Cutoff {
+    pub side: Side,
+    #[serde(flatten)]
+    pub at: Snapshot,
+}
+
+/// What the two motors do together, from the H-bridge inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Motion {
+    Stopped,
+    Forward,
+    Reverse,
+    /// Spin in place, clockwise seen from above (left forward, right back).
+    SpinCw,
+    SpinCcw,
+    /// One motor driven, the other off.
+    OneWheel,
+    /// At least one motor braking (both inputs high).
+    Brake,
+    /// Anything else (e.g. one forward, one braking).
+    Mixed,
+}
+
+impl Motion {
+    /// From each motor's drive: +1 forward, -1 reverse, 0 off, 2 brake.
+    pub fn classify(left: i8, right: i8) -> Motion {
+        match (left, right) {
+            (0, 0) => Motion::Stopped,
+            (1, 1) => Motion::Forward,
+            (-1, -1) => Motion::Reverse,
+            (1, -1) => Motion::SpinCw,
+            (-1, 1) => Motion::SpinCcw,
+            (2, _) | (_, 2) => Motion::Brake,
+            (0, _) | (_, 0) => Motion::OneWheel,
+            _ => Motion::Mixed,
+        }
+    }
+}
+
+/// A change of [`Motion`], with the state at that cycle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct MotionEvent {
+    pub motion: Motion,
+    #[serde(flatten)]
+    pub at: Snapshot,
+}
+
+/// The records of one run.
+pub(super) struct Recorder {
+    led_wiring: LedWiring,
+    trace: Vec<Sample>,
+    drive_log: Vec<DriveEvent>,
+    cutoffs: Vec<Cutoff>,
+    motions: Vec<MotionEvent>,
+    leds: Vec<LedEvent>,
+    /// Encoder pin changes, when recording (for replays without the bench).
+    pins: Option<Vec<PinEvent>>,
+    /// Every change of the analog inputs since cycle 0 (rare: the battery's
+    /// steps), for replays without the bench.
+    analog: Vec<AnalogEvent>,
+}
+
+impl Recorder {
+    pub(super) fn new(led_wiring: LedWiring) -> Self {
+        Self {
+            led_wiring,
+            trace: Vec::new(),
+            drive_log: Vec::new(),
+            cutoffs: Vec::new(),
+            motions: Vec::new(),
+            leds: Vec::new(),
+            pins: None,
+            analog: Vec::new(),
+        }
+    }
+
+    pub(super) fn drive(&mut self, e: DriveEvent) {
+        self.drive_log.push(e);
+    }
+
+    pub(super) fn cutoff(&mut self, side: Side, at: Snapshot) {
+        self.cutoffs.push(Cutoff { side, at });
+    }
+
+    /// The motion last recorded.
+    pub(super) fn motion(&self) -> Option<Motion> {
+        self.motions.last().map(|m| m.motion)
+    }
+
+    pub(super) fn motion_changed(&mut self, e: MotionEvent) {
+        self.motions.push(e);
+    }
+
+    pub(super) fn analog(&mut self, e: AnalogEvent) {
+        self.analog.push(e);
+    }
+
+    /// An encoder line changed on its pin (kept only while recording).
+    pub(super) fn pin(&mut self, cycle: u64, line: u8, level: bool) {
+        if let Some(rec) = &mut self.pins {
+            rec.push(PinEvent { cycle, line, level });
+        }
+    }
+
+    /// Record pin changes from now on, starting with the levels now.
+    pub(super) fn start_pins(&mut self, levels: Vec<PinEvent>) {
+        self.pins = Some(levels);
+    }
+
+    /// The LED port now shows `port`.
+    pub(super) fn leds_changed(&mut self, cycle: u64, port: u8) {
+        let l = self.led_wiring;
+        let lit = |p: Pin| port >> p.bit & 1 != 0;
+        let e = LedEvent {
+            cycle,
+            green: lit(l.green),
+            blue: lit(l.blue),
+            red: lit(l.red),
+        };
+        let same = |x: &LedEvent| (x.green, x.blue, x.red) == (e.green, e.blue, e.red);
+        // The log starts dark: only a change is an event.
+        let dark_start = self.leds.is_empty() && port == 0;
+        if !(dark_start || self.leds.last().is_some_and(same)) {
+            self.leds.push(e);
+        }
+    }
+}
+
+fn read_i32(core: &Core, addr: u16) -> i32 {
+    i32::from_le_bytes([
+        core.data(addr),
+        core.data(addr + 1),
+        core.data(addr + 2),
+        core.data(addr + 3),
+    ])
+}
+
+impl BenchCore {
+    /// The plant and the firmware's counters now (`cycle` is the current one).
+    pub fn snapshot(&self, core: &Core, cycle: u64) -> Snapshot {
+        let pose = self.robot.pose();
+        Snapshot {
+            cycle,
+            x_mm: pose.x().0,
+            y_mm: pose.y().0,
+            theta_rad: pose.theta().0,
+            left_count: read_i32(core, self.vars.left_count),
+            right_count: read_i32(core, self.vars.right_count),
+            left_edges: self.robot.a_edges(Side::Left),
+            right_edges: self.robot.a_edges(Side::Right),
+            left_mm: self.robot.distance_travelled(Side::Left).0,
+            right_mm: self.robot.distance_travelled(Side::Right).0,
+        }
+    }
+
+    /// A trace sample of the plant at `cycle`.
+    pub(super) fn sample(&mut self, cycle: u64) {
+        let pose = self.robot.pose();
+        let s = Sample {
+            t_s: self.clock.seconds(cycle).0,
+            x_mm: pose.x().0,
+            y_mm: pose.y().0,
+            theta_rad: pose.theta().0,
+            left_edges: self.robot.a_edges(Side::Left),
+            right_edges: self.robot.a_edges(Side::Right),
+            left_duty: self.bridge.signed_duty(Side::Left),
+            right_duty: self.bridge.signed_duty(Side::Right),
+        };
+        self.recorder.trace.push(s);
+    }
+
+    /// Record every encoder pin change from now on (see
+    /// `Bench::start_recording`), starting with the four lines' levels.
+    pub(super) fn start_recording(&mut self, cycle: u64) {
+        let levels = self
+            .edges
+            .levels_shown()
+            .iter()
+            .flatten()
+            .enumerate()
+            .map(|(line, &level)| PinEvent {
+                cycle,
+                line: line as u8,
+                level,
+            })
+            .collect();
+        self.recorder.start_pins(levels);
+    }
+
+    /// Trace samples, one per `BenchOptions::trace_interval_s`.
+    pub fn trace(&self) -> &[Sample] {
+        &self.recorder.trace
+    }
+
+    /// Every change of an H-bridge input.
+    pub fn drive_log(&self) -> &[DriveEvent] {
+        &self.recorder.drive_log
+    }
+
+    pub fn cutoffs(&self) -> &[Cutoff] {
+        &self.recorder.cutoffs
+    }
+
+    pub fn motions(&self) -> &[MotionEvent] {
+        &self.recorder.motions
+    }
+
+    /// Battery LED changes.
+    pub fn leds(&self) -> &[LedEvent] {
+        &self.recorder.leds
+    }
+
+    /// Encoder pin changes since `Bench::start_recording` (None before).
+    pub fn recording(&self) -> Option<&[PinEvent]> {
+        self.recorder.pins.as_deref()
+    }
+
+    /// Every change of the analog inputs since cycle 0.
+    pub fn analog_log(&self) -> &[AnalogEvent] {
+        &self.recorder.analog
+    }
+}

@@ -1,0 +1,89 @@
+//! Building a bench: the MCU with the firmware's flash, the registers the
+//! bench claims or watches, and the IRQs that connect the robot's parts to
+//! the MCU pins a [`Wiring`] names (the parts never name a pin themselves).
+
+use plant_model::{RobotConfig, Side};
+
+use super::core::BenchCore;
+use super::registers::{ACSR, CHECKED_TIMERS};
+use super::{BenchError, BenchOptions};
+use crate::elf::Firmware;
+use crate::fwvars::FwVars;
+use crate::pwm::PwmTimer;
+use crate::sim::{Avr, IoClaim, Irq, SimError};
+use crate::wiring::Wiring;
+
+/// Tags of the IRQs the bench watches (see `BenchCore::irq`).
+pub(super) const TAG_PORT_REG: u32 = 1;
+pub(super) const TAG_PORT_DDR: u32 = 2;
+pub(super) const TAG_LED_PORT: u32 = 3;
+pub(super) const TAG_UART_OUT: u32 = 16; // + USART number
+
+/// The MCU running `firmware`, its pins wired to `robot`'s parts as `wiring`
+/// says, the bench's first event scheduled.
+pub(super) fn build(
+    firmware: &Firmware,
+    robot: &RobotConfig,
+    options: &BenchOptions,
+    wiring: &Wiring,
+    vars: FwVars,
+) -> Result<Avr<BenchCore>, BenchError> {
+    let core = BenchCore::new(robot, options, wiring, vars)?;
+    let mut avr = Avr::new("atmega2560", options.clock.hz(), core)?;
+    for (addr, bytes) in &firmware.segments {
+        avr.load_flash(*addr, bytes)?;
+    }
+    // Timers 2 and 4: emulated by the bench (see pwm.rs).
+    for timer in [PwmTimer::timer2(), PwmTimer::timer4()] {
+        for addr in timer.write_addresses() {
+            avr.claim_io_write(addr, IoClaim::Replace)?;
+        }
+        for addr in timer.read_addresses() {
+            avr.claim_io_read(addr)?;
+        }
+    }
+    for (_, a, b) in CHECKED_TIMERS {
+        avr.claim_io_write(a, IoClaim::Observe)?;
+        avr.claim_io_write(b, IoClaim::Observe)?;
+    }
+    // All four bridge inputs are on one port (checked by a wiring test).
+    let port = wiring.left_motor.forward.pin.port;
+    let reg = avr.port_register(port)?;
+    let ddr = avr.port_direction(port)?;
+    avr.watch_irq(reg, TAG_PORT_REG);
+    avr.watch_irq(ddr, TAG_PORT_DDR);
+    let leds = avr.port_register(wiring.battery_leds.green.port)?;
+    avr.watch_irq(leds, TAG_LED_PORT);
+    let adc0 = avr.adc_input(0)?;
+    avr.handler_mut().power.connect(adc0);
+    // B lines may be raised lazily, before reads of their PIN registers;
+    // the comparator's control register says when AIN1 is watched.
+    for side in Side::BOTH {
+        avr.observe_io_read(wiring.encoder(side).b.pin_register())?;
+    }
+    avr.claim_io_write(ACSR, IoClaim::Observe)?;
+    let mut encoder_pins = |side: Side| -> Result<[Irq; 2], SimError> {
+        let e = wiring.encoder(side);
+        Ok([
+            avr.port_pin(e.a.port, e.a.bit)?,
+            avr.port_pin(e.b.port, e.b.bit)?,
+        ])
+    };
+    let encoders = [encoder_pins(Side::Left)?, encoder_pins(Side::Right)?];
+    for n in [wiring.debug_uart, wiring.bluetooth_uart] {
+        let (input, output) = avr.uart(n)?;
+        avr.watch_irq(output, TAG_UART_OUT + n as u32);
+        avr.handler_mut().uart.connect(n, input);
+    }
+    avr.with_core(|core, c| {
+        core.update_supply(c, 0);
+        core.update_adc(c, 0);
+        // Encoder lines start at the plant's levels.
+        core.connect_encoders(c, encoders);
+        core.update_lazy_b(c, 0);
+        core.plan_edges(0);
+    });
+    let first = avr.handler().next_event();
+    avr.schedule(first);
+    Ok(avr)
+}
