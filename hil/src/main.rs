@@ -1,5 +1,7 @@
 //! `hil`: the bench's command line.
 
+#![deny(unsafe_code)]
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
