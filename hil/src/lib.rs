@@ -8,6 +8,8 @@
 //! the straight-line test. [`station`] is the operator's side: the protocol
 //! client for real and emulated robots, `hil serve` and the `hil ui` page.
 
+#![deny(unsafe_code)]
+
 pub mod bench;
 pub mod calibrate;
 pub mod elf;
@@ -27,9 +29,12 @@ pub mod perf;
 pub mod pwm;
 pub mod report;
 pub mod scenario;
+#[allow(unsafe_code)]
 pub mod sim;
 pub mod station;
 pub mod supply;
+#[allow(unsafe_code)]
+mod sys;
 pub mod time;
 pub mod timing;
 pub mod vcd;

@@ -1,5 +1,7 @@
 //! `hil`: the bench's command line (see [`cli`]).
 
+#![deny(unsafe_code)]
+
 use std::process::ExitCode;
 
 mod cli;

@@ -12,7 +12,7 @@
 
 use std::fs::File;
 use std::io::{ErrorKind, Read, Write};
-use std::os::fd::AsRawFd;
+use std::os::fd::{AsFd, AsRawFd};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -139,12 +139,8 @@ struct Slave(std::os::fd::OwnedFd);
 impl Slave {
     /// Allow the next client to open the slave, whoever opened it last.
     fn allow_reopen(&self) {
-        // SAFETY: TIOCNXCL takes no argument and only clears a flag of the
-        // tty behind this descriptor, which `self` keeps open; a failure
-        // (not a tty) changes nothing and is harmless to ignore.
-        unsafe {
-            nix::libc::ioctl(self.0.as_raw_fd(), nix::libc::TIOCNXCL);
-        }
+        // A failure (not a tty) changes nothing and is harmless to ignore.
+        let _ = crate::sys::clear_tty_exclusive(self.0.as_fd());
     }
 }
 

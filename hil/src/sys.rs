@@ -1,0 +1,18 @@
+//! The bench's calls into the operating system that no safe crate wraps,
+//! each behind a safe function. With [`crate::sim`], the only module allowed
+//! `unsafe`.
+
+use std::os::fd::{AsRawFd, BorrowedFd};
+
+/// Clear the exclusive mode (`TIOCEXCL`) of the tty behind `tty`, so that
+/// the next process may open it.
+pub fn clear_tty_exclusive(tty: BorrowedFd<'_>) -> std::io::Result<()> {
+    // SAFETY: TIOCNXCL takes no argument and only clears a flag of the tty
+    // behind the descriptor, which the borrow keeps open.
+    let rc = unsafe { nix::libc::ioctl(tty.as_raw_fd(), nix::libc::TIOCNXCL) };
+    if rc == -1 {
+        Err(std::io::Error::last_os_error())
+    } else {
+        Ok(())
+    }
+}
