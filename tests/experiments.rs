@@ -144,19 +144,73 @@ fn robust_umbmark_cw_snapshot() {
     insta::assert_debug_snapshot!("robust_umbmark_cw", (legs, turns));
 }
 
-/// The thesis build: every selector byte starts its test; what the printed
-/// turn logic does is recorded as it is (it may hang), never as a crash.
+/// The thesis build's legs and turns per selector byte: (straight legs,
+/// turns, sign of every turn: +1 left, -1 right). The thesis' wiring mirrors
+/// its turns (see `thesis_turn_logic_next_to_robust`): its "UMBmark CW"
+/// spins left, its CCW and its triangle spin right.
+fn thesis_shape(test: Test) -> (usize, usize, f64) {
+    match test {
+        Test::UmbmarkCw => (4, 4, 1.0),
+        Test::UmbmarkCcw => (4, 4, -1.0),
+        Test::Line => (1, 0, 0.0),
+        Test::Triangle => (3, 3, -1.0),
+    }
+}
+
+/// The thesis build: each selector byte runs its own test to the end, with
+/// that test's legs, number of turns and turn direction (mirrored, see
+/// [`thesis_shape`]), each turn within 10 degrees of its angle and each leg
+/// its length.
+///
+/// A known open bug: after some turns the bench sees the next leg in two
+/// pieces at a stale PWM level, a short one (~16 mm) and the rest. Today: UMBmark
+/// CW leg 3, CCW legs 2 and 4, triangle leg 2. A piece is joined to the leg
+/// it is part of (no turn between them) before the legs are counted; at most
+/// one such split per leg, and the two pieces together are the leg's length.
 #[test]
 fn thesis_build_runs_each_selector_byte() {
     for test in Test::ALL {
         let r = run("thesis", test);
-        assert!(!r.legs.is_empty(), "{}: no leg driven", test.name());
-        if test == Test::Line {
-            assert!(r.completed, "the thesis line completes: {:?}", r.finding);
+        let name = test.name();
+        assert!(r.completed, "{name}: {:?}", r.finding);
+        let (legs, turns, sign) = thesis_shape(test);
+        // Join a leg to the previous one when no turn started between them.
+        let mut joined: Vec<(f64, usize)> = Vec::new();
+        let mut prev_start = None;
+        for l in &r.legs {
+            let turn_between = prev_start.is_none_or(|p| {
+                r.turns
+                    .iter()
+                    .any(|t| t.start_cycle > p && t.start_cycle < l.start_cycle)
+            });
+            match joined.last_mut() {
+                Some((mm, pieces)) if !turn_between => {
+                    *mm += l.plant_distance_mm;
+                    *pieces += 1;
+                }
+                _ => joined.push((l.plant_distance_mm, 1)),
+            }
+            prev_start = Some(l.start_cycle);
         }
-        if !r.completed {
-            let f = r.finding.as_deref().unwrap_or("");
-            assert!(f.contains("PC 0x"), "a hang is reported with the PC: {f}");
+        assert_eq!(joined.len(), legs, "{name}: legs {:?}", r.legs);
+        for (mm, pieces) in &joined {
+            assert!(*pieces <= 2, "{name}: a leg in {pieces} pieces");
+            assert!((mm - LEG_MM).abs() < 30.0, "{name}: a leg of {mm} mm");
+        }
+        assert_eq!(r.turns.len(), turns, "{name}: turns");
+        let angle = test.shape().2.abs();
+        for t in &r.turns {
+            assert_eq!(
+                t.plant_angle_deg.signum(),
+                sign,
+                "{name}: turn of {} deg",
+                t.plant_angle_deg
+            );
+            assert!(
+                (t.plant_angle_deg.abs() - angle).abs() < 10.0,
+                "{name}: turn of {} deg, expected {angle}",
+                t.plant_angle_deg
+            );
         }
     }
 }
