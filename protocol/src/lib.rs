@@ -26,6 +26,8 @@ pub mod crc;
 pub mod frame;
 pub mod message;
 pub mod param;
+pub mod status;
+pub mod test_kind;
 
 pub use crc::crc8;
 pub use frame::{

@@ -5,7 +5,7 @@
 //! the parameters marked integer, a whole number. Anything else is refused
 //! with [`Status::OutOfRange`] and changes nothing.
 
-use crate::message::Status;
+use crate::status::Status;
 
 /// A run-time parameter of the robust firmware.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Hash)]
