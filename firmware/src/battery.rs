@@ -14,16 +14,9 @@ pub const BLUE_ABOVE: u16 = 942;
 /// Green above this reading (thesis: and below [`BLUE_ABOVE`]).
 pub const GREEN_ABOVE: u16 = 901;
 
-/// Which LED is lit.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Colour {
-    /// D11 (charged).
-    Blue,
-    /// D10.
-    Green,
-    /// D12 (low).
-    Red,
-}
+/// The colour type crosses the `io` traits ([`crate::io::BatteryLeds`]), so
+/// it lives there; this is the battery's name for it.
+pub use crate::io::Colour;
 
 /// The thesis' branches; `None` when no branch matches (901 and 942).
 pub const fn thesis_colour(nivel: u16) -> Option<Colour> {

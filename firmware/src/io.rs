@@ -8,7 +8,6 @@
 //! USARTs). An implementation must keep the behaviour each method states: the
 //! logic's timing and its stop rules rely on it.
 
-use crate::battery::Colour;
 use crate::Error;
 
 /// Both counts at one instant.
@@ -89,6 +88,17 @@ pub trait BatteryInput {
     fn busy(&self) -> bool;
     /// The last result, 0..=1023.
     fn result(&self) -> u16;
+}
+
+/// Which battery LED is lit (chosen by [`crate::battery`]'s thresholds).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Colour {
+    /// D11 (charged).
+    Blue,
+    /// D10.
+    Green,
+    /// D12 (low).
+    Red,
 }
 
 /// The battery LEDs.

@@ -9,14 +9,12 @@ use crate::io::{Bridges, Side, WheelEncoders};
 use crate::pid::{duty_from_output, rpm_table, thesis_rpm};
 use crate::robot;
 
+pub use super::drive::TABLE_COUNTS;
 use super::drive::{Drive, Stage, Wheel};
 use super::progress::{fault_of, judge_progress, Check, WRONG_WAY_COUNTS};
 
 /// Thesis RPM of one count in one control period (1.107).
 pub const RPM_PER_COUNT: f32 = thesis_rpm(1, robot::SAMPLE_PERIOD_S);
-/// Counts per control period the lookup tables cover (a wheel at the
-/// set-point makes about 13; the motors' top speed is below 30).
-pub const TABLE_COUNTS: usize = 64;
 /// Thesis RPM of 0..63 counts in one control period.
 pub static RPM_OF_COUNTS: [f32; TABLE_COUNTS] = rpm_table(robot::SAMPLE_PERIOD_S);
 /// One control period in microseconds, as `HT_PERIOD_US` shows it.

@@ -5,7 +5,10 @@ use crate::io::{Bridges, Side};
 use crate::pid::TablePid;
 use crate::robot;
 
-use super::control::TABLE_COUNTS;
+/// Counts per control period the lookup tables cover (the wheels' PIDs and
+/// [`super::control::RPM_OF_COUNTS`]): a wheel at the set-point makes about
+/// 13; the motors' top speed is below 30.
+pub const TABLE_COUNTS: usize = 64;
 
 /// Where a wheel is within its segment.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]

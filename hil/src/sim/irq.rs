@@ -8,24 +8,12 @@
 
 use std::ffi::c_void;
 use std::ptr::NonNull;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use simavr_ffi as ffi;
 
 use super::mcu::ioctl_def;
-use super::trampolines::irq_trampoline;
+use super::owner::Owner;
 use super::{Avr, Handler, SimError};
-
-/// The identity of one [`Avr`], unique for the life of the process.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct Owner(u64);
-
-impl Owner {
-    pub(super) fn next() -> Self {
-        static NEXT: AtomicU64 = AtomicU64::new(1);
-        Self(NEXT.fetch_add(1, Ordering::Relaxed))
-    }
-}
 
 /// A pin or peripheral line the bench drives or watches, usable with the
 /// [`Avr`] (and inside its callbacks, the [`super::Core`]) it came from only.
@@ -54,7 +42,8 @@ impl Irq {
 fn foreign(irq: Irq, owner: Owner) -> ! {
     panic!(
         "an Irq of Avr #{} used with Avr #{}: an Irq works with the Avr it came from only",
-        irq.owner.0, owner.0
+        irq.owner.number(),
+        owner.number()
     )
 }
 
@@ -144,18 +133,6 @@ impl<H: Handler> Avr<H> {
             raw,
             owner: self.owner(),
         })
-    }
-
-    /// Call [`Handler::irq`] with `tag` whenever `irq` is raised.
-    ///
-    /// # Panics
-    /// When `irq` belongs to another `Avr`.
-    pub fn watch_irq(&mut self, irq: Irq, tag: u32) {
-        let raw = irq.raw_for(self.owner());
-        let param = self.shared.new_tag(tag).as_ptr() as *mut c_void;
-        // SAFETY: `raw` is an IRQ of this live MCU (checked above); the tag
-        // lives in `self.shared` until after the MCU is freed.
-        unsafe { ffi::avr_irq_register_notify(raw, Some(irq_trampoline::<H>), param) }
     }
 
     /// Drive an input line from outside callbacks.

@@ -35,20 +35,21 @@
 //! its `// SAFETY:` line and every unsafe fn its `# Safety` doc:
 //! - `mod.rs`: [`Avr::new`]'s setup of the MCU's fields, the step calls and
 //!   field reads of the run loops, the IO slot installs of the claims,
-//!   `avr_reset`, and the handler borrows of [`Avr::handler`],
-//!   [`Avr::handler_mut`] and [`Avr::with_core`];
+//!   the notify registration of [`Avr::watch_irq`], `avr_reset`, and the
+//!   handler borrows of [`Avr::handler`], [`Avr::handler_mut`] and
+//!   [`Avr::with_core`];
 //! - `mcu.rs`: making, initialising and freeing the `avr_t`, and the raw
 //!   data-space reads and writes everything else uses;
 //! - `memory.rs`: field and flash accesses of the memory accessors, each
 //!   bounds-checked first;
 //! - `view.rs`: [`Core`]'s field accesses and its raise and schedule calls;
-//! - `irq.rs`: IRQ lookups, the notify registration and `avr_raise_irq`;
+//! - `irq.rs`: IRQ lookups and `avr_raise_irq`;
 //! - `shared.rs`: the handler state's allocation and free;
 //! - `trampolines.rs`: the `extern "C"` callbacks and the timer
 //!   registration;
-//! - `tests.rs`: none.
+//! - `owner.rs`, `tests.rs`: none.
 
-use std::ffi::CString;
+use std::ffi::{c_void, CString};
 
 use simavr_ffi as ffi;
 use thiserror::Error;
@@ -56,6 +57,7 @@ use thiserror::Error;
 mod irq;
 mod mcu;
 mod memory;
+mod owner;
 mod shared;
 #[cfg(test)]
 mod tests;
@@ -65,11 +67,12 @@ mod view;
 pub use irq::Irq;
 pub use view::Core;
 
-use irq::Owner;
 use mcu::{decode_state, io_slot, Mcu};
+use owner::Owner;
 use shared::{Flag, Shared, SharedBox, WriteSlot};
 use trampolines::{
-    io_read_observe_trampoline, io_read_trampoline, io_write_trampoline, schedule_timer, sleep_noop,
+    io_read_observe_trampoline, io_read_trampoline, io_write_trampoline, irq_trampoline,
+    schedule_from_core, schedule_timer, sleep_noop,
 };
 
 /// Errors from creating or driving the simulated MCU.
@@ -400,11 +403,23 @@ impl<H: Handler> Avr<H> {
             let handler = unsafe { &mut *std::ptr::addr_of_mut!((*p).handler) };
             // SAFETY: live state; the `Core` is dropped before `self` is
             // given back.
-            let mut core = unsafe { Core::new(shared) };
+            let mut core = unsafe { Core::new(shared, schedule_from_core::<H>) };
             f(handler, &mut core)
         };
         self.resume_failure();
         r
+    }
+
+    /// Call [`Handler::irq`] with `tag` whenever `irq` is raised.
+    ///
+    /// # Panics
+    /// When `irq` belongs to another `Avr`.
+    pub fn watch_irq(&mut self, irq: Irq, tag: u32) {
+        let raw = irq.raw_for(self.owner());
+        let param = self.shared.new_tag(tag).as_ptr() as *mut c_void;
+        // SAFETY: `raw` is an IRQ of this live MCU (checked above); the tag
+        // lives in `self.shared` until after the MCU is freed.
+        unsafe { ffi::avr_irq_register_notify(raw, Some(irq_trampoline::<H>), param) }
     }
 
     /// Take part in writes to IO register `addr` (a data-space address).

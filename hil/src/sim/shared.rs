@@ -20,7 +20,7 @@ use std::ptr::NonNull;
 
 use simavr_ffi as ffi;
 
-use super::irq::Owner;
+use super::owner::Owner;
 
 /// A panic caught at the C boundary, to be resumed in Rust.
 pub(super) type Payload = Box<dyn Any + Send>;

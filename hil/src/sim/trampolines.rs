@@ -87,7 +87,7 @@ unsafe fn with_handler<H: Handler, R>(
     // is the only `&mut H` while it lives. It covers the handler field only.
     let handler = unsafe { &mut *std::ptr::addr_of_mut!((*p).handler) };
     // SAFETY: live state; the `Core` is dropped at the end of this call.
-    let mut core = unsafe { Core::new(shared) };
+    let mut core = unsafe { Core::new(shared, schedule_from_core::<H>) };
     let r = call(handler, &mut core);
     if handler.attention() {
         // SAFETY: a `Cell` field, disjoint from the handler.

@@ -4,10 +4,10 @@ use std::ptr::NonNull;
 
 use simavr_ffi as ffi;
 
-use super::irq::{self, Irq, Owner};
+use super::irq::{self, Irq};
 use super::mcu::{data_read, data_write};
+use super::owner::Owner;
 use super::shared::Shared;
-use super::trampolines::schedule_from_core;
 use super::Handler;
 
 /// A view of the running MCU for use inside callbacks.
@@ -19,17 +19,24 @@ pub struct Core {
     owner: Owner,
     /// The handler's state, type-erased: `Core` does not know `H`.
     shared: NonNull<()>,
-    /// [`schedule_from_core`] for that `H`.
+    /// The trampolines' scheduler for that `H`, given by the caller of
+    /// [`Core::new`] (the view does not know the trampolines).
     schedule: unsafe fn(NonNull<()>, u64),
 }
 
 impl Core {
-    /// The view of the MCU whose handler state is `shared`.
+    /// The view of the MCU whose handler state is `shared`; `schedule`
+    /// (re)schedules the bench's timer for it.
     ///
     /// # Safety
     /// `shared` is the live state of a live `Avr`, and the `Core` is dropped
-    /// before the `Avr` (it is only ever lent for one callback).
-    pub(super) unsafe fn new<H: Handler>(shared: NonNull<Shared<H>>) -> Self {
+    /// before the `Avr` (it is only ever lent for one callback); `schedule`
+    /// expects the type-erased state of that same `H` (the trampolines'
+    /// `schedule_from_core::<H>`).
+    pub(super) unsafe fn new<H: Handler>(
+        shared: NonNull<Shared<H>>,
+        schedule: unsafe fn(NonNull<()>, u64),
+    ) -> Self {
         let p = shared.as_ptr();
         Self {
             // SAFETY: plain copies of two fields that never change, read
@@ -38,7 +45,7 @@ impl Core {
             // SAFETY: as above.
             owner: unsafe { (*p).owner },
             shared: shared.cast(),
-            schedule: schedule_from_core::<H>,
+            schedule,
         }
     }
 
