@@ -3,13 +3,11 @@
 //! four DRV8833 inputs, and how a change reaches the plant. Also the PWM
 //! statistics per pin, and the [`Motion`] the two motors make together.
 
-use plant_model::{Duty, Side};
+use plant_model::Side;
 
-use super::core::{BenchCore, NEVER};
-use super::error::PendingError;
-use super::recorder::{DriveEvent, Motion, MotionEvent};
-use crate::pwm::{PinDrive, PwmTimer};
-use crate::sim::Core;
+use super::recorder::{DriveEvent, Motion, Recorder};
+use super::NEVER;
+use crate::pwm::{PinDrive, PwmError, PwmTimer};
 use crate::time::Clock;
 use crate::wiring::{BridgeInput, PwmSource, Wiring};
 
@@ -162,7 +160,7 @@ impl Bridge {
     /// What each bridge input sees, for the PWM statistics: recomputed
     /// after every change of the timers' and the port's registers (the
     /// statistics first integrate what was held up to `cycle`).
-    fn update_input_duties(&mut self, cycle: u64) {
+    pub(super) fn update_input_duties(&mut self, cycle: u64) {
         self.integrate_pin_stats(cycle);
         let duties = self
             .wiring
@@ -182,12 +180,12 @@ impl Bridge {
     /// `side`'s (forward, reverse) duties now, when they differ from what
     /// the plant was given: logged per input into `log`, kept as the
     /// plant's, and returned with the old ones.
-    fn drive_change(
+    pub(super) fn drive_change(
         &mut self,
         side: Side,
         disconnected: bool,
         cycle: u64,
-        log: &mut super::recorder::Recorder,
+        log: &mut Recorder,
     ) -> Option<((f64, f64), (f64, f64))> {
         let m = *self.wiring.motor(side);
         let i = side.index();
@@ -224,7 +222,7 @@ impl Bridge {
     }
 
     /// What the two motors do together.
-    fn motion(&self) -> Motion {
+    pub(super) fn motion(&self) -> Motion {
         let sign = |(f, r): (f64, f64)| match (f > 0.0, r > 0.0) {
             (false, false) => 0,
             (true, false) => 1,
@@ -233,103 +231,51 @@ impl Bridge {
         };
         Motion::classify(sign(self.duty[0]), sign(self.duty[1]))
     }
-}
 
-impl BenchCore {
-    /// Re-read what the bridge inputs see; apply changes to the plant.
-    pub(super) fn refresh_bridge(&mut self, core: &Core, cycle: u64) {
-        self.advance_plant(cycle);
-        self.bridge.update_input_duties(cycle);
-        let mut changed = [false; 2];
-        for side in Side::BOTH {
-            let i = side.index();
-            let disconnected = self.inject.motor_disconnected[i];
-            let Some(((old_f, old_r), (fwd, rev))) =
-                self.bridge
-                    .drive_change(side, disconnected, cycle, &mut self.recorder)
-            else {
-                continue;
-            };
-            changed[i] = true;
-            if (old_f > 0.0 && fwd == 0.0) || (old_r > 0.0 && rev == 0.0) {
-                let at = self.snapshot(core, cycle);
-                self.recorder.cutoff(side, at);
-            }
-            self.robot.set_bridge(
-                side,
-                Duty::new(fwd).unwrap_or(Duty::from_pwm8(0)),
-                Duty::new(rev).unwrap_or(Duty::from_pwm8(0)),
-            );
+    /// A write to a register of timer 2 or 4, at `cycle` (the caller
+    /// brought the plant there first): whether the outputs changed (then
+    /// the caller refreshes the bridge).
+    pub(super) fn write_register(
+        &mut self,
+        addr: u16,
+        value: u8,
+        cycle: u64,
+    ) -> Result<bool, PwmError> {
+        let which = if self.timer2.owns_write(addr) { 0 } else { 1 };
+        let effect = self.timer_mut(which).write(addr, value, cycle);
+        self.update_input_duties(cycle);
+        let effect = effect?;
+        if effect.pending_update {
+            self.pending_top[which] = self
+                .timer_mut(which)
+                .pending_update_at(cycle)
+                .unwrap_or(NEVER);
         }
-        if changed != [false; 2] {
-            self.replan_changed_wheels(changed, cycle);
-            let motion = self.bridge.motion();
-            if self.recorder.motion() != Some(motion) {
-                let at = self.snapshot(core, cycle);
-                self.recorder.motion_changed(MotionEvent { motion, at });
-                self.fire_triggers(cycle, motion);
-            }
+        if effect.outputs_changed && self.pending_top[which] == NEVER {
+            // A timer that just started applies buffered values at its
+            // first TOP.
+            self.pending_top[which] = self
+                .timer_mut(which)
+                .pending_update_at(cycle)
+                .unwrap_or(NEVER);
         }
-    }
-
-    /// A write to a register of timer 2 or 4: the plant is brought to this
-    /// cycle before the output can change.
-    pub(super) fn write_pwm_register(&mut self, core: &mut Core, addr: u16, value: u8) {
-        let cycle = core.cycle();
-        let which = if self.bridge.timer2.owns_write(addr) {
-            0
-        } else {
-            1
-        };
-        // The bench emulates these registers; keep data space readable.
-        core.set_data(addr, value);
-        self.advance_plant(cycle);
-        let written = self.bridge.timer_mut(which).write(addr, value, cycle);
-        self.bridge.update_input_duties(cycle);
-        match written {
-            Ok(effect) => {
-                if effect.pending_update {
-                    self.bridge.pending_top[which] = self
-                        .bridge
-                        .timer_mut(which)
-                        .pending_update_at(cycle)
-                        .unwrap_or(NEVER);
-                }
-                if effect.outputs_changed {
-                    self.refresh_bridge(core, cycle);
-                    if self.bridge.pending_top[which] == NEVER {
-                        // A timer that just started applies buffered
-                        // values at its first TOP.
-                        self.bridge.pending_top[which] = self
-                            .bridge
-                            .timer_mut(which)
-                            .pending_update_at(cycle)
-                            .unwrap_or(NEVER);
-                    }
-                }
-                core.schedule(self.next_event());
-            }
-            Err(e) => self.requests.fail(PendingError::Pwm(e, cycle, core.pc())),
-        }
+        Ok(effect.outputs_changed)
     }
 
     /// A read of a register of timer 2 or 4: none is verified, so the run
-    /// ends with an error naming it.
-    pub(super) fn refuse_pwm_read(&mut self, core: &Core, addr: u16) -> u8 {
-        let timer = if self.bridge.timer2.read_addresses().contains(&addr) {
-            &self.bridge.timer2
+    /// ends with this error naming it.
+    pub(super) fn refused_read(&self, addr: u16) -> PwmError {
+        let timer = if self.timer2.read_addresses().contains(&addr) {
+            &self.timer2
         } else {
-            &self.bridge.timer4
+            &self.timer4
         };
-        let err = timer.read(addr);
-        self.requests
-            .fail(PendingError::Pwm(err, core.cycle(), core.pc()));
-        0
+        timer.read(addr)
     }
 
     /// Mean active duty per pin, finalised.
-    pub fn pin_stats(&self) -> [PinStats; 4] {
-        let mut out = self.bridge.pins;
+    pub(super) fn pin_stats(&self) -> [PinStats; 4] {
+        let mut out = self.pins;
         for p in &mut out {
             p.mean_active_duty = if p.active_s > 0.0 {
                 p.duty_integral / p.active_s

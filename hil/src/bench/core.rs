@@ -1,28 +1,36 @@
 //! [`BenchCore`]: the bench's side of the simulation, the handler simavr
 //! calls back (register writes and reads, the bench's cycle timer, watched
 //! IRQs). It holds one part per concern and dispatches each callback to
-//! them; the parts' own files say what each does.
+//! them; the parts' own files say what each does. The parts know nothing
+//! of the core: what needs several of them (a bridge change reaching the
+//! plant and the encoder plans, a fault action) is done here, each part
+//! given the others or the few values it needs of them.
 
-use plant_model::{Robot, RobotConfig, Seconds};
+use plant_model::{Duty, Robot, RobotConfig, Seconds, Side};
 
-use super::bridge::Bridge;
+use super::bridge::{Bridge, PinStats};
 use super::edges::Encoders;
 use super::error::PendingError;
-use super::faults::FaultSchedule;
-use super::power::Power;
-use super::recorder::Recorder;
+use super::faults::{Action, FaultSchedule, Trigger};
+use super::power::{Brownout, Power};
+use super::recorder::{
+    AnalogEvent, Cutoff, DriveEvent, LedEvent, MotionEvent, PinEvent, Recorder, Sample, Snapshot,
+};
 use super::registers::{ACSR, ACSR_ACIC, ACSR_ACIE, CHECKED_TIMERS};
-use super::setup::{TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_OUT};
+use super::requests::Requests;
 use super::uart::HostUart;
-use super::BenchOptions;
+use super::{BenchOptions, NEVER};
 use crate::fwvars::FwVars;
 use crate::inject::Injection;
-use crate::sim::{Core, Handler};
+use crate::sim::{Core, Handler, Irq};
 use crate::time::Clock;
 use crate::wiring::Wiring;
 
-/// No event: a cycle never reached.
-pub(super) const NEVER: u64 = u64::MAX;
+/// Tags of the IRQs the bench watches (see `BenchCore::irq`).
+pub(super) const TAG_PORT_REG: u32 = 1;
+pub(super) const TAG_PORT_DDR: u32 = 2;
+pub(super) const TAG_LED_PORT: u32 = 3;
+pub(super) const TAG_UART_OUT: u32 = 16; // + USART number
 
 /// The bench's side of the simulation (see the module docs).
 pub struct BenchCore {
@@ -48,39 +56,6 @@ pub struct BenchCore {
     steps: u32,
     /// Callbacks from simavr into the bench (timer, IO, IRQ).
     callbacks: u64,
-}
-
-/// What a callback leaves for the run loop: an error, a reset to perform,
-/// the brown-out detector letting go.
-#[derive(Default)]
-pub(super) struct Requests {
-    error: Option<PendingError>,
-    reset: bool,
-    bod_release: bool,
-    /// Any of them (one flag read per instruction).
-    attention: bool,
-}
-
-impl Requests {
-    /// Record `e`, unless an error is already waiting.
-    pub(super) fn fail(&mut self, e: PendingError) {
-        if self.error.is_none() {
-            self.error = Some(e);
-            self.attention = true;
-        }
-    }
-
-    /// Restart the MCU after this step.
-    pub(super) fn reset(&mut self) {
-        self.reset = true;
-        self.attention = true;
-    }
-
-    /// The brown-out detector let go: restart the MCU with BORF set.
-    pub(super) fn bod_release(&mut self) {
-        self.bod_release = true;
-        self.attention = true;
-    }
 }
 
 impl BenchCore {
@@ -182,22 +157,22 @@ impl BenchCore {
 
     /// The reset the run loop is to perform, taken.
     pub(super) fn take_reset(&mut self) -> bool {
-        std::mem::take(&mut self.requests.reset)
+        self.requests.take_reset()
     }
 
     /// The brown-out release the run loop is to perform, taken.
     pub(super) fn take_bod_release(&mut self) -> bool {
-        std::mem::take(&mut self.requests.bod_release)
+        self.requests.take_bod_release()
     }
 
     /// The error a callback recorded, taken.
     pub(super) fn take_error(&mut self) -> Option<PendingError> {
-        self.requests.error.take()
+        self.requests.take_error()
     }
 
     /// The run loop has seen the flag (it handles what is behind it next).
     pub(super) fn clear_attention(&mut self) {
-        self.requests.attention = false;
+        self.requests.clear_attention();
     }
 
     /// The periodic plant step, when due: A0 and the trace.
@@ -237,6 +212,381 @@ impl BenchCore {
     }
 }
 
+/// The callbacks' work that needs several parts: each part does its share,
+/// given the others (or the few values it needs of them).
+impl BenchCore {
+    pub(super) fn connect_encoders(&mut self, core: &mut Core, irq: [[Irq; 2]; 2]) {
+        self.edges.connect(core, irq, &self.robot);
+    }
+
+    pub(super) fn plan_edges(&mut self, now: u64) {
+        self.edges.plan(&self.robot, self.clock, now);
+    }
+
+    /// Show the plant's levels on both encoders' pins.
+    pub(super) fn raise_encoders(&mut self, core: &mut Core, when: u64) {
+        let (robot, inject, rec) = (&self.robot, &mut self.inject, &mut self.recorder);
+        self.edges.raise_all(core, robot, inject, rec, when);
+    }
+
+    /// Raise B lazily or not, as it may now (see `Encoders::lazy_b_change`):
+    /// on a change the lines are brought up to date and both wheels
+    /// re-planned.
+    pub(super) fn update_lazy_b(&mut self, core: &mut Core, cycle: u64) {
+        if let Some(lazy) = self.edges.lazy_b_change(&self.inject) {
+            self.advance_plant(cycle);
+            self.raise_encoders(core, cycle);
+            self.edges.set_lazy_b(lazy);
+            self.plan_edges(cycle);
+        }
+    }
+
+    /// The analog comparator's interrupt or capture was switched.
+    pub(super) fn set_comparator(&mut self, core: &mut Core, on: bool) {
+        self.edges.set_comparator(on);
+        let cycle = core.cycle();
+        self.update_lazy_b(core, cycle);
+    }
+
+    /// Raise B at its own transitions from now on (see `Bench::true_waveforms`).
+    pub(super) fn true_waveforms(&mut self, core: &mut Core) {
+        self.edges.forbid_lazy_b();
+        let cycle = core.cycle();
+        self.update_lazy_b(core, cycle);
+    }
+
+    /// Planned encoder edges with nothing else due at `when`, raised from
+    /// the plan alone (see `Encoders::raise_planned_edges`).
+    #[inline]
+    fn raise_planned_edges(&mut self, core: &mut Core, when: u64) -> bool {
+        if self.next_other_event() <= when || self.power.releasing() {
+            return false;
+        }
+        let (robot, inject, rec) = (&self.robot, &mut self.inject, &mut self.recorder);
+        self.edges
+            .raise_planned_edges(core, robot, self.clock, inject, rec, when)
+    }
+
+    /// Record every encoder pin change from now on (see
+    /// `Bench::start_recording`), starting with the four lines' levels.
+    pub(super) fn start_recording(&mut self, cycle: u64) {
+        self.recorder.start_pins(cycle, self.edges.levels_shown());
+    }
+
+    /// A trace sample of the plant at `cycle`.
+    fn sample(&mut self, cycle: u64) {
+        let duty = Side::BOTH.map(|side| self.bridge.signed_duty(side));
+        let t_s = self.clock.seconds(cycle).0;
+        self.recorder.sample(t_s, &self.robot, duty);
+    }
+
+    /// VCC and the brown-out detector (see `Power::update_supply`).
+    pub(super) fn update_supply(&mut self, core: &mut Core, cycle: u64) {
+        let battery = self.robot.battery_voltage().0;
+        match self
+            .power
+            .update_supply(core, cycle, battery, &mut self.recorder)
+        {
+            Some(Brownout::Pulled) => self.requests.reset(),
+            Some(Brownout::Released) => self.requests.bod_release(),
+            None => {}
+        }
+    }
+
+    /// Drive A0 with the battery's voltage when it changed.
+    pub(super) fn update_adc(&mut self, core: &mut Core, cycle: u64) {
+        let battery = self.robot.battery_voltage().0;
+        self.power
+            .update_adc(core, cycle, battery, &mut self.recorder);
+    }
+
+    /// Re-read what the bridge inputs see; apply changes to the plant.
+    fn refresh_bridge(&mut self, core: &Core, cycle: u64) {
+        self.advance_plant(cycle);
+        self.bridge.update_input_duties(cycle);
+        let mut changed = [false; 2];
+        for side in Side::BOTH {
+            let i = side.index();
+            let disconnected = self.inject.motor_disconnected[i];
+            let Some(((old_f, old_r), (fwd, rev))) =
+                self.bridge
+                    .drive_change(side, disconnected, cycle, &mut self.recorder)
+            else {
+                continue;
+            };
+            changed[i] = true;
+            if (old_f > 0.0 && fwd == 0.0) || (old_r > 0.0 && rev == 0.0) {
+                let at = self.snapshot(core, cycle);
+                self.recorder.cutoff(side, at);
+            }
+            self.robot.set_bridge(
+                side,
+                Duty::new(fwd).unwrap_or(Duty::from_pwm8(0)),
+                Duty::new(rev).unwrap_or(Duty::from_pwm8(0)),
+            );
+        }
+        if changed != [false; 2] {
+            self.edges
+                .replan_changed_wheels(&self.robot, self.clock, changed, cycle);
+            let motion = self.bridge.motion();
+            if self.recorder.motion() != Some(motion) {
+                let at = self.snapshot(core, cycle);
+                self.recorder.motion_changed(MotionEvent { motion, at });
+                self.faults.motion_started(cycle, motion);
+            }
+        }
+    }
+
+    /// A write to a register of timer 2 or 4: the plant is brought to this
+    /// cycle before the output can change.
+    fn write_pwm_register(&mut self, core: &mut Core, addr: u16, value: u8) {
+        let cycle = core.cycle();
+        // The bench emulates these registers; keep data space readable.
+        core.set_data(addr, value);
+        self.advance_plant(cycle);
+        match self.bridge.write_register(addr, value, cycle) {
+            Ok(outputs_changed) => {
+                if outputs_changed {
+                    self.refresh_bridge(core, cycle);
+                }
+                core.schedule(self.next_event());
+            }
+            Err(e) => self.requests.fail(PendingError::Pwm(e, cycle, core.pc())),
+        }
+    }
+
+    /// Put on the wire each byte from the host due at `when`.
+    fn send_due_host_bytes(&mut self, core: &mut Core, when: u64) {
+        for n in 0..4 {
+            let Some(due) = self.uart.take_due(n, when) else {
+                continue;
+            };
+            if let Some((b, irq)) = due {
+                // The Bluetooth link's faults hit the byte now, at the
+                // time it is on the air, after the actions armed for it.
+                let arrived = if n == self.uart.bluetooth() {
+                    self.faults.host_byte(when);
+                    self.apply_due_actions(core, when);
+                    self.inject.link_bytes(b)
+                } else {
+                    vec![b]
+                };
+                for b in arrived {
+                    core.raise(irq, b as u32);
+                }
+            }
+            self.uart.reschedule(n, when);
+        }
+    }
+
+    fn apply_due_actions(&mut self, core: &mut Core, when: u64) {
+        while let Some(action) = self.faults.take_due_action(when) {
+            self.apply_action(core, when, action);
+        }
+    }
+
+    /// Glitch pulse edges due at `when`, each at its own cycle.
+    fn apply_due_glitches(&mut self, core: &mut Core, when: u64) {
+        while let Some((i, ch, on)) = self.faults.take_due_glitch(when) {
+            self.inject.glitch[i][ch] = on;
+            self.raise_encoders(core, when);
+        }
+    }
+
+    /// Apply `action` at `cycle` and log it; an action the plant refuses is
+    /// not logged but left for the run loop to report.
+    fn apply_action(&mut self, core: &mut Core, cycle: u64, action: Action) {
+        match self.act(core, cycle, &action) {
+            Ok(()) => self.faults.log_applied(cycle, action),
+            Err(error) => self.requests.fail(PendingError::Refused {
+                action,
+                error,
+                cycle,
+                pc: core.pc(),
+            }),
+        }
+    }
+
+    fn act(
+        &mut self,
+        core: &mut Core,
+        cycle: u64,
+        action: &Action,
+    ) -> Result<(), plant_model::Error> {
+        match *action {
+            Action::Encoder { side, fault } => {
+                // B must be exact from here on if the fault acts on the lines.
+                self.advance_plant(cycle);
+                self.raise_encoders(core, cycle);
+                self.inject.encoder[side.index()] = fault;
+                self.update_lazy_b(core, cycle);
+            }
+            Action::Link { fault } => self.inject.link = fault,
+            Action::MotorDisconnected { side, disconnected } => {
+                self.inject.motor_disconnected[side.index()] = disconnected;
+                // Force a re-read: the plant sees the bridge anew.
+                self.bridge.forget_drive(side);
+                self.refresh_bridge(core, cycle);
+            }
+            Action::Reset => self.requests.reset(),
+            Action::Motor { side, fault } => {
+                self.robot.set_motor_fault(side, fault)?;
+                self.plan_edges(cycle);
+            }
+            Action::SlipBurst { side, slip } => self.robot.set_slip_burst(side, slip)?,
+            Action::BatteryVolts { volts } => {
+                self.robot
+                    .set_battery_voltage_override(volts.map(plant_model::Volts))?;
+                self.plan_edges(cycle);
+                self.update_supply(core, cycle);
+            }
+            Action::EncoderGlitch {
+                side,
+                channel,
+                pulses,
+                width_us,
+                period_us,
+            } => {
+                let width = self.clock.cycles_in(Seconds(width_us * 1e-6)).max(1);
+                let period = self
+                    .clock
+                    .cycles_in(Seconds(period_us * 1e-6))
+                    .max(width + 1);
+                let at = (side.index(), channel as usize);
+                self.faults.glitch_burst(cycle, at, pulses, width, period);
+            }
+            Action::HostSend { ref bytes } => {
+                let n = self.uart.bluetooth();
+                self.queue_uart(n, bytes, cycle);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What the parts hold, for the bench and its callers.
+impl BenchCore {
+    /// The plant and the firmware's counters now (`cycle` is the current one).
+    pub fn snapshot(&self, core: &Core, cycle: u64) -> Snapshot {
+        Snapshot::take(&self.robot, &self.vars, core, cycle)
+    }
+
+    /// Trace samples, one per `BenchOptions::trace_interval_s`.
+    pub fn trace(&self) -> &[Sample] {
+        self.recorder.trace()
+    }
+
+    /// Every change of an H-bridge input.
+    pub fn drive_log(&self) -> &[DriveEvent] {
+        self.recorder.drive_log()
+    }
+
+    pub fn cutoffs(&self) -> &[Cutoff] {
+        self.recorder.cutoffs()
+    }
+
+    pub fn motions(&self) -> &[MotionEvent] {
+        self.recorder.motions()
+    }
+
+    /// Battery LED changes.
+    pub fn leds(&self) -> &[LedEvent] {
+        self.recorder.leds()
+    }
+
+    /// Encoder pin changes since `Bench::start_recording` (None before).
+    pub fn recording(&self) -> Option<&[PinEvent]> {
+        self.recorder.recording()
+    }
+
+    /// Every change of the analog inputs since cycle 0.
+    pub fn analog_log(&self) -> &[AnalogEvent] {
+        self.recorder.analog_log()
+    }
+
+    /// Mean active duty per pin, finalised.
+    pub fn pin_stats(&self) -> [PinStats; 4] {
+        self.bridge.pin_stats()
+    }
+
+    /// A edges raised on the pins per side, signed as the thesis' decoder
+    /// counts them.
+    pub fn edges_raised(&self) -> [i64; 2] {
+        self.edges.edges_raised()
+    }
+
+    /// Cycle at which the last A edge of each encoder was due.
+    pub fn last_a_edge(&self) -> [u64; 2] {
+        self.edges.last_a_edge()
+    }
+
+    /// Callbacks that raised planned edges from the plan alone.
+    pub fn lean_edge_callbacks(&self) -> u64 {
+        self.edges.lean_edge_callbacks()
+    }
+
+    /// PIN reads that brought a lazy B up to date.
+    pub fn lazy_b_reads(&self) -> u64 {
+        self.edges.lazy_b_reads()
+    }
+
+    /// PIN reads of a lazy B answered from the last A edge.
+    pub fn quiet_b_reads(&self) -> u64 {
+        self.edges.quiet_b_reads()
+    }
+
+    /// PIN reads of a lazy B that evaluated the plant.
+    pub fn b_reads_evaluated(&self) -> u64 {
+        self.edges.b_reads_evaluated()
+    }
+
+    /// The brown-out detector holds the MCU in reset.
+    pub fn held_in_reset(&self) -> bool {
+        self.power.holds_reset()
+    }
+
+    /// Brown-out resets: the cycle the detector pulled the reset and the
+    /// cycle it let go (None while it still holds).
+    pub fn brownouts(&self) -> &[(u64, Option<u64>)] {
+        self.power.brownouts()
+    }
+
+    /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
+    pub fn schedule_action(&mut self, cycle: u64, action: Action) {
+        self.faults.at(cycle, action);
+    }
+
+    /// Run `action` when `trigger` fires, and `undo` `duration` cycles later.
+    pub fn schedule_triggered(
+        &mut self,
+        trigger: Trigger,
+        action: Action,
+        undo: Option<(u64, Action)>,
+    ) {
+        self.faults.arm(self.clock, trigger, action, undo);
+    }
+
+    /// The actions applied so far: (cycle, action).
+    pub fn applied(&self) -> &[(u64, Action)] {
+        self.faults.applied()
+    }
+
+    /// Queue bytes from the host for USART `n`.
+    pub fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
+        self.uart.queue(n, bytes, now);
+    }
+
+    /// Bytes the firmware sent on USART `n` so far.
+    pub fn uart_out(&self, n: usize) -> &[u8] {
+        self.uart.out(n)
+    }
+
+    /// Bytes the firmware sent: (cycle, USART, byte).
+    pub fn uart_log(&self) -> &[(u64, u8, u8)] {
+        self.uart.log()
+    }
+}
+
 impl Handler for BenchCore {
     fn io_write(&mut self, core: &mut Core, addr: u16, value: u8) {
         self.callbacks += 1;
@@ -254,15 +604,21 @@ impl Handler for BenchCore {
     }
 
     fn attention(&self) -> bool {
-        self.requests.attention
+        self.requests.attention()
     }
 
     fn before_io_read(&mut self, core: &mut Core, addr: u16) {
-        self.before_pin_read(core, addr);
+        let (robot, inject, rec) = (&self.robot, &mut self.inject, &mut self.recorder);
+        self.edges
+            .before_pin_read(core, robot, self.clock, inject, rec, addr);
     }
 
     fn io_read(&mut self, core: &mut Core, addr: u16) -> u8 {
-        self.refuse_pwm_read(core, addr)
+        // No read of timer 2 or 4 is verified: the run ends naming it.
+        let err = self.bridge.refused_read(addr);
+        self.requests
+            .fail(PendingError::Pwm(err, core.cycle(), core.pc()));
+        0
     }
 
     fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
@@ -287,7 +643,8 @@ impl Handler for BenchCore {
             // The plant changed its own dynamics: every prediction is stale.
             self.plan_edges(when);
         }
-        self.advance_plans(when, edge_due);
+        self.edges
+            .advance_plans(&self.robot, self.clock, when, edge_due);
         self.next_timer()
     }
 

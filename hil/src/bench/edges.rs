@@ -7,26 +7,28 @@
 //! Two economies, both exact for what the firmware can see:
 //! - A planned edge with nothing else due is raised from the plan alone;
 //!   the plant is left where it is and catches up at the next event that
-//!   needs it ([`BenchCore::raise_planned_edges`]).
+//!   needs it ([`Encoders::raise_planned_edges`]).
 //! - Channel B on a pin that can interrupt nothing is raised lazily: only
 //!   when the firmware reads its PIN register, or with an A edge
-//!   ([`BenchCore::update_lazy_b`]); shortly after a planned A edge such a
+//!   ([`Encoders::lazy_b_change`]); shortly after a planned A edge such a
 //!   read is answered from the plan (B cannot have changed yet).
 
 use plant_model::encoder::Watch;
-use plant_model::{Seconds, Side};
+use plant_model::{Robot, Seconds, Side};
 
-use super::core::{BenchCore, NEVER};
-use crate::inject::EncoderFault;
+use super::recorder::Recorder;
+use super::NEVER;
+use crate::inject::{EncoderFault, Injection};
 use crate::sim::{Core, Irq};
+use crate::time::Clock;
 use crate::wiring::{EncoderWiring, Wiring};
 
 /// Transitions planned per wheel beyond the next when nothing tells how
-/// long the inputs will last (see `BenchCore::plan_edge`).
+/// long the inputs will last (see `Encoders::plan_edge`).
 const EDGES_PLANNED: usize = 8;
 
 /// At most this many transitions planned beyond the next up to the time
-/// the inputs are expected to change (see `BenchCore::plan_edge`).
+/// the inputs are expected to change (see `Encoders::plan_edge`).
 const EDGES_PLANNED_TO_CHANGE: usize = 32;
 
 /// A planned transition of an encoder: its cycle, and the plant's levels
@@ -58,7 +60,7 @@ pub(super) struct Encoders {
     base: [[bool; 2]; 2],
     /// Per side: channel B is raised only when the firmware reads its PIN
     /// register (or with an A edge), not at its own transitions. Exact while
-    /// nothing but a read can see B (see `update_lazy_b`).
+    /// nothing but a read can see B (see `lazy_b_change`).
     lazy_b: [bool; 2],
     /// Lazy B is allowed at all (off when the true waveform is wanted, e.g.
     /// for a VCD).
@@ -169,81 +171,79 @@ impl Encoders {
     }
 }
 
-impl BenchCore {
+impl Encoders {
     /// Connect the encoder lines to their pins, at the plant's levels.
-    pub(super) fn connect_encoders(&mut self, core: &mut Core, irq: [[Irq; 2]; 2]) {
-        self.edges.irq = irq.map(|side| side.map(Some));
+    pub(super) fn connect(&mut self, core: &mut Core, irq: [[Irq; 2]; 2], robot: &Robot) {
+        self.irq = irq.map(|side| side.map(Some));
         for side in Side::BOTH {
             let i = side.index();
-            let (a, b) = self.robot.encoder_levels(side);
-            for (irq, level) in self.edges.irq[i].into_iter().zip([a, b]) {
+            let (a, b) = robot.encoder_levels(side);
+            for (irq, level) in self.irq[i].into_iter().zip([a, b]) {
                 if let Some(irq) = irq {
                     core.raise(irq, level as u32);
                 }
             }
-            self.edges.level[i] = [a, b];
-            self.edges.base[i] = [a, b];
+            self.level[i] = [a, b];
+            self.base[i] = [a, b];
         }
     }
 
-    /// The analog comparator's interrupt or capture was switched.
-    pub(super) fn set_comparator(&mut self, core: &mut Core, on: bool) {
-        self.edges.comparator_on = on;
-        let cycle = core.cycle();
-        self.update_lazy_b(core, cycle);
+    /// The analog comparator's interrupt or capture was switched (the
+    /// caller then updates lazy B).
+    pub(super) fn set_comparator(&mut self, on: bool) {
+        self.comparator_on = on;
     }
 
-    /// Raise B at its own transitions from now on (see `Bench::true_waveforms`).
-    pub(super) fn true_waveforms(&mut self, core: &mut Core) {
-        self.edges.lazy_b_allowed = false;
-        let cycle = core.cycle();
-        self.update_lazy_b(core, cycle);
+    /// Raise B at its own transitions from now on (see
+    /// `Bench::true_waveforms`; the caller then updates lazy B).
+    pub(super) fn forbid_lazy_b(&mut self) {
+        self.lazy_b_allowed = false;
     }
 
     /// A edges raised on the pins per side, signed as the thesis' decoder
     /// counts them.
-    pub fn edges_raised(&self) -> [i64; 2] {
-        self.edges.edges_raised
+    pub(super) fn edges_raised(&self) -> [i64; 2] {
+        self.edges_raised
     }
 
     /// Cycle at which the last A edge of each encoder was due.
-    pub fn last_a_edge(&self) -> [u64; 2] {
-        self.edges.last_a_edge
+    pub(super) fn last_a_edge(&self) -> [u64; 2] {
+        self.last_a_edge
     }
 
     /// Callbacks that raised planned edges from the plan alone.
-    pub fn lean_edge_callbacks(&self) -> u64 {
-        self.edges.lean_edge_callbacks
+    pub(super) fn lean_edge_callbacks(&self) -> u64 {
+        self.lean_edge_callbacks
     }
 
     /// PIN reads that brought a lazy B up to date.
-    pub fn lazy_b_reads(&self) -> u64 {
-        self.edges.lazy_b_reads
+    pub(super) fn lazy_b_reads(&self) -> u64 {
+        self.lazy_b_reads
     }
 
     /// PIN reads of a lazy B answered from the last A edge.
-    pub fn quiet_b_reads(&self) -> u64 {
-        self.edges.quiet_b_reads
+    pub(super) fn quiet_b_reads(&self) -> u64 {
+        self.quiet_b_reads
     }
 
     /// PIN reads of a lazy B that evaluated the plant.
-    pub fn b_reads_evaluated(&self) -> u64 {
-        self.edges.b_reads_evaluated
+    pub(super) fn b_reads_evaluated(&self) -> u64 {
+        self.b_reads_evaluated
     }
 
-    pub(super) fn plan_edges(&mut self, now: u64) {
+    pub(super) fn plan(&mut self, robot: &Robot, clock: Clock, now: u64) {
         // The edges are planned ahead up to the internal change: that first.
-        self.plan_internal(now);
+        self.plan_internal(robot, clock, now);
         for side in Side::BOTH {
-            self.plan_edge(side, now);
+            self.plan_edge(robot, clock, side, now);
         }
     }
 
     /// When the plant's own dynamics change next (battery sag steps, ...):
     /// both wheels' predictions must be redone then.
-    fn plan_internal(&mut self, now: u64) {
-        self.edges.next_internal = match self.robot.next_internal_change() {
-            Some(t) => self.clock.cycle_at_or_after(t).max(now + 1),
+    fn plan_internal(&mut self, robot: &Robot, clock: Clock, now: u64) {
+        self.next_internal = match robot.next_internal_change() {
+            Some(t) => clock.cycle_at_or_after(t).max(now + 1),
             None => NEVER,
         };
     }
@@ -251,17 +251,22 @@ impl BenchCore {
     /// The inputs of the `changed` wheels changed at `cycle`: only their
     /// motion changes (the battery follows at its next internal change,
     /// which re-plans both).
-    pub(super) fn replan_changed_wheels(&mut self, changed: [bool; 2], cycle: u64) {
-        self.plan_internal(cycle);
+    pub(super) fn replan_changed_wheels(
+        &mut self,
+        robot: &Robot,
+        clock: Clock,
+        changed: [bool; 2],
+        cycle: u64,
+    ) {
+        self.plan_internal(robot, clock, cycle);
         for side in Side::BOTH {
             let i = side.index();
             if changed[i] {
-                let e = &mut self.edges;
-                if e.input_changed_at[i] != 0 {
-                    e.input_period[i] = cycle - e.input_changed_at[i];
+                if self.input_changed_at[i] != 0 {
+                    self.input_period[i] = cycle - self.input_changed_at[i];
                 }
-                e.input_changed_at[i] = cycle;
-                self.plan_edge(side, cycle);
+                self.input_changed_at[i] = cycle;
+                self.plan_edge(robot, clock, side, cycle);
             }
         }
     }
@@ -270,53 +275,60 @@ impl BenchCore {
     /// the next one and up to [`EDGES_PLANNED`] after it, with the
     /// plant's levels at each, so that the callbacks of the planned edges
     /// need nothing of the plant (`raise_planned_edges`).
-    fn plan_edge(&mut self, side: Side, now: u64) {
+    fn plan_edge(&mut self, robot: &Robot, clock: Clock, side: Side, now: u64) {
         let i = side.index();
-        let watch = self.edges.watch(i);
-        let grid = self.clock.grid();
-        self.edges.next_edge[i] = match self.robot.next_encoder_transition_on(side, watch, grid) {
+        let watch = self.watch(i);
+        let grid = clock.grid();
+        self.next_edge[i] = match robot.next_encoder_transition_on(side, watch, grid) {
             Some(cycle) => cycle.max(now + 1),
             None => NEVER,
         };
-        self.edges.next_levels[i] = self.planned_levels(side, self.edges.next_edge[i]);
+        self.next_levels[i] = self.planned_levels(robot, clock, side, self.next_edge[i]);
         // The motion changed: a quiet window from before no longer holds.
-        self.edges.b_quiet_until[i] = 0;
-        let quiet = self.robot.encoder_travel_time_bound(side, 0.5).0 * self.clock.hz() as f64;
-        self.edges.b_quiet_cycles[i] = if quiet.is_finite() {
+        self.b_quiet_until[i] = 0;
+        let quiet = robot.encoder_travel_time_bound(side, 0.5).0 * clock.hz() as f64;
+        self.b_quiet_cycles[i] = if quiet.is_finite() {
             quiet.max(0.0) as u64
         } else {
             NEVER
         };
-        self.edges.planned[i].clear();
+        self.planned[i].clear();
         // Planned to the inputs' expected change (and the first edge after
         // it, in case the change is late): what is planned beyond a change
         // is wasted, and a plan that runs out early costs a refill.
-        let period = self.edges.input_period[i];
-        let (most, horizon) = if period != 0 && now == self.edges.input_changed_at[i] {
+        let period = self.input_period[i];
+        let (most, horizon) = if period != 0 && now == self.input_changed_at[i] {
             (EDGES_PLANNED_TO_CHANGE, now.saturating_add(period))
         } else {
             (EDGES_PLANNED, NEVER)
         };
-        self.fill_plan(side, watch, self.edges.next_edge[i], most, horizon);
+        self.fill_plan(robot, clock, side, watch, self.next_edge[i], most, horizon);
     }
 
     /// Plan up to `most` transitions of `side` after the one at `after` into
     /// its empty plan, stopping at the first at or after `horizon`.
-    fn fill_plan(&mut self, side: Side, watch: Watch, mut after: u64, most: usize, horizon: u64) {
+    #[allow(clippy::too_many_arguments)]
+    fn fill_plan(
+        &mut self,
+        robot: &Robot,
+        clock: Clock,
+        side: Side,
+        watch: Watch,
+        mut after: u64,
+        most: usize,
+        horizon: u64,
+    ) {
         let i = side.index();
-        let grid = self.clock.grid();
-        let mut planned = std::mem::take(&mut self.edges.planned[i]);
+        let grid = clock.grid();
+        let mut planned = std::mem::take(&mut self.planned[i]);
         debug_assert!(planned.is_empty(), "a plan is filled when it ran out");
         // Planning ahead holds up to the plant's next internal change only.
-        while planned.len() < most && after < horizon && after < self.edges.next_internal {
-            match self
-                .robot
-                .next_encoder_transition_on_after(side, watch, grid, after)
-            {
+        while planned.len() < most && after < horizon && after < self.next_internal {
+            match robot.next_encoder_transition_on_after(side, watch, grid, after) {
                 Some(cycle) => {
                     planned.push(PlannedEdge {
                         cycle,
-                        levels: self.planned_levels(side, cycle),
+                        levels: self.planned_levels(robot, clock, side, cycle),
                     });
                     after = cycle;
                 }
@@ -324,18 +336,22 @@ impl BenchCore {
             }
         }
         planned.reverse();
-        self.edges.planned[i] = planned;
+        self.planned[i] = planned;
     }
 
     /// The plant's levels of `side` at a planned transition, if the plan
     /// knows them: before the plant's next internal change, under the
     /// present inputs (the search just evaluated that instant, so this is
     /// cheap).
-    fn planned_levels(&self, side: Side, cycle: u64) -> Option<(bool, bool)> {
-        (cycle < self.edges.next_internal && !self.robot.encoder(side).is_flawed()).then(|| {
-            self.robot
-                .encoder_levels_at(side, self.clock.seconds(cycle))
-        })
+    fn planned_levels(
+        &self,
+        robot: &Robot,
+        clock: Clock,
+        side: Side,
+        cycle: u64,
+    ) -> Option<(bool, bool)> {
+        (cycle < self.next_internal && !robot.encoder(side).is_flawed())
+            .then(|| robot.encoder_levels_at(side, clock.seconds(cycle)))
     }
 
     /// `side`'s plan ran out at its edge at `now`: planned on from that
@@ -343,55 +359,58 @@ impl BenchCore {
     /// are the ones a plan made there would hold: the inputs are the same).
     /// False when it cannot be, or no edge is left to plan: the plant must
     /// come to `now` and plan from there.
-    fn refill_plan(&mut self, side: Side, now: u64) -> bool {
+    fn refill_plan(&mut self, robot: &Robot, clock: Clock, side: Side, now: u64) -> bool {
         let i = side.index();
-        if !self.edges.planned[i].is_empty() {
+        if !self.planned[i].is_empty() {
             return true;
         }
-        if self.edges.next_edge[i] != now || self.edges.next_levels[i].is_none() {
+        if self.next_edge[i] != now || self.next_levels[i].is_none() {
             return false;
         }
-        let watch = self.edges.watch(i);
-        self.fill_plan(side, watch, now, EDGES_PLANNED, NEVER);
-        !self.edges.planned[i].is_empty()
+        let watch = self.watch(i);
+        self.fill_plan(robot, clock, side, watch, now, EDGES_PLANNED, NEVER);
+        !self.planned[i].is_empty()
     }
 
     /// `side`'s planned edge came: the next planned one, or a new plan.
-    fn next_planned_edge(&mut self, side: Side, now: u64) {
+    fn next_planned_edge(&mut self, robot: &Robot, clock: Clock, side: Side, now: u64) {
         let i = side.index();
-        match self.edges.planned[i].pop() {
+        match self.planned[i].pop() {
             Some(edge) => {
-                self.edges.next_edge[i] = edge.cycle;
-                self.edges.next_levels[i] = edge.levels;
+                self.next_edge[i] = edge.cycle;
+                self.next_levels[i] = edge.levels;
             }
-            None => self.plan_edge(side, now),
+            None => self.plan_edge(robot, clock, side, now),
         }
     }
 
     /// After the event at `when` (the plant brought there): each wheel
     /// whose edge came goes on to its next. `edge_due` says which wheels'
     /// edges were due when the event began.
-    pub(super) fn advance_plans(&mut self, when: u64, edge_due: [bool; 2]) {
+    pub(super) fn advance_plans(
+        &mut self,
+        robot: &Robot,
+        clock: Clock,
+        when: u64,
+        edge_due: [bool; 2],
+    ) {
         // The other wheel's prediction stays valid: its input has not changed
         // (a change re-plans both in `refresh_bridge`).
         for side in Side::BOTH {
             let i = side.index();
-            if self.edges.next_edge[i] <= when {
-                self.next_planned_edge(side, when);
+            if self.next_edge[i] <= when {
+                self.next_planned_edge(robot, clock, side, when);
             }
             // As in `raise_planned_edges`: B is quiet for a while after an A
             // edge, under the motion as it is now (any change since re-planned).
-            if edge_due[i]
-                && self.edges.lean_edges
-                && self.edges.lazy_b[i]
-                && !self.robot.encoder(side).is_flawed()
+            if edge_due[i] && self.lean_edges && self.lazy_b[i] && !robot.encoder(side).is_flawed()
             {
-                self.edges.b_quiet_until[i] = when.saturating_add(self.edges.b_quiet_cycles[i]);
+                self.b_quiet_until[i] = when.saturating_add(self.b_quiet_cycles[i]);
             }
         }
     }
 
-    /// Decide per side whether channel B may be raised lazily: only when the
+    /// Per side, whether channel B may be raised lazily: only when the
     /// pin it is wired to can start nothing in the MCU by itself (no external
     /// or pin-change interrupt, input capture or counter input; on AIN1 only
     /// while the comparator's interrupt and capture are off), no encoder fault
@@ -399,139 +418,172 @@ impl BenchCore {
     /// firmware can see B only by reading its PIN register, and the bench
     /// brings B up to date right before every such read: what the firmware
     /// reads is exactly what it would read with every B edge raised, at half
-    /// the events. On a change the lines are brought up to date and both
-    /// wheels re-planned.
-    pub(super) fn update_lazy_b(&mut self, core: &mut Core, cycle: u64) {
+    /// the events. None when that is what it is already; then the caller
+    /// brings the lines up to date, sets the new choice
+    /// ([`Encoders::set_lazy_b`]) and re-plans both wheels.
+    pub(super) fn lazy_b_change(&self, inject: &Injection) -> Option<[bool; 2]> {
         let mut lazy = [false; 2];
         for side in Side::BOTH {
             let i = side.index();
-            let b = self.edges.wiring[i].b;
-            lazy[i] = self.edges.lazy_b_allowed
-                && self.inject.encoder[i] == EncoderFault::Healthy
+            let b = self.wiring[i].b;
+            lazy[i] = self.lazy_b_allowed
+                && inject.encoder[i] == EncoderFault::Healthy
                 && !b.can_interrupt()
-                && !(b.is_comparator_input() && self.edges.comparator_on);
+                && !(b.is_comparator_input() && self.comparator_on);
         }
-        if lazy != self.edges.lazy_b {
-            self.advance_plant(cycle);
-            self.raise_encoders(core, cycle);
-            self.edges.lazy_b = lazy;
-            self.plan_edges(cycle);
-        }
+        (lazy != self.lazy_b).then_some(lazy)
+    }
+
+    pub(super) fn set_lazy_b(&mut self, lazy: [bool; 2]) {
+        self.lazy_b = lazy;
     }
 
     /// Show the plant's levels on both encoders' pins.
-    pub(super) fn raise_encoders(&mut self, core: &mut Core, when: u64) {
+    pub(super) fn raise_all(
+        &mut self,
+        core: &mut Core,
+        robot: &Robot,
+        inject: &mut Injection,
+        recorder: &mut Recorder,
+        when: u64,
+    ) {
         for side in Side::BOTH {
-            let plant = self.robot.encoder_levels(side);
-            self.raise_side(core, when, side.index(), plant);
+            let plant = robot.encoder_levels(side);
+            self.raise_side(core, inject, recorder, when, side.index(), plant);
         }
     }
 
     /// Show the plant's levels `plant` of encoder `i` on its pins, through
     /// the encoder faults and glitches.
-    fn raise_side(&mut self, core: &mut Core, when: u64, i: usize, plant: (bool, bool)) {
-        let e = &mut self.edges;
-        let [base_a, base_b] = e.base[i];
-        let (base_a, base_b) = self.inject.encoder_levels(i, plant, (base_a, base_b));
-        e.base[i] = [base_a, base_b];
+    #[inline]
+    fn raise_side(
+        &mut self,
+        core: &mut Core,
+        inject: &mut Injection,
+        recorder: &mut Recorder,
+        when: u64,
+        i: usize,
+        plant: (bool, bool),
+    ) {
+        let [base_a, base_b] = self.base[i];
+        let (base_a, base_b) = inject.encoder_levels(i, plant, (base_a, base_b));
+        self.base[i] = [base_a, base_b];
         // A glitch pulse inverts what the pin shows while it lasts.
-        let [ga, gb] = self.inject.glitch[i];
+        let [ga, gb] = inject.glitch[i];
         let (a, b) = (base_a ^ ga, base_b ^ gb);
-        let [old_a, old_b] = e.level[i];
-        let [Some(irq_a), Some(irq_b)] = e.irq[i] else {
+        let [old_a, old_b] = self.level[i];
+        let [Some(irq_a), Some(irq_b)] = self.irq[i] else {
             return;
         };
         if b != old_b {
             core.raise(irq_b, b as u32);
-            e.level[i][1] = b;
-            self.recorder.pin(when, 2 * i as u8 + 1, b);
+            self.level[i][1] = b;
+            recorder.pin(when, 2 * i as u8 + 1, b);
         }
         if a != old_a {
             core.raise(irq_a, a as u32);
-            self.recorder.pin(when, 2 * i as u8, a);
-            e.level[i][0] = a;
-            e.edges_raised[i] += decode_a_edge(a, b);
-            e.last_a_edge[i] = when;
+            recorder.pin(when, 2 * i as u8, a);
+            self.level[i][0] = a;
+            self.edges_raised[i] += decode_a_edge(a, b);
+            self.last_a_edge[i] = when;
         }
     }
 
     /// The callback of planned encoder edges with nothing else due at
-    /// `when`: the plan knows the levels, so the plant is left where it is
-    /// (it catches up at the next event that needs it). False, having done
-    /// nothing, when that is not the case.
-    pub(super) fn raise_planned_edges(&mut self, core: &mut Core, when: u64) -> bool {
-        let others = self.next_other_event();
-        if !self.edges.lean_edges || others <= when || self.power.releasing() {
+    /// `when` (the caller checked that nothing else is): the plan knows the
+    /// levels, so the plant is left where it is (it catches up at the next
+    /// event that needs it). False, having done nothing, when that is not
+    /// the case.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn raise_planned_edges(
+        &mut self,
+        core: &mut Core,
+        robot: &Robot,
+        clock: Clock,
+        inject: &mut Injection,
+        recorder: &mut Recorder,
+        when: u64,
+    ) -> bool {
+        if !self.lean_edges {
             return false;
         }
-        let due = self.edges.due(when);
+        let due = self.due(when);
         if due == [false; 2] {
             return false;
         }
         for (i, due) in due.into_iter().enumerate() {
-            let plain = self.edges.next_levels[i].is_some()
-                && self.inject.encoder[i] == EncoderFault::Healthy
-                && self.inject.glitch[i] == [false; 2];
-            if due && !(plain && self.refill_plan(Side::BOTH[i], when)) {
+            let plain = self.next_levels[i].is_some()
+                && inject.encoder[i] == EncoderFault::Healthy
+                && inject.glitch[i] == [false; 2];
+            if due && !(plain && self.refill_plan(robot, clock, Side::BOTH[i], when)) {
                 return false;
             }
         }
         for side in Side::BOTH {
             let i = side.index();
-            if let (true, Some(levels)) = (due[i], self.edges.next_levels[i]) {
-                self.raise_side(core, when, i, levels);
-                if self.edges.lazy_b[i] {
+            if let (true, Some(levels)) = (due[i], self.next_levels[i]) {
+                self.raise_side(core, inject, recorder, when, i, levels);
+                if self.lazy_b[i] {
                     // Watching A alone, this was an A edge: B changes half a
                     // state away at the least.
-                    self.edges.b_quiet_until[i] = when.saturating_add(self.edges.b_quiet_cycles[i]);
+                    self.b_quiet_until[i] = when.saturating_add(self.b_quiet_cycles[i]);
                 }
-                self.next_planned_edge(side, when);
+                self.next_planned_edge(robot, clock, side, when);
             }
         }
-        self.edges.lean_edge_callbacks += 1;
+        self.lean_edge_callbacks += 1;
         true
     }
 
     /// The firmware is about to read the PIN register at `addr`: a lazily
     /// raised B on it is brought to its level at this cycle (see
-    /// `update_lazy_b`). The plant is not advanced: its closed form holds
+    /// `lazy_b_change`). The plant is not advanced: its closed form holds
     /// until its next event, which has not come yet.
-    pub(super) fn before_pin_read(&mut self, core: &mut Core, addr: u16) {
+    #[inline]
+    pub(super) fn before_pin_read(
+        &mut self,
+        core: &mut Core,
+        robot: &Robot,
+        clock: Clock,
+        inject: &mut Injection,
+        recorder: &mut Recorder,
+        addr: u16,
+    ) {
         let cycle = core.cycle();
         for side in Side::BOTH {
             let i = side.index();
-            let e = &mut self.edges;
-            if !e.lazy_b[i] || e.wiring[i].b.pin_register() != addr {
+            if !self.lazy_b[i] || self.wiring[i].b.pin_register() != addr {
                 continue;
             }
             // Shortly after a planned A edge the plant's B is the one raised
             // with it (when nothing but the plant drives the line).
-            if cycle < e.b_quiet_until[i]
-                && self.inject.encoder[i] == EncoderFault::Healthy
-                && self.inject.glitch[i] == [false; 2]
+            if cycle < self.b_quiet_until[i]
+                && inject.encoder[i] == EncoderFault::Healthy
+                && inject.glitch[i] == [false; 2]
             {
-                e.quiet_b_reads += 1;
+                self.quiet_b_reads += 1;
                 continue;
             }
-            e.b_reads_evaluated += 1;
-            let t = Seconds(self.clock.seconds(cycle).0.max(self.robot.now().0));
-            // As `raise_encoders` computes it: the faults on the plant's
+            self.b_reads_evaluated += 1;
+            let t = Seconds(clock.seconds(cycle).0.max(robot.now().0));
+            // As `raise_all` computes it: the faults on the plant's
             // levels, then a glitch pulse's inversion.
-            let (_, base_b) = self.inject.encoder_levels(
+            let (_, base_b) = inject.encoder_levels(
                 i,
-                self.robot.encoder_levels_at(side, t),
-                (e.base[i][0], e.base[i][1]),
+                robot.encoder_levels_at(side, t),
+                (self.base[i][0], self.base[i][1]),
             );
-            e.base[i][1] = base_b;
-            let b = base_b ^ self.inject.glitch[i][1];
-            let old_b = e.level[i][1];
+            self.base[i][1] = base_b;
+            let b = base_b ^ inject.glitch[i][1];
+            let old_b = self.level[i][1];
             if b != old_b {
-                if let Some(irq_b) = e.irq[i][1] {
+                if let Some(irq_b) = self.irq[i][1] {
                     core.raise(irq_b, b as u32);
                 }
-                e.level[i][1] = b;
-                e.lazy_b_reads += 1;
-                self.recorder.pin(cycle, 2 * i as u8 + 1, b);
+                self.level[i][1] = b;
+                self.lazy_b_reads += 1;
+                recorder.pin(cycle, 2 * i as u8 + 1, b);
             }
         }
     }

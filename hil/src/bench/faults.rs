@@ -1,7 +1,8 @@
 //! Fault scenarios on the bench: an [`Action`] (a fault starting or ending)
 //! at a [`Trigger`] (a robot time, the n-th turn or leg, the n-th byte from
 //! the host), as scenario files and the fault library schedule them
-//! ([`ScheduledFault`]), and the scheduler that applies them at their cycle.
+//! ([`ScheduledFault`]), and the schedule that holds them to their cycle
+//! (the core applies them: an action may touch every part).
 //!
 //! An action the plant refuses (a slip outside [0, 1], ...) is not applied
 //! and not logged as applied: the run ends with
@@ -10,11 +11,9 @@
 use plant_model::{Seconds, Side};
 use serde::{Deserialize, Serialize};
 
-use super::core::{BenchCore, NEVER};
-use super::error::PendingError;
 use super::recorder::Motion;
+use super::NEVER;
 use crate::inject::{Channel, EncoderFault, LinkFault};
-use crate::sim::Core;
 use crate::time::Clock;
 
 /// A change the bench makes at a cycle: a fault starting or ending.
@@ -130,13 +129,19 @@ impl FaultSchedule {
     }
 
     /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
-    fn at(&mut self, cycle: u64, action: Action) {
+    pub(super) fn at(&mut self, cycle: u64, action: Action) {
         let pos = self.actions.partition_point(|a| a.0 <= cycle);
         self.actions.insert(pos, (cycle, action));
     }
 
     /// Run `action` when `trigger` fires, and `undo` `duration` cycles later.
-    fn arm(&mut self, clock: Clock, trigger: Trigger, action: Action, undo: Option<(u64, Action)>) {
+    pub(super) fn arm(
+        &mut self,
+        clock: Clock,
+        trigger: Trigger,
+        action: Action,
+        undo: Option<(u64, Action)>,
+    ) {
         match trigger {
             Trigger::Time { s } => {
                 let at = clock.cycle_at_or_after(Seconds(s));
@@ -165,155 +170,73 @@ impl FaultSchedule {
         }
     }
 
-    fn take_due_action(&mut self, when: u64) -> Option<Action> {
+    pub(super) fn take_due_action(&mut self, when: u64) -> Option<Action> {
         self.actions
             .first()
             .is_some_and(|a| a.0 <= when)
             .then(|| self.actions.remove(0).1)
     }
 
-    fn take_due_glitch(&mut self, when: u64) -> Option<(usize, usize, bool)> {
+    pub(super) fn take_due_glitch(&mut self, when: u64) -> Option<(usize, usize, bool)> {
         self.glitches.first().is_some_and(|g| g.0 <= when).then(|| {
             let (_, i, ch, on) = self.glitches.remove(0);
             (i, ch, on)
         })
     }
-}
-
-impl BenchCore {
-    /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
-    pub fn schedule_action(&mut self, cycle: u64, action: Action) {
-        self.faults.at(cycle, action);
-    }
-
-    /// Run `action` when `trigger` fires, and `undo` `duration` cycles later.
-    pub fn schedule_triggered(
-        &mut self,
-        trigger: Trigger,
-        action: Action,
-        undo: Option<(u64, Action)>,
-    ) {
-        self.faults.arm(self.clock, trigger, action, undo);
-    }
-
-    /// The actions applied so far: (cycle, action).
-    pub fn applied(&self) -> &[(u64, Action)] {
-        &self.faults.applied
-    }
-
-    pub(super) fn apply_due_actions(&mut self, core: &mut Core, when: u64) {
-        while let Some(action) = self.faults.take_due_action(when) {
-            self.apply_action(core, when, action);
-        }
-    }
-
-    /// Glitch pulse edges due at `when`, each at its own cycle.
-    pub(super) fn apply_due_glitches(&mut self, core: &mut Core, when: u64) {
-        while let Some((i, ch, on)) = self.faults.take_due_glitch(when) {
-            self.inject.glitch[i][ch] = on;
-            self.raise_encoders(core, when);
-        }
-    }
 
     /// The motors began `motion` at `cycle`: a turn or a leg starts.
-    pub(super) fn fire_triggers(&mut self, cycle: u64, motion: Motion) {
-        let f = &mut self.faults;
+    pub(super) fn motion_started(&mut self, cycle: u64, motion: Motion) {
         let event = match motion {
             Motion::SpinCw | Motion::SpinCcw => {
-                f.turns_started += 1;
-                Trigger::TurnStart { n: f.turns_started }
+                self.turns_started += 1;
+                Trigger::TurnStart {
+                    n: self.turns_started,
+                }
             }
             Motion::Forward => {
-                f.legs_started += 1;
-                Trigger::LegStart { n: f.legs_started }
+                self.legs_started += 1;
+                Trigger::LegStart {
+                    n: self.legs_started,
+                }
             }
             _ => return,
         };
-        f.fire(event, cycle);
+        self.fire(event, cycle);
     }
 
     /// A byte from the host goes on the air on the Bluetooth link at `when`:
-    /// the actions armed for it apply before the link's faults do.
-    pub(super) fn host_byte_on_air(&mut self, core: &mut Core, when: u64) {
-        let f = &mut self.faults;
-        f.host_bytes += 1;
-        f.fire(Trigger::HostByte { n: f.host_bytes }, when);
-        self.apply_due_actions(core, when);
+    /// the actions armed for it are due (the caller applies them before the
+    /// link's faults).
+    pub(super) fn host_byte(&mut self, when: u64) {
+        self.host_bytes += 1;
+        self.fire(Trigger::HostByte { n: self.host_bytes }, when);
     }
 
-    /// Apply `action` at `cycle` and log it; an action the plant refuses is
-    /// not logged but left for the run loop to report.
-    fn apply_action(&mut self, core: &mut Core, cycle: u64, action: Action) {
-        match self.act(core, cycle, &action) {
-            Ok(()) => self.faults.applied.push((cycle, action)),
-            Err(error) => self.requests.fail(PendingError::Refused {
-                action,
-                error,
-                cycle,
-                pc: core.pc(),
-            }),
-        }
-    }
-
-    fn act(
+    /// A burst of `pulses` glitch pulses on channel `ch` of encoder `i` from
+    /// `cycle`, `width` cycles wide, one every `period` cycles.
+    pub(super) fn glitch_burst(
         &mut self,
-        core: &mut Core,
         cycle: u64,
-        action: &Action,
-    ) -> Result<(), plant_model::Error> {
-        match *action {
-            Action::Encoder { side, fault } => {
-                // B must be exact from here on if the fault acts on the lines.
-                self.advance_plant(cycle);
-                self.raise_encoders(core, cycle);
-                self.inject.encoder[side.index()] = fault;
-                self.update_lazy_b(core, cycle);
-            }
-            Action::Link { fault } => self.inject.link = fault,
-            Action::MotorDisconnected { side, disconnected } => {
-                self.inject.motor_disconnected[side.index()] = disconnected;
-                // Force a re-read: the plant sees the bridge anew.
-                self.bridge.forget_drive(side);
-                self.refresh_bridge(core, cycle);
-            }
-            Action::Reset => self.requests.reset(),
-            Action::Motor { side, fault } => {
-                self.robot.set_motor_fault(side, fault)?;
-                self.plan_edges(cycle);
-            }
-            Action::SlipBurst { side, slip } => self.robot.set_slip_burst(side, slip)?,
-            Action::BatteryVolts { volts } => {
-                self.robot
-                    .set_battery_voltage_override(volts.map(plant_model::Volts))?;
-                self.plan_edges(cycle);
-                self.update_supply(core, cycle);
-            }
-            Action::EncoderGlitch {
-                side,
-                channel,
-                pulses,
-                width_us,
-                period_us,
-            } => {
-                let width = self.clock.cycles_in(Seconds(width_us * 1e-6)).max(1);
-                let period = self
-                    .clock
-                    .cycles_in(Seconds(period_us * 1e-6))
-                    .max(width + 1);
-                let (i, ch) = (side.index(), channel as usize);
-                let glitches = &mut self.faults.glitches;
-                for k in 0..pulses as u64 {
-                    let on = cycle + k * period;
-                    glitches.push((on, i, ch, true));
-                    glitches.push((on + width, i, ch, false));
-                }
-                glitches.sort_by_key(|g| g.0);
-            }
-            Action::HostSend { ref bytes } => {
-                let n = self.uart.bluetooth();
-                self.queue_uart(n, bytes, cycle);
-            }
+        (i, ch): (usize, usize),
+        pulses: u32,
+        width: u64,
+        period: u64,
+    ) {
+        for k in 0..pulses as u64 {
+            let on = cycle + k * period;
+            self.glitches.push((on, i, ch, true));
+            self.glitches.push((on + width, i, ch, false));
         }
-        Ok(())
+        self.glitches.sort_by_key(|g| g.0);
+    }
+
+    /// `action` was applied at `cycle`.
+    pub(super) fn log_applied(&mut self, cycle: u64, action: Action) {
+        self.applied.push((cycle, action));
+    }
+
+    /// The actions applied so far: (cycle, action).
+    pub(super) fn applied(&self) -> &[(u64, Action)] {
+        &self.applied
     }
 }

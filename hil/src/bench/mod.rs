@@ -8,21 +8,23 @@
 //! the queue. Nothing polls the MCU per instruction, and nothing reads the
 //! host clock: a run is a pure function of the ELF, the config and the seed.
 //!
-//! Where each concern lives:
+//! Where each concern lives (the core on top; the parts below it know
+//! nothing of it, and are given what they need of one another):
 //!
 //! | file | what |
 //! |---|---|
 //! | `mod.rs` | [`Bench`], its public API, [`BenchOptions`] |
 //! | `setup.rs` | building a bench: flash, register claims, the IRQs a [`Wiring`] connects |
 //! | `run.rs` | the run loops ([`Bench::run_until`]), [`Step`] and [`Observer`] |
-//! | `core.rs` | [`BenchCore`], the handler simavr calls back, dispatching to the parts below |
+//! | `core.rs` | [`BenchCore`], the handler simavr calls back, dispatching to the parts below; what needs several parts (a bridge change reaching the plant, a fault action) |
 //! | `bridge.rs` | the H-bridge inputs from the PWM timers and port H, to the plant; [`PinStats`] |
 //! | `edges.rs` | where an encoder edge is born: planning, raising, lazy channel B |
 //! | `uart.rs` | the host's side of the USARTs |
 //! | `power.rs` | A0, VCC and the brown-out detector |
-//! | `faults.rs` | [`Action`], [`Trigger`], [`ScheduledFault`] and their scheduler |
+//! | `faults.rs` | [`Action`], [`Trigger`], [`ScheduledFault`] and their schedule |
 //! | `recorder.rs` | what a run records: [`Sample`], [`DriveEvent`], [`Cutoff`], [`Motion`], ... |
 //! | `error.rs` | [`BenchError`] |
+//! | `requests.rs` | what a callback leaves for the run loop: an error, a reset |
 //! | `registers.rs` | the MCU registers the bench reads or watches, by address |
 
 mod bridge;
@@ -33,6 +35,7 @@ mod faults;
 mod power;
 mod recorder;
 mod registers;
+mod requests;
 mod run;
 mod setup;
 mod uart;
@@ -59,6 +62,9 @@ use crate::sim::Avr;
 use crate::supply::Supply;
 use crate::time::Clock;
 use crate::wiring::{Wiring, HENRYTWO};
+
+/// No event: a cycle never reached.
+const NEVER: u64 = u64::MAX;
 
 /// Bench settings that are not the robot's.
 #[derive(Debug, Clone, Copy)]

@@ -3,10 +3,18 @@
 //! the regulator, and the brown-out detector's hold on the reset line (the
 //! models are `crate::supply`'s; this is their glue to the MCU).
 
-use super::core::{BenchCore, NEVER};
-use super::recorder::{AnalogEvent, AnalogInput};
+use super::recorder::{AnalogEvent, AnalogInput, Recorder};
+use super::NEVER;
 use crate::sim::{Core, Irq};
 use crate::supply::{Bod, Supply};
+
+/// What the brown-out detector did to the reset line.
+pub(super) enum Brownout {
+    /// It pulled the reset: the MCU restarts when it lets go.
+    Pulled,
+    /// It let go: the MCU restarts with BORF set.
+    Released,
+}
 
 pub(super) struct Power {
     /// A0, driven with the battery's voltage through the divider.
@@ -57,72 +65,80 @@ impl Power {
             _ => NEVER,
         }
     }
-}
 
-impl BenchCore {
     /// The brown-out detector holds the MCU in reset.
-    pub fn held_in_reset(&self) -> bool {
-        self.power.bod.holds_reset()
+    pub(super) fn holds_reset(&self) -> bool {
+        self.bod.holds_reset()
     }
 
     /// Brown-out resets: the cycle the detector pulled the reset and the
     /// cycle it let go (None while it still holds).
-    pub fn brownouts(&self) -> &[(u64, Option<u64>)] {
-        &self.power.brownouts
+    pub(super) fn brownouts(&self) -> &[(u64, Option<u64>)] {
+        &self.brownouts
     }
 
-    /// VCC from the battery now, the ADC's reference with it, and the
-    /// brown-out detector's reaction (see [`crate::supply`]).
-    pub(super) fn update_supply(&mut self, core: &mut Core, cycle: u64) {
-        let battery = self.robot.battery_voltage().0;
-        let p = &mut self.power;
+    /// VCC from the battery at `battery_v` now, the ADC's reference with it,
+    /// and the brown-out detector's reaction (see [`crate::supply`]), which
+    /// the caller passes on to the run loop.
+    pub(super) fn update_supply(
+        &mut self,
+        core: &mut Core,
+        cycle: u64,
+        battery_v: f64,
+        recorder: &mut Recorder,
+    ) -> Option<Brownout> {
         // With the battery as it was, only a detector counting down its
         // start-up time-out can change.
-        if battery == p.supply_battery_v && !matches!(p.bod, Bod::Releasing { .. }) {
-            return;
+        if battery_v == self.supply_battery_v && !matches!(self.bod, Bod::Releasing { .. }) {
+            return None;
         }
-        p.supply_battery_v = battery;
-        let vcc = p.supply.vcc(battery);
-        if vcc != p.vcc_v {
-            p.vcc_v = vcc;
+        self.supply_battery_v = battery_v;
+        let vcc = self.supply.vcc(battery_v);
+        if vcc != self.vcc_v {
+            self.vcc_v = vcc;
             let mv = (vcc * 1000.0).round() as u32;
             core.set_supply_mv(mv);
-            self.recorder.analog(AnalogEvent {
+            recorder.analog(AnalogEvent {
                 cycle,
                 input: AnalogInput::Supply,
                 mv,
             });
         }
-        let before = p.bod.holds_reset();
-        p.bod = p.bod.next(&p.supply, vcc, cycle, p.startup_cycles);
-        match (before, p.bod.holds_reset()) {
+        let before = self.bod.holds_reset();
+        self.bod = self.bod.next(&self.supply, vcc, cycle, self.startup_cycles);
+        match (before, self.bod.holds_reset()) {
             (false, true) => {
-                p.brownouts.push((cycle, None));
-                self.requests.reset();
+                self.brownouts.push((cycle, None));
+                Some(Brownout::Pulled)
             }
             (true, false) => {
-                if let Some(b) = p.brownouts.last_mut() {
+                if let Some(b) = self.brownouts.last_mut() {
                     b.1 = Some(cycle);
                 }
-                self.requests.bod_release();
+                Some(Brownout::Released)
             }
-            _ => {}
+            _ => None,
         }
     }
 
-    /// Drive A0 with the battery's voltage when it changed.
-    pub(super) fn update_adc(&mut self, core: &mut Core, cycle: u64) {
-        let p = &mut self.power;
+    /// Drive A0 with the battery's voltage `battery_v` when it changed.
+    pub(super) fn update_adc(
+        &mut self,
+        core: &mut Core,
+        cycle: u64,
+        battery_v: f64,
+        recorder: &mut Recorder,
+    ) {
         // A pin cannot rise above VCC (its protection diodes clamp it).
-        let mv = (self.robot.battery_voltage().0 * p.battery_divider * 1000.0)
+        let mv = (battery_v * self.battery_divider * 1000.0)
             .round()
-            .clamp(0.0, (p.vcc_v * 1000.0).round()) as u32;
-        if mv != p.adc_mv {
-            if let Some(irq) = p.adc0 {
+            .clamp(0.0, (self.vcc_v * 1000.0).round()) as u32;
+        if mv != self.adc_mv {
+            if let Some(irq) = self.adc0 {
                 core.raise(irq, mv);
             }
-            p.adc_mv = mv;
-            self.recorder.analog(AnalogEvent {
+            self.adc_mv = mv;
+            recorder.analog(AnalogEvent {
                 cycle,
                 input: AnalogInput::Adc0,
                 mv,

@@ -3,9 +3,9 @@
 //! log), motor cut-offs, [`Motion`] changes, the battery LEDs, encoder pin
 //! changes (when recording) and the analog inputs.
 
-use plant_model::Side;
+use plant_model::{Robot, Side};
 
-use super::core::BenchCore;
+use crate::fwvars::FwVars;
 use crate::sim::Core;
 use crate::wiring::{LedWiring, Pin};
 
@@ -207,11 +207,6 @@ impl Recorder {
         }
     }
 
-    /// Record pin changes from now on, starting with the levels now.
-    pub(super) fn start_pins(&mut self, levels: Vec<PinEvent>) {
-        self.pins = Some(levels);
-    }
-
     /// The LED port now shows `port`.
     pub(super) fn leds_changed(&mut self, cycle: u64, port: u8) {
         let l = self.led_wiring;
@@ -240,46 +235,48 @@ fn read_i32(core: &Core, addr: u16) -> i32 {
     ])
 }
 
-impl BenchCore {
+impl Snapshot {
     /// The plant and the firmware's counters now (`cycle` is the current one).
-    pub fn snapshot(&self, core: &Core, cycle: u64) -> Snapshot {
-        let pose = self.robot.pose();
+    pub(super) fn take(robot: &Robot, vars: &FwVars, core: &Core, cycle: u64) -> Snapshot {
+        let pose = robot.pose();
         Snapshot {
             cycle,
             x_mm: pose.x().0,
             y_mm: pose.y().0,
             theta_rad: pose.theta().0,
-            left_count: read_i32(core, self.vars.left_count),
-            right_count: read_i32(core, self.vars.right_count),
-            left_edges: self.robot.a_edges(Side::Left),
-            right_edges: self.robot.a_edges(Side::Right),
-            left_mm: self.robot.distance_travelled(Side::Left).0,
-            right_mm: self.robot.distance_travelled(Side::Right).0,
+            left_count: read_i32(core, vars.left_count),
+            right_count: read_i32(core, vars.right_count),
+            left_edges: robot.a_edges(Side::Left),
+            right_edges: robot.a_edges(Side::Right),
+            left_mm: robot.distance_travelled(Side::Left).0,
+            right_mm: robot.distance_travelled(Side::Right).0,
         }
     }
+}
 
-    /// A trace sample of the plant at `cycle`.
-    pub(super) fn sample(&mut self, cycle: u64) {
-        let pose = self.robot.pose();
+impl Recorder {
+    /// A trace sample of the plant at `t_s`, the motors' signed duties
+    /// `duty` (by side index).
+    pub(super) fn sample(&mut self, t_s: f64, robot: &Robot, duty: [f64; 2]) {
+        let pose = robot.pose();
         let s = Sample {
-            t_s: self.clock.seconds(cycle).0,
+            t_s,
             x_mm: pose.x().0,
             y_mm: pose.y().0,
             theta_rad: pose.theta().0,
-            left_edges: self.robot.a_edges(Side::Left),
-            right_edges: self.robot.a_edges(Side::Right),
-            left_duty: self.bridge.signed_duty(Side::Left),
-            right_duty: self.bridge.signed_duty(Side::Right),
+            left_edges: robot.a_edges(Side::Left),
+            right_edges: robot.a_edges(Side::Right),
+            left_duty: duty[0],
+            right_duty: duty[1],
         };
-        self.recorder.trace.push(s);
+        self.trace.push(s);
     }
 
     /// Record every encoder pin change from now on (see
-    /// `Bench::start_recording`), starting with the four lines' levels.
-    pub(super) fn start_recording(&mut self, cycle: u64) {
-        let levels = self
-            .edges
-            .levels_shown()
+    /// `Bench::start_recording`), starting with the four lines' levels
+    /// `levels` at `cycle`.
+    pub(super) fn start_pins(&mut self, cycle: u64, levels: [[bool; 2]; 2]) {
+        let levels = levels
             .iter()
             .flatten()
             .enumerate()
@@ -289,39 +286,34 @@ impl BenchCore {
                 level,
             })
             .collect();
-        self.recorder.start_pins(levels);
+        self.pins = Some(levels);
     }
 
-    /// Trace samples, one per `BenchOptions::trace_interval_s`.
-    pub fn trace(&self) -> &[Sample] {
-        &self.recorder.trace
+    pub(super) fn trace(&self) -> &[Sample] {
+        &self.trace
     }
 
-    /// Every change of an H-bridge input.
-    pub fn drive_log(&self) -> &[DriveEvent] {
-        &self.recorder.drive_log
+    pub(super) fn drive_log(&self) -> &[DriveEvent] {
+        &self.drive_log
     }
 
-    pub fn cutoffs(&self) -> &[Cutoff] {
-        &self.recorder.cutoffs
+    pub(super) fn cutoffs(&self) -> &[Cutoff] {
+        &self.cutoffs
     }
 
-    pub fn motions(&self) -> &[MotionEvent] {
-        &self.recorder.motions
+    pub(super) fn motions(&self) -> &[MotionEvent] {
+        &self.motions
     }
 
-    /// Battery LED changes.
-    pub fn leds(&self) -> &[LedEvent] {
-        &self.recorder.leds
+    pub(super) fn leds(&self) -> &[LedEvent] {
+        &self.leds
     }
 
-    /// Encoder pin changes since `Bench::start_recording` (None before).
-    pub fn recording(&self) -> Option<&[PinEvent]> {
-        self.recorder.pins.as_deref()
+    pub(super) fn recording(&self) -> Option<&[PinEvent]> {
+        self.pins.as_deref()
     }
 
-    /// Every change of the analog inputs since cycle 0.
-    pub fn analog_log(&self) -> &[AnalogEvent] {
-        &self.recorder.analog
+    pub(super) fn analog_log(&self) -> &[AnalogEvent] {
+        &self.analog
     }
 }

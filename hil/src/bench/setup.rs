@@ -4,7 +4,7 @@
 
 use plant_model::{RobotConfig, Side};
 
-use super::core::BenchCore;
+use super::core::{BenchCore, TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_OUT};
 use super::registers::{ACSR, CHECKED_TIMERS};
 use super::{BenchError, BenchOptions};
 use crate::elf::Firmware;
@@ -12,12 +12,6 @@ use crate::fwvars::FwVars;
 use crate::pwm::PwmTimer;
 use crate::sim::{Avr, IoClaim, Irq, SimError};
 use crate::wiring::Wiring;
-
-/// Tags of the IRQs the bench watches (see `BenchCore::irq`).
-pub(super) const TAG_PORT_REG: u32 = 1;
-pub(super) const TAG_PORT_DDR: u32 = 2;
-pub(super) const TAG_LED_PORT: u32 = 3;
-pub(super) const TAG_UART_OUT: u32 = 16; // + USART number
 
 /// The MCU running `firmware`, its pins wired to `robot`'s parts as `wiring`
 /// says, the bench's first event scheduled.

@@ -4,8 +4,8 @@
 
 use std::collections::VecDeque;
 
-use super::core::{BenchCore, NEVER};
-use crate::sim::{Core, Irq};
+use super::NEVER;
+use crate::sim::Irq;
 use crate::time::Clock;
 
 pub(super) struct HostUart {
@@ -55,56 +55,44 @@ impl HostUart {
     pub(super) fn bluetooth(&self) -> usize {
         self.bluetooth
     }
-}
 
-impl BenchCore {
     /// Queue bytes from the host for USART `n`.
-    pub fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
-        let u = &mut self.uart;
+    pub(super) fn queue(&mut self, n: usize, bytes: &[u8], now: u64) {
         // Link faults apply when a byte goes over the air (see
-        // `send_due_host_bytes`).
-        u.tx[n].extend(bytes.iter().copied());
-        if u.next[n] == NEVER && !u.tx[n].is_empty() {
-            u.next[n] = now + 1;
+        // the core's `send_due_host_bytes`).
+        self.tx[n].extend(bytes.iter().copied());
+        if self.next[n] == NEVER && !self.tx[n].is_empty() {
+            self.next[n] = now + 1;
         }
     }
 
-    /// Put on the wire each byte from the host due at `when`.
-    pub(super) fn send_due_host_bytes(&mut self, core: &mut Core, when: u64) {
-        for n in 0..4 {
-            if self.uart.next[n] > when {
-                continue;
-            }
-            let byte = self.uart.tx[n].pop_front();
-            if let (Some(b), Some(irq)) = (byte, self.uart.irq[n]) {
-                // The Bluetooth link's faults hit the byte now, at the
-                // time it is on the air.
-                let arrived = if n == self.uart.bluetooth {
-                    self.host_byte_on_air(core, when);
-                    self.inject.link_bytes(b)
-                } else {
-                    vec![b]
-                };
-                for b in arrived {
-                    core.raise(irq, b as u32);
-                }
-            }
-            let u = &mut self.uart;
-            u.next[n] = if u.tx[n].is_empty() {
-                NEVER
-            } else {
-                when + u.byte_cycles
-            };
+    /// USART `n`'s next byte from the host, if one is due at `when`: taken
+    /// from its queue, with the receiver to raise it on (None when the
+    /// queue or the receiver is missing). Then [`HostUart::reschedule`].
+    pub(super) fn take_due(&mut self, n: usize, when: u64) -> Option<Option<(u8, Irq)>> {
+        if self.next[n] > when {
+            return None;
         }
+        let byte = self.tx[n].pop_front();
+        Some(byte.zip(self.irq[n]))
+    }
+
+    /// USART `n` sent its byte due at `when`: the next one byte time later.
+    pub(super) fn reschedule(&mut self, n: usize, when: u64) {
+        self.next[n] = if self.tx[n].is_empty() {
+            NEVER
+        } else {
+            when + self.byte_cycles
+        };
     }
 
     /// Bytes the firmware sent on USART `n` so far.
-    pub fn uart_out(&self, n: usize) -> &[u8] {
-        &self.uart.out[n]
+    pub(super) fn out(&self, n: usize) -> &[u8] {
+        &self.out[n]
     }
 
     /// Bytes the firmware sent: (cycle, USART, byte).
-    pub fn uart_log(&self) -> &[(u64, u8, u8)] {
-        &self.uart.log
+    pub(super) fn log(&self) -> &[(u64, u8, u8)] {
+        &self.log
     }
 }
