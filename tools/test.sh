@@ -6,6 +6,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 cargo fmt --all --check
+# No module may depend on itself through others (the checker, then its own test).
+python3 tools/module-cycles.py hil plant-model calib gap protocol firmware
+bash tools/module-cycles-test.sh
 # The ci profile: release without link-time optimisation (see Cargo.toml).
 cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings
 cargo test --workspace --profile ci
