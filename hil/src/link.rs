@@ -4,7 +4,7 @@
 
 use henrytwo_protocol::frame::{encode_frame, Event, Parser, MAX_FRAME, MAX_PAYLOAD};
 pub use henrytwo_protocol::message::{Command, Test as ProtoTest};
-use henrytwo_protocol::message::{Reply, Status, Test};
+use henrytwo_protocol::message::{Reply, Status};
 pub use henrytwo_protocol::param::Param;
 
 /// The frame carrying `cmd`.
@@ -16,12 +16,6 @@ pub fn frame(cmd: &Command) -> Vec<u8> {
     let mut out = [0u8; MAX_FRAME];
     let len = encode_frame(&payload[..n], &mut out).expect("a command payload is 1..=32 bytes");
     out[..len].to_vec()
-}
-
-/// The protocol's test for one of the bench's tests: the same one (the bench
-/// runs the protocol's [`Test`]); kept for callers that still convert.
-pub fn proto_test(test: Test) -> ProtoTest {
-    test
 }
 
 /// A reply or notification the firmware sent, owned.
@@ -57,6 +51,7 @@ pub fn replies(bytes: &[u8]) -> Vec<Received> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use henrytwo_protocol::message::Test;
 
     #[test]
     fn a_start_frame_round_trips_through_the_firmware_parser() {

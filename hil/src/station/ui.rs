@@ -19,7 +19,6 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::Router;
-use henrytwo_protocol::message::Test as ProtoTest;
 use henrytwo_protocol::param::Param;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
@@ -453,10 +452,6 @@ struct StartRequest {
     leg_mm: Option<f64>,
 }
 
-fn proto(test: Test) -> ProtoTest {
-    crate::link::proto_test(test)
-}
-
 async fn start(
     State(app): State<Shared>,
     Json(req): Json<StartRequest>,
@@ -478,7 +473,7 @@ async fn start(
             });
         }
     }
-    l.start(proto(req.test)).await?;
+    l.start(req.test).await?;
     Ok(Json(
         json!({ "started": req.test.name(), "leg_mm": leg_mm }),
     ))
