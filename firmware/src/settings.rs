@@ -39,6 +39,24 @@ pub struct Settings {
     pub stall_timeout_ms: u16,
     /// Stall watchdog duty threshold.
     pub stall_duty: u8,
+    /// Distance per count of each wheel before correction, millimetres.
+    pub mm_per_count: PerWheel<f32>,
+    /// Encoder counts per wheel turn.
+    pub counts_per_wheel_rev: f32,
+    /// How the motor driver is wired.
+    pub driver: DriverWiring,
+}
+
+/// The motor driver's kind and pins (`henrytwo_protocol::DriverKind`),
+/// Arduino Mega pin numbers, `henrytwo_protocol::NO_PIN` for none.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct DriverWiring {
+    /// `DriverKind` wire value.
+    pub kind: u8,
+    /// Left motor's pins 1-3.
+    pub left: [u8; 3],
+    /// Right motor's pins 1-3.
+    pub right: [u8; 3],
 }
 
 impl Settings {
@@ -52,6 +70,21 @@ impl Settings {
         gains: PerWheel { left: robot::GAINS_LEFT, right: robot::GAINS_RIGHT },
         stall_timeout_ms: robot::DEFAULT_STALL_TIMEOUT_MS,
         stall_duty: robot::DEFAULT_STALL_DUTY,
+        mm_per_count: PerWheel { left: robot::MM_PER_COUNT, right: robot::MM_PER_COUNT },
+        counts_per_wheel_rev: robot::COUNTS_PER_WHEEL_REV,
+        driver: DriverWiring {
+            kind: Param::DriverKind.factory_default() as u8,
+            left: [
+                Param::LeftPin1.factory_default() as u8,
+                Param::LeftPin2.factory_default() as u8,
+                Param::LeftPin3.factory_default() as u8,
+            ],
+            right: [
+                Param::RightPin1.factory_default() as u8,
+                Param::RightPin2.factory_default() as u8,
+                Param::RightPin3.factory_default() as u8,
+            ],
+        },
     };
 
     /// The value of `p` (the leg length from `HT_LEG_LENGTH_MM`).
@@ -73,6 +106,16 @@ impl Settings {
             Param::KdRight => self.gains.right.kd,
             Param::StallTimeoutMs => self.stall_timeout_ms as f32,
             Param::StallDuty => self.stall_duty as f32,
+            Param::MmPerCountLeft => self.mm_per_count.left,
+            Param::MmPerCountRight => self.mm_per_count.right,
+            Param::CountsPerWheelRev => self.counts_per_wheel_rev,
+            Param::DriverKind => self.driver.kind as f32,
+            Param::LeftPin1 => self.driver.left[0] as f32,
+            Param::LeftPin2 => self.driver.left[1] as f32,
+            Param::LeftPin3 => self.driver.left[2] as f32,
+            Param::RightPin1 => self.driver.right[0] as f32,
+            Param::RightPin2 => self.driver.right[1] as f32,
+            Param::RightPin3 => self.driver.right[2] as f32,
         }
     }
 
@@ -96,6 +139,16 @@ impl Settings {
             Param::KdRight => self.gains.right.kd = v,
             Param::StallTimeoutMs => self.stall_timeout_ms = v as u16,
             Param::StallDuty => self.stall_duty = v as u8,
+            Param::MmPerCountLeft => self.mm_per_count.left = v,
+            Param::MmPerCountRight => self.mm_per_count.right = v,
+            Param::CountsPerWheelRev => self.counts_per_wheel_rev = v,
+            Param::DriverKind => self.driver.kind = v as u8,
+            Param::LeftPin1 => self.driver.left[0] = v as u8,
+            Param::LeftPin2 => self.driver.left[1] = v as u8,
+            Param::LeftPin3 => self.driver.left[2] = v as u8,
+            Param::RightPin1 => self.driver.right[0] = v as u8,
+            Param::RightPin2 => self.driver.right[1] = v as u8,
+            Param::RightPin3 => self.driver.right[2] = v as u8,
         }
     }
 }

@@ -37,4 +37,4 @@ pub use message::{
     Command, CommandId, Fault, FaultNotice, Phase, Reply, RunState, StateReport, Status, Telemetry,
     Test, TestDoneNotice, FRAME_ERROR_ID, NOTIFY_FAULT, NOTIFY_TEST_DONE, REPLY_FLAG, VERSION,
 };
-pub use param::{Param, Range};
+pub use param::{DriverKind, Param, Range, NO_PIN};

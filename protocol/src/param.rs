@@ -12,12 +12,12 @@ use crate::status::Status;
 #[repr(u8)]
 pub enum Param {
     /// Left wheel distance-per-count correction factor c_L (Borenstein):
-    /// left distance = c_L * 0.1669339526 mm * counts. Dimensionless.
+    /// left distance = c_L * [`Param::MmPerCountLeft`] * counts. Dimensionless.
     CorrLeft = 1,
     /// Right wheel correction factor c_R. Dimensionless.
     CorrRight = 2,
     /// Wheelbase b in millimetres; sets the spin-turn targets: counts for an
-    /// angle A = A * (b / 2) / (c_side * 0.1669339526 mm).
+    /// angle A = A * (b / 2) / (c_side * mm_per_count_side).
     WheelbaseMm = 3,
     /// Length of every straight leg, millimetres (also the bench variable
     /// `HT_LEG_LENGTH_MM`).
@@ -48,6 +48,60 @@ pub enum Param {
     /// Stall watchdog: duty (0..=255) at or above which a wheel counts as
     /// driven (whole number).
     StallDuty = 16,
+    /// Distance the left wheel travels per encoder count before correction
+    /// (pi * wheel diameter / counts per wheel turn), millimetres.
+    MmPerCountLeft = 17,
+    /// Same, right wheel.
+    MmPerCountRight = 18,
+    /// Encoder counts per wheel turn (gear ratio * counts per motor turn):
+    /// converts counts per control period into the set-points' thesis RPM.
+    CountsPerWheelRev = 19,
+    /// How the motor driver is wired ([`DriverKind`], whole number).
+    DriverKind = 20,
+    /// Left motor driver pin 1, an Arduino Mega pin number (whole number;
+    /// [`NO_PIN`] for none): what it is depends on [`Param::DriverKind`].
+    LeftPin1 = 21,
+    /// Left motor driver pin 2.
+    LeftPin2 = 22,
+    /// Left motor driver pin 3.
+    LeftPin3 = 23,
+    /// Right motor driver pin 1.
+    RightPin1 = 24,
+    /// Right motor driver pin 2.
+    RightPin2 = 25,
+    /// Right motor driver pin 3.
+    RightPin3 = 26,
+}
+
+/// The pin value of a driver pin that is not connected.
+pub const NO_PIN: u8 = 255;
+
+/// How each motor's driver inputs are wired, the value of
+/// [`Param::DriverKind`]. Pins 1-3 of each motor mean, per kind:
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Hash)]
+#[repr(u8)]
+pub enum DriverKind {
+    /// Two PWM inputs per motor (DRV8833, TB6612 in PWM-on-IN mode): pin 1
+    /// forward (IN1), pin 2 reverse (IN2), pin 3 none.
+    TwoPwm = 0,
+    /// A PWM enable and two direction inputs (L298N, TB6612): pin 1 the
+    /// enable (PWM), pin 2 IN1 (high with IN2 low drives forward), pin 3 IN2.
+    EnableTwoDir = 1,
+    /// A PWM input and one direction input: pin 1 PWM, pin 2 direction (high
+    /// drives forward), pin 3 none.
+    PwmDir = 2,
+}
+
+impl DriverKind {
+    /// The kind with wire value `v`.
+    pub const fn from_u8(v: u8) -> Option<DriverKind> {
+        match v {
+            0 => Some(DriverKind::TwoPwm),
+            1 => Some(DriverKind::EnableTwoDir),
+            2 => Some(DriverKind::PwmDir),
+            _ => None,
+        }
+    }
 }
 
 /// The values a parameter accepts.
@@ -79,7 +133,7 @@ const fn whole(min: f32, max: f32) -> Range {
 
 impl Param {
     /// Every parameter, in id order.
-    pub const ALL: [Param; 16] = [
+    pub const ALL: [Param; 26] = [
         Param::CorrLeft,
         Param::CorrRight,
         Param::WheelbaseMm,
@@ -96,6 +150,16 @@ impl Param {
         Param::KdRight,
         Param::StallTimeoutMs,
         Param::StallDuty,
+        Param::MmPerCountLeft,
+        Param::MmPerCountRight,
+        Param::CountsPerWheelRev,
+        Param::DriverKind,
+        Param::LeftPin1,
+        Param::LeftPin2,
+        Param::LeftPin3,
+        Param::RightPin1,
+        Param::RightPin2,
+        Param::RightPin3,
     ];
 
     /// The parameter with id `id`.
@@ -125,6 +189,50 @@ impl Param {
             Param::KdLeft | Param::KdRight => real(0.0, 10.0),
             Param::StallTimeoutMs => whole(45.0, 5000.0),
             Param::StallDuty => whole(1.0, 255.0),
+            Param::MmPerCountLeft | Param::MmPerCountRight => real(0.001, 50.0),
+            Param::CountsPerWheelRev => real(1.0, 100_000.0),
+            Param::DriverKind => whole(0.0, 2.0),
+            Param::LeftPin1
+            | Param::LeftPin2
+            | Param::LeftPin3
+            | Param::RightPin1
+            | Param::RightPin2
+            | Param::RightPin3 => whole(0.0, 255.0),
+        }
+    }
+
+    /// The robust firmware's factory value (the thesis robot's, Henrytwo:
+    /// 32 mm wheels, 100.37:1 gears, 6 counts per motor turn, a DRV8833 on
+    /// D6-D9), what it runs with until told otherwise.
+    pub const fn factory_default(self) -> f32 {
+        match self {
+            Param::CorrLeft | Param::CorrRight => 1.0,
+            Param::WheelbaseMm => 130.0,
+            Param::LegLengthMm => 2000.0,
+            Param::TurnUmbmarkDeg => 90.0,
+            Param::TurnTriangleDeg => 120.0,
+            // The sketch's right-wheel 14.47 on both wheels (firmware/src/robot.rs).
+            Param::SetpointLeft | Param::SetpointRight => 14.47,
+            Param::KpLeft => 2.20,
+            Param::KiLeft => 36.666,
+            Param::KdLeft => 0.033,
+            Param::KpRight => 2.74,
+            Param::KiRight => 45.66,
+            Param::KdRight => 0.0411,
+            Param::StallTimeoutMs => 200.0,
+            Param::StallDuty => 200.0,
+            // pi * 32 mm / 602.22, the thesis' `Constante` as it prints it.
+            #[allow(clippy::excessive_precision)]
+            Param::MmPerCountLeft | Param::MmPerCountRight => 0.1669339526,
+            Param::CountsPerWheelRev => 602.22,
+            Param::DriverKind => DriverKind::TwoPwm as u8 as f32,
+            // D9 (OC2B) left forward, D8 (OC4C) left reverse, D7 (OC4B)
+            // right forward, D6 (OC4A) right reverse.
+            Param::LeftPin1 => 9.0,
+            Param::LeftPin2 => 8.0,
+            Param::RightPin1 => 7.0,
+            Param::RightPin2 => 6.0,
+            Param::LeftPin3 | Param::RightPin3 => NO_PIN as f32,
         }
     }
 
@@ -161,6 +269,16 @@ impl Param {
             Param::KdRight => "kd_right",
             Param::StallTimeoutMs => "stall_timeout_ms",
             Param::StallDuty => "stall_duty",
+            Param::MmPerCountLeft => "mm_per_count_left",
+            Param::MmPerCountRight => "mm_per_count_right",
+            Param::CountsPerWheelRev => "counts_per_wheel_rev",
+            Param::DriverKind => "driver_kind",
+            Param::LeftPin1 => "left_pin1",
+            Param::LeftPin2 => "left_pin2",
+            Param::LeftPin3 => "left_pin3",
+            Param::RightPin1 => "right_pin1",
+            Param::RightPin2 => "right_pin2",
+            Param::RightPin3 => "right_pin3",
         }
     }
 }
@@ -176,7 +294,7 @@ mod tests {
             assert_eq!(Param::from_u8(p.id()), Some(*p));
         }
         assert_eq!(Param::from_u8(0), None);
-        assert_eq!(Param::from_u8(17), None);
+        assert_eq!(Param::from_u8(27), None);
         assert_eq!(Param::from_u8(255), None);
     }
 
@@ -216,5 +334,30 @@ mod tests {
         assert_eq!(Param::StallDuty.check(100.0), Ok(100.0));
         assert_eq!(Param::StallDuty.check(99.9), Err(Status::OutOfRange));
         assert_eq!(Param::CorrLeft.check(1.0013), Ok(1.0013));
+        assert_eq!(Param::LeftPin1.check(9.5), Err(Status::OutOfRange));
+        assert_eq!(Param::DriverKind.check(1.0), Ok(1.0));
+    }
+
+    #[test]
+    fn factory_defaults_are_accepted() {
+        for p in Param::ALL {
+            assert_eq!(
+                p.check(p.factory_default()),
+                Ok(p.factory_default()),
+                "{p:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn driver_kinds_round_trip() {
+        for k in [
+            DriverKind::TwoPwm,
+            DriverKind::EnableTwoDir,
+            DriverKind::PwmDir,
+        ] {
+            assert_eq!(DriverKind::from_u8(k as u8), Some(k));
+        }
+        assert_eq!(DriverKind::from_u8(3), None);
     }
 }

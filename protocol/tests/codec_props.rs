@@ -26,7 +26,7 @@ fn any_valid_command() -> impl Strategy<Value = Command> {
         Just(Test::Line),
         Just(Test::Triangle)
     ];
-    let param = (1u8..=16).prop_map(|id| Param::from_u8(id).unwrap());
+    let param = (1u8..=Param::ALL.len() as u8).prop_map(|id| Param::from_u8(id).unwrap());
     prop_oneof![
         Just(Command::Ping),
         Just(Command::Stop),

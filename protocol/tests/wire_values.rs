@@ -109,6 +109,16 @@ fn parameter_names() {
             "kd_right",
             "stall_timeout_ms",
             "stall_duty",
+            "mm_per_count_left",
+            "mm_per_count_right",
+            "counts_per_wheel_rev",
+            "driver_kind",
+            "left_pin1",
+            "left_pin2",
+            "left_pin3",
+            "right_pin1",
+            "right_pin2",
+            "right_pin3",
         ]
     );
 }
