@@ -13,13 +13,14 @@
 //!   chip latches the high byte in a shared TEMP register), see [`reg`].
 //! - Read-modify-write of a register that an interrupt handler may also touch
 //!   happens inside `interrupt::free`.
-//! - Timers 2 and 4 (PWM) are only ever written, never read, and none of their
-//!   interrupts is enabled: the bench emulates those two timers itself.
+//! - Timers 2-5 (PWM) are only ever written, never read, and none of their
+//!   interrupts is enabled: the bench emulates timers 2 and 4 itself.
 
 pub mod clock;
+pub mod mega_pins;
 
-// The rest programs registers: AVR only (`clock` is const arithmetic, which
-// the host-side logic shares).
+// The rest programs registers: AVR only (`clock` is const arithmetic and
+// `mega_pins` a table, which the host-side logic shares).
 #[cfg(target_arch = "avr")]
 pub mod adc;
 #[cfg(target_arch = "avr")]
