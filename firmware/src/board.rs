@@ -95,7 +95,9 @@ impl Pins {
 
 /// The robot's motors as wired (thesis `Adelante`, `Inercia_Stop_Ad`):
 /// right forward D7 (OC4B), right reverse D6 (OC4A), left forward D9 (OC2B),
-/// left reverse D8 (OC4C).
+/// left reverse D8 (OC4C). The thesis build drives these compiled-in
+/// channels; the robust build takes its wiring at run time
+/// ([`crate::driver`], whose factory wiring is this one).
 pub type DriveMotors = Motors<Oc4b, Oc4a, Oc2b, Oc4c>;
 
 /// Makes D6..D9 outputs driving low, starts timers 4 and 2 in 8-bit

@@ -4,10 +4,11 @@
 //! The robust build's logic ([`crate::robust`]) is written against these
 //! traits only, so it compiles and is unit-tested on the host with fakes;
 //! the AVR drivers implement them ([`crate::encoder::Encoders`],
-//! [`crate::motors::Motors`], [`crate::clock::Clock`], the ADC, the LEDs, the
+//! [`crate::driver::Driver`], [`crate::motors::Motors`], [`crate::clock::Clock`], the ADC, the LEDs, the
 //! USARTs). An implementation must keep the behaviour each method states: the
 //! logic's timing and its stop rules rely on it.
 
+use crate::settings::DriverWiring;
 use crate::Error;
 
 /// Both counts at one instant.
@@ -43,6 +44,16 @@ pub trait Bridges {
     /// All four inputs to 0: the forward ones (right, left), then the reverse
     /// ones (right, left), like the thesis' stop routines.
     fn all_off(&mut self);
+    /// Whether the bridges are wired as `w` says already (a driver that
+    /// cannot be rewired says no, so the caller checks `w` each time).
+    fn drives(&self, _w: &DriverWiring) -> bool {
+        false
+    }
+    /// Drives the wiring `w` from now on, which has passed
+    /// [`DriverWiring::check`]: the old inputs low and released first, the
+    /// new ones at 0. Nothing when it is the wiring already (or the bridges'
+    /// wiring is fixed).
+    fn rewire(&mut self, _w: &DriverWiring) {}
 }
 
 /// The two wheel encoders: counts that change on every edge (in an

@@ -4,8 +4,9 @@
 //! - [`hal`]: a thin layer over `avr-device` registers (pins, external
 //!   interrupts, PWM, the tick timer, ADC, watchdog, USARTs, sleep);
 //! - [`board`]: the clock and every pin of the robot, named once;
-//! - drivers: [`encoder`] (with the segment-end trips), [`motors`],
-//!   [`battery`], and [`clock`] (the robust build's clock);
+//! - drivers: [`encoder`] (with the segment-end trips), [`motors`] (the
+//!   thesis build's compiled wiring), [`driver`] (the robust build's, told at
+//!   run time), [`battery`], and [`clock`] (the robust build's clock);
 //! - [`io`]: the small traits the drivers implement for the logic above them;
 //! - [`arduino`]: the pieces of the Arduino core the thesis build needs
 //!   (`millis`/`micros`/`delay` on timer 0, `Serial.print`);
@@ -37,6 +38,7 @@ pub mod board;
 #[cfg(target_arch = "avr")]
 pub mod clock;
 pub mod critical;
+pub mod driver;
 #[cfg(target_arch = "avr")]
 pub mod encoder;
 pub mod hal;
