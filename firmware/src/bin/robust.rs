@@ -28,8 +28,9 @@ use avr_device::interrupt;
 
 use henrytwo_firmware::battery::Leds;
 use henrytwo_firmware::bench;
-use henrytwo_firmware::board::{self, DriveMotors};
+use henrytwo_firmware::board;
 use henrytwo_firmware::clock::{self, Clock};
+use henrytwo_firmware::driver::{Driver, Mmio};
 use henrytwo_firmware::encoder::Encoders;
 use henrytwo_firmware::hal::adc::Adc;
 use henrytwo_firmware::hal::exint::ExtInts;
@@ -63,6 +64,9 @@ henrytwo_firmware::usart_vectors!();
 
 /// Boot message on the debug UART.
 const BOOT_LINE: &[u8] = b"henrytwo robust ready\r\n";
+
+/// The motor driver, wired at run time.
+type DriveMotors = Driver<Mmio>;
 
 /// The robot's parts behind the logic's traits.
 struct Mega;
@@ -101,15 +105,19 @@ fn main() -> ! {
     let mut watchdog = Watchdog::disabled(dp.WDT);
     let pins = board::Pins::new(dp.PORTB, dp.PORTD, dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH);
 
-    // Motors first, so the bridge inputs are low from the start.
-    let motors = board::drive_motors(
-        dp.TC4,
-        dp.TC2,
-        pins.right_reverse,
-        pins.right_forward,
-        pins.left_reverse,
-        pins.left_forward,
-    );
+    // A stored wiring that cannot be driven gives way to the factory one.
+    let mut settings = Settings::DEFAULT;
+    if settings.driver.check().is_err() {
+        settings.driver = Settings::DEFAULT.driver;
+    }
+    // Motors first, so the bridge inputs are low from the start. The driver
+    // programs the pins its wiring names and timers 2-5 itself: their PAC
+    // handles and the Henrytwo bridge pins are dropped unused here.
+    let _ = (dp.TC2, dp.TC3, dp.TC4, dp.TC5);
+    let _ = (pins.right_reverse, pins.right_forward, pins.left_reverse, pins.left_forward);
+    // SAFETY: nothing else in this build touches timers 2-5, and the checked
+    // wiring names none of the pins the other drivers below use.
+    let motors = Driver::new(unsafe { Mmio::new() }, &settings.driver);
     let encoders = Encoders::new(
         ExtInts::new(dp.EXINT),
         pins.left_encoder_a,
@@ -125,7 +133,7 @@ fn main() -> ! {
     let mut sleeper = Sleeper::new(dp.CPU);
     let clock = Clock::start(dp.TC1);
 
-    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug, Settings::DEFAULT);
+    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug, settings);
 
     // SAFETY: every handler's state is initialised above.
     unsafe { interrupt::enable() };

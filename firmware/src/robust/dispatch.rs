@@ -144,6 +144,8 @@ impl<H: Hardware> App<H> {
             Command::SetParam(p, v) => {
                 if busy {
                     self.send(id, Status::Busy, &[]);
+                } else if !super::wiring::settable(p, v) {
+                    self.send(id, Status::OutOfRange, &[]);
                 } else {
                     self.settings.set(p, v);
                     self.send_param(id, p);

@@ -10,7 +10,8 @@
 //! - [`progress`]: the watchdog of each wheel's progress;
 //! - [`sequencer`]: a test's segments, their stop rules, braking, waits,
 //!   faults;
-//! - [`dispatch`]: commands and selector bytes in, replies and notices out.
+//! - [`dispatch`]: commands and selector bytes in, replies and notices out;
+//! - [`wiring`]: the motor driver's wiring checked and applied at START_TEST.
 //!
 //! [`App::poll`] looks at every event source once; the firmware calls it
 //! after each wake-up.
@@ -20,6 +21,7 @@ pub mod dispatch;
 pub mod drive;
 pub mod progress;
 pub mod sequencer;
+pub mod wiring;
 
 #[cfg(test)]
 mod fake;

@@ -89,12 +89,14 @@ pub struct Leg {
 }
 
 impl<H: Hardware> App<H> {
-    /// Starts `test` if idle and the leg length is valid.
+    /// Starts `test` if idle, the leg length is valid and the motor driver's
+    /// wiring can be driven (it is applied then).
     pub(crate) fn start_test(&mut self, test: Test) -> Result<(), Status> {
         if self.mode != Mode::Idle {
             return Err(Status::Busy);
         }
         self.leg_mm = Param::LegLengthMm.check(bench::leg_length_mm())?;
+        self.apply_wiring()?;
         bench::set_fault(Fault::None as u8);
         bench::set_test(test as u8);
         self.start_segment(test, 0);
