@@ -30,7 +30,7 @@ use henrytwo_firmware::battery::Leds;
 use henrytwo_firmware::bench;
 use henrytwo_firmware::board;
 use henrytwo_firmware::clock::{self, Clock};
-use henrytwo_firmware::driver::{Driver, Mmio};
+use henrytwo_firmware::driver::{Driver, Mmio, StaticState};
 use henrytwo_firmware::encoder::Encoders;
 use henrytwo_firmware::hal::adc::Adc;
 use henrytwo_firmware::hal::exint::ExtInts;
@@ -66,7 +66,7 @@ henrytwo_firmware::usart_vectors!();
 const BOOT_LINE: &[u8] = b"henrytwo robust ready\r\n";
 
 /// The motor driver, wired at run time.
-type DriveMotors = Driver<Mmio>;
+type DriveMotors = Driver<Mmio, StaticState>;
 
 /// The robot's parts behind the logic's traits.
 struct Mega;
@@ -116,8 +116,9 @@ fn main() -> ! {
     let _ = (dp.TC2, dp.TC3, dp.TC4, dp.TC5);
     let _ = (pins.right_reverse, pins.right_forward, pins.left_reverse, pins.left_forward);
     // SAFETY: nothing else in this build touches timers 2-5, and the checked
-    // wiring names none of the pins the other drivers below use.
-    let motors = Driver::new(unsafe { Mmio::new() }, &settings.driver);
+    // wiring names none of the pins the other drivers below use; the static
+    // state is taken once, here, and no handler uses the driver.
+    let motors = unsafe { Driver::with_state(Mmio::new(), StaticState::take(), &settings.driver) };
     let encoders = Encoders::new(
         ExtInts::new(dp.EXINT),
         pins.left_encoder_a,

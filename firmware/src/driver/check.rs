@@ -85,7 +85,7 @@ impl DriverWiring {
                     return fail(WiringFault::Reserved);
                 }
                 let pwm = i == 0 || (i == 1 && kind == DriverKind::TwoPwm);
-                if pwm && !pin.oc.is_some_and(|oc| mega_pins::pwm_timer(oc.timer).is_some()) {
+                if pwm && pin.oc.is_none_or(|oc| mega_pins::pwm_timer(oc.timer).is_none()) {
                     return fail(WiringFault::NotPwm);
                 }
                 // Named before (left's pins, then this side's earlier ones).

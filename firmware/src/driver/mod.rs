@@ -36,13 +36,15 @@ mod tests;
 
 pub use check::{WiringError, WiringFault};
 
+use core::borrow::BorrowMut;
+
 use henrytwo_protocol::{DriverKind, NO_PIN};
 
 use crate::critical;
 use crate::hal::clock::Prescaler;
 use crate::hal::mega_pins;
 use crate::io::{Bridges, Side};
-use crate::settings::DriverWiring;
+use crate::settings::{DriverWiring, Settings};
 
 /// Byte access to the chip's data space (the I/O registers).
 pub trait Registers {
@@ -166,9 +168,8 @@ impl Bridge {
     }
 }
 
-/// The motor driver: its kind, both bridges, the PWM timers' state.
-pub struct Driver<R: Registers> {
-    regs: R,
+/// The driver's state: its kind, both bridges, the PWM timers' shadows.
+pub struct State {
     kind: DriverKind,
     /// Left, right.
     bridges: [Bridge; 2],
@@ -180,28 +181,93 @@ pub struct Driver<R: Registers> {
     wiring: DriverWiring,
 }
 
-#[inline(always)]
-fn index(side: Side) -> usize {
-    match side {
-        Side::Left => 0,
-        Side::Right => 1,
+impl State {
+    /// No wiring applied yet.
+    pub const fn new() -> Self {
+        const NONE: Output = Output { port: 0, mask: 0, tccra: 0, ocr: 0, com1: 0, timer: 0, wide: false };
+        const B: Bridge = Bridge { out: [NONE; 3], forward: 0, reverse: 0, dir: Dir::Unknown };
+        State {
+            kind: DriverKind::TwoPwm,
+            bridges: [B; 2],
+            shadow: [0; 4],
+            running: 0,
+            wiring: DriverWiring { kind: 0, left: [NO_PIN; 3], right: [NO_PIN; 3] },
+        }
     }
 }
 
-impl<R: Registers> Driver<R> {
-    /// Takes the registers and applies `wiring`, which must have passed
-    /// [`DriverWiring::check`]: its pins become outputs driving low, the
-    /// timers it uses start, every input at 0 (the motors coast).
+impl Default for State {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The robust build's driver state, in a static: the driver itself is then
+/// zero-sized, so the drive's other fields keep their offsets, and the
+/// control tick reaches the state at fixed addresses.
+#[cfg(target_arch = "avr")]
+pub struct StaticState {
+    _private: (),
+}
+
+#[cfg(target_arch = "avr")]
+static mut STATE: State = State::new();
+
+#[cfg(target_arch = "avr")]
+impl StaticState {
+    /// The one static state.
+    ///
+    /// # Safety
+    /// At most one `StaticState` may exist (the robust build makes one, in
+    /// `main`), and no interrupt handler may use it.
+    pub const unsafe fn take() -> Self {
+        StaticState { _private: () }
+    }
+}
+
+#[cfg(target_arch = "avr")]
+impl core::borrow::Borrow<State> for StaticState {
+    #[inline(always)]
+    fn borrow(&self) -> &State {
+        // SAFETY: `take`'s contract makes this the only handle on `STATE`,
+        // and `&self` excludes a `&mut` borrow through it meanwhile.
+        unsafe { &*core::ptr::addr_of!(STATE) }
+    }
+}
+
+#[cfg(target_arch = "avr")]
+impl core::borrow::BorrowMut<State> for StaticState {
+    #[inline(always)]
+    fn borrow_mut(&mut self) -> &mut State {
+        // SAFETY: as `borrow`; `&mut self` makes this borrow exclusive.
+        unsafe { &mut *core::ptr::addr_of_mut!(STATE) }
+    }
+}
+
+/// The motor driver: the registers, and where its [`State`] is (its own
+/// field on the host, [`StaticState`] in the robust build).
+pub struct Driver<R: Registers, S: BorrowMut<State> = State> {
+    regs: R,
+    st: S,
+}
+
+impl<R: Registers> Driver<R, State> {
+    /// Takes the registers and applies `wiring` (the factory wiring if it
+    /// fails [`DriverWiring::check`]): its pins become outputs driving low,
+    /// the timers it uses start, every input at 0 (the motors coast).
     pub fn new(regs: R, wiring: &DriverWiring) -> Self {
-        let mut d = Driver {
-            regs,
-            kind: DriverKind::TwoPwm,
-            bridges: [Bridge::new(DriverKind::TwoPwm, [NO_PIN; 3]); 2],
-            shadow: [0; 4],
-            running: 0,
-            wiring: *wiring,
-        };
-        d.apply(wiring);
+        Driver::with_state(regs, State::new(), wiring)
+    }
+}
+
+impl<R: Registers, S: BorrowMut<State>> Driver<R, S> {
+    /// [`Driver::new`] with the state kept in `st`, which must hold
+    /// [`State::new`].
+    pub fn with_state(regs: R, st: S, wiring: &DriverWiring) -> Self {
+        let factory = Settings::DEFAULT.driver;
+        let wiring = if wiring.check().is_ok() { wiring } else { &factory };
+        let mut d = Driver { regs, st };
+        d.st.borrow_mut().apply(&mut d.regs, wiring);
         d
     }
 
@@ -212,10 +278,13 @@ impl<R: Registers> Driver<R> {
 
     /// The wiring applied.
     pub fn wiring(&self) -> &DriverWiring {
-        &self.wiring
+        &self.st.borrow().wiring
     }
+}
 
-    fn apply(&mut self, w: &DriverWiring) {
+impl State {
+    /// Applies `w`, which has passed the check.
+    fn apply<R: Registers>(&mut self, regs: &mut R, w: &DriverWiring) {
         let kind = DriverKind::from_u8(w.kind).unwrap_or(DriverKind::TwoPwm);
         self.kind = kind;
         self.wiring = *w;
@@ -227,8 +296,8 @@ impl<R: Registers> Driver<R> {
         for n in pins {
             if let Some(p) = mega_pins::pin(n) {
                 let mask = p.mask();
-                self.modify(p.port.port_reg(), mask, false);
-                self.modify(p.port.ddr_reg(), mask, true);
+                modify(regs, p.port.port_reg(), mask, false);
+                modify(regs, p.port.ddr_reg(), mask, true);
             }
         }
         // ... then the timers of the PWM inputs, in the order their first
@@ -241,13 +310,13 @@ impl<R: Registers> Driver<R> {
             if pwm && self.running & bit == 0 {
                 self.running |= bit;
                 let t = o.timer as usize;
-                if let (Some(s), Some(regs)) = (self.shadow.get_mut(t), mega_pins::pwm_timer(o.timer + 2)) {
+                if let (Some(s), Some(timer)) = (self.shadow.get_mut(t), mega_pins::pwm_timer(o.timer + 2)) {
                     *s |= WGM_PHASE_CORRECT_8BIT;
                     let v = *s;
                     let cs = if o.timer == 0 { CS2_DIV1 } else { CS_DIV1 };
                     critical::free(|_| {
-                        self.regs.write(regs.tccra, v);
-                        self.regs.write(regs.tccrb, cs);
+                        regs.write(timer.tccra, v);
+                        regs.write(timer.tccrb, cs);
                     });
                 }
             }
@@ -255,63 +324,79 @@ impl<R: Registers> Driver<R> {
         // Every input at 0: forward then reverse, right then left, like
         // the compiled driver's construction.
         for side in [Side::Right, Side::Left] {
-            self.set_forward(side, 0);
-            self.set_reverse(side, 0);
+            self.set_input(regs, side, 0, 0);
+            self.set_input(regs, side, 1, 0);
         }
     }
 
     /// Drives every input of the applied wiring low and releases its compare
     /// output (timers keep running; pins stay outputs).
-    fn release(&mut self) {
+    fn release<R: Registers>(&mut self, regs: &mut R) {
         for b in 0..2 {
             for i in 0..3 {
                 let o = self.bridges[b].out[i];
-                if o.port != 0 {
-                    self.write_duty(o, 0);
+                if o.tccra != 0 {
+                    write_pwm(regs, &mut self.shadow, &o, 0);
+                } else if o.port != 0 {
+                    modify(regs, o.port, o.mask, false);
                 }
             }
         }
     }
 
-    /// Sets or clears `mask` at `reg` with interrupts off.
+    /// Sets `side`'s forward (`input` 0) or reverse (1) request. Fields are
+    /// borrowed apart and nothing is copied: this is the control tick's path.
     #[inline(always)]
-    fn modify(&mut self, reg: u16, mask: u8, set: bool) {
-        critical::free(|_| {
-            let v = self.regs.read(reg);
-            self.regs.write(reg, if set { v | mask } else { v & !mask });
-        });
-    }
-
-    /// `analogWrite(o, duty)`, in the order of the module docs.
-    #[inline(always)]
-    fn write_duty(&mut self, o: Output, duty: u8) {
-        if o.tccra == 0 {
-            // A plain output (only reached by `release`).
-            self.modify(o.port, o.mask, duty != 0);
-        } else {
-            write_pwm(&mut self.regs, &mut self.shadow, &o, duty);
-        }
-    }
-
-    /// A direction kind's bridge after its requests changed.
-    fn update(&mut self, side: Side) {
-        let b = self.bridges[index(side)];
-        let (dir, duty) = match (b.forward, b.reverse) {
-            (f, 0) if f != 0 => (Dir::Forward, f),
-            (0, r) if r != 0 => (Dir::Reverse, r),
-            _ => (b.dir, 0),
+    fn set_input<R: Registers>(&mut self, regs: &mut R, side: Side, input: usize, duty: u8) {
+        let State { kind, bridges, shadow, .. } = self;
+        let b = match side {
+            Side::Left => &mut bridges[0],
+            Side::Right => &mut bridges[1],
         };
-        if duty != 0 && dir != b.dir {
-            let fwd = dir == Dir::Forward;
-            let [_, p2, p3] = b.out;
-            self.modify(p2.port, p2.mask, fwd);
-            if self.kind == DriverKind::EnableTwoDir {
-                self.modify(p3.port, p3.mask, !fwd);
+        if *kind == DriverKind::TwoPwm {
+            // Pins 1 and 2 of a checked TwoPwm wiring are PWM outputs.
+            if let Some(o) = b.out.get(input) {
+                write_pwm(regs, shadow, o, duty);
             }
-            self.bridges[index(side)].dir = dir;
+        } else {
+            if input == 0 {
+                b.forward = duty;
+            } else {
+                b.reverse = duty;
+            }
+            update(regs, shadow, *kind, b);
         }
-        self.write_duty(b.out[0], duty);
     }
+}
+
+/// Sets or clears `mask` at `reg` with interrupts off.
+#[inline(always)]
+fn modify<R: Registers>(regs: &mut R, reg: u16, mask: u8, set: bool) {
+    critical::free(|_| {
+        let v = regs.read(reg);
+        regs.write(reg, if set { v | mask } else { v & !mask });
+    });
+}
+
+/// A direction kind's bridge `b` after its requests changed: the direction
+/// pins if the direction changes, then pin 1's duty.
+#[inline(never)]
+fn update<R: Registers>(regs: &mut R, shadow: &mut [u8; 4], kind: DriverKind, b: &mut Bridge) {
+    let (dir, duty) = match (b.forward, b.reverse) {
+        (f, 0) if f != 0 => (Dir::Forward, f),
+        (0, r) if r != 0 => (Dir::Reverse, r),
+        _ => (b.dir, 0),
+    };
+    let [p1, p2, p3] = &b.out;
+    if duty != 0 && dir != b.dir {
+        let fwd = dir == Dir::Forward;
+        modify(regs, p2.port, p2.mask, fwd);
+        if kind == DriverKind::EnableTwoDir {
+            modify(regs, p3.port, p3.mask, !fwd);
+        }
+        b.dir = dir;
+    }
+    write_pwm(regs, shadow, p1, duty);
 }
 
 /// `analogWrite` on a PWM output, in the order of the module docs. Out of
@@ -338,29 +423,15 @@ fn write_pwm<R: Registers>(regs: &mut R, shadow: &mut [u8; 4], o: &Output, duty:
     });
 }
 
-impl<R: Registers> Bridges for Driver<R> {
+impl<R: Registers, S: BorrowMut<State>> Bridges for Driver<R, S> {
     #[inline(always)]
     fn set_forward(&mut self, side: Side, duty: u8) {
-        let i = index(side);
-        if self.kind == DriverKind::TwoPwm {
-            let o = self.bridges[i].out[0];
-            self.write_duty(o, duty);
-        } else {
-            self.bridges[i].forward = duty;
-            self.update(side);
-        }
+        self.st.borrow_mut().set_input(&mut self.regs, side, 0, duty);
     }
 
     #[inline(always)]
     fn set_reverse(&mut self, side: Side, duty: u8) {
-        let i = index(side);
-        if self.kind == DriverKind::TwoPwm {
-            let o = self.bridges[i].out[1];
-            self.write_duty(o, duty);
-        } else {
-            self.bridges[i].reverse = duty;
-            self.update(side);
-        }
+        self.st.borrow_mut().set_input(&mut self.regs, side, 1, duty);
     }
 
     fn all_off(&mut self) {
@@ -371,13 +442,16 @@ impl<R: Registers> Bridges for Driver<R> {
     }
 
     fn drives(&self, w: &DriverWiring) -> bool {
-        self.wiring == *w
+        self.st.borrow().wiring == *w
     }
 
     fn rewire(&mut self, w: &DriverWiring) {
-        if self.wiring != *w {
-            self.release();
-            self.apply(w);
+        // Only a wiring that passes the check is ever applied: the PWM
+        // writes rely on it (pin 1, and TwoPwm's pin 2, on a timer).
+        let st = self.st.borrow_mut();
+        if st.wiring != *w && w.check().is_ok() {
+            st.release(&mut self.regs);
+            st.apply(&mut self.regs, w);
         }
     }
 }

@@ -73,6 +73,15 @@ fn henrytwo_boots_like_the_compiled_driver() {
 }
 
 #[test]
+fn a_wiring_that_fails_the_check_boots_as_the_factory_one() {
+    let bad = DriverWiring { kind: 0, left: [13, 8, NO_PIN], right: [7, 6, NO_PIN] };
+    let mut d = Driver::new(Fake::default(), &bad);
+    assert_eq!(d.wiring(), &henrytwo());
+    let mut f = Driver::new(Fake::default(), &henrytwo());
+    assert_eq!(take(&mut d), take(&mut f));
+}
+
+#[test]
 fn two_pwm_writes_one_channel_per_request_as_analog_write() {
     let mut d = Driver::new(Fake::default(), &henrytwo());
     take(&mut d);
@@ -206,9 +215,12 @@ fn rewiring_releases_the_old_inputs_first_then_sets_up_the_new() {
     assert!(!rest.iter().any(|(a, _)| *a == mp::TCCR4A || *a == mp::TCCR2A));
     assert_eq!(d.wiring(), &enable_two_dir());
     assert!(d.drives(&enable_two_dir()));
-    // The same wiring again writes nothing.
+    // The same wiring again writes nothing, nor does one that fails the check.
     d.rewire(&enable_two_dir());
     assert!(take(&mut d).is_empty());
+    d.rewire(&DriverWiring { kind: 1, left: [13, 47, 48], right: [45, 49, 22] });
+    assert!(take(&mut d).is_empty());
+    assert_eq!(d.wiring(), &enable_two_dir());
 }
 
 #[test]
