@@ -125,7 +125,18 @@ fn main() -> ! {
     let mut sleeper = Sleeper::new(dp.CPU);
     let clock = Clock::start(dp.TC1);
 
-    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug, Settings::DEFAULT);
+    let mut app = App::<Mega>::new(
+        Drive::new(motors, encoders),
+        clock,
+        leds,
+        adc,
+        bluetooth,
+        debug,
+        henrytwo_firmware::robust::persist::Stored::load(
+            henrytwo_firmware::hal::eeprom::Eeprom::new(dp.EEPROM),
+            Settings::DEFAULT,
+        ),
+    );
 
     // SAFETY: every handler's state is initialised above.
     unsafe { interrupt::enable() };

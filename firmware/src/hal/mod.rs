@@ -23,6 +23,8 @@ pub mod clock;
 #[cfg(target_arch = "avr")]
 pub mod adc;
 #[cfg(target_arch = "avr")]
+pub mod eeprom;
+#[cfg(target_arch = "avr")]
 pub mod exint;
 #[cfg(target_arch = "avr")]
 pub mod gpio;
