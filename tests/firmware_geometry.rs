@@ -127,5 +127,9 @@ fn the_geometry_is_kept_across_a_reset() {
         assert_eq!(get(&mut b, p), v, "{p:?} after the reset");
     }
     assert_eq!(get(&mut b, Param::LegLengthMm), 2000.0);
-    assert_eq!(get(&mut b, Param::CorrLeft), 1.0, "not set, so the factory value");
+    assert_eq!(
+        get(&mut b, Param::CorrLeft),
+        1.0,
+        "not set, so the factory value"
+    );
 }
