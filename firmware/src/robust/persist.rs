@@ -88,13 +88,11 @@ pub struct Stored<S> {
 
 impl<S: ByteStore> Stored<S> {
     /// Reads the settings from `store`: each kept parameter from its slot,
-    /// `defaults`' value where the slot is missing or invalid. Boot only:
-    /// waits for a write still in progress.
+    /// `defaults`' value where the slot is missing or invalid. At boot: no
+    /// write of this firmware is in progress then (EEPE resets to 0, and a
+    /// slot a reset tore fails its CRC).
     pub fn load(mut store: S, defaults: Settings) -> Self {
-        let mut read = |addr: u16| {
-            while store.busy() {}
-            store.read(addr)
-        };
+        let mut read = |addr: u16| store.read(addr);
         let magic_ok = read(BASE) == MAGIC;
         let mut settings = defaults;
         let mut queued = 0;
