@@ -65,7 +65,7 @@ fn leg_target_count_sum(length_mm: f64) -> i64 {
 /// flag (WOKEN), so the main loop sleeps through it until the other wheel's
 /// trip wakes it one edge later; by the cut one more edge has come. Whether
 /// a run shows it depends on the cycles at which the edges fall: this run
-/// stops at the target exactly (11 977 + 11 985 for 23 962), an earlier
+/// stops at the target exactly (11 978 + 11 984 for 23 962), an earlier
 /// firmware's at the target + 2 (11 979 + 11 985); with `arm` setting WOKEN
 /// no run passes the target, and this bound becomes 0.
 #[test]
