@@ -63,9 +63,11 @@ fn leg_target_count_sum(length_mm: f64) -> i64 {
 /// come, and when that edge already reached the new trip point,
 /// `Encoders::arm` marks the trip fired (TRIPPED) without setting the sleep
 /// flag (WOKEN), so the main loop sleeps through it until the other wheel's
-/// trip wakes it one edge later; by the cut one more edge has come. On this
-/// run the sum is the target + 2 (11 979 + 11 985 for 23 962); with `arm`
-/// setting WOKEN it is the target exactly, and this bound becomes 0.
+/// trip wakes it one edge later; by the cut one more edge has come. Whether
+/// a run shows it depends on the cycles at which the edges fall: this run
+/// stops at the target exactly (11 978 + 11 984 for 23 962), an earlier
+/// firmware's at the target + 2 (11 979 + 11 985); with `arm` setting WOKEN
+/// no run passes the target, and this bound becomes 0.
 #[test]
 fn stops_at_most_two_edges_past_the_stop_rule() {
     let run = line_2m();

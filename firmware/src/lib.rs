@@ -28,6 +28,8 @@
 
 #![cfg_attr(not(test), no_std)]
 #![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
+// `robust::Hardware`'s EEPROM by default, so a board need not name it.
+#![cfg_attr(target_arch = "avr", feature(associated_type_defaults))]
 
 #[cfg(target_arch = "avr")]
 pub mod arduino;

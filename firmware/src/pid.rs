@@ -22,7 +22,7 @@ pub struct Gains {
 }
 
 /// The thesis' factor from encoder RPM to its wheel "RPM" (`0.0016605`,
-/// about 1 / 602.22).
+/// its rounding of 1 / 602.22, Henrytwo's counts per wheel turn).
 pub const RPM_FACTOR: f32 = 0.0016605;
 
 /// Thesis wheel speed from the encoder counts seen during `period_s` seconds,

@@ -1,5 +1,8 @@
 //! Parameters of the thesis robot (values from the thesis and its firmware,
-//! mirrored in the shared `robot.toml`).
+//! mirrored in the shared `robot.toml`). The robust build takes the geometry
+//! (distance per count, counts per wheel turn, wheelbase), set-points, gains
+//! and limits from its settings (`settings::Settings`), whose factory values
+//! these are; the thesis build uses them as they are.
 
 use crate::pid::Gains;
 

@@ -1,6 +1,6 @@
 //! The robust build's run-time parameters, read and written through the
 //! protocol's `SET_PARAM` / `GET_PARAM` (ids, units and ranges:
-//! `henrytwo_protocol::Param`). The leg length is the bench variable
+//! `henrytwo_protocol::Param`), kept in the EEPROM (`robust::persist`). The leg length is the bench variable
 //! `HT_LEG_LENGTH_MM` itself, so a bench write and a protocol write are the
 //! same thing.
 
@@ -172,4 +172,7 @@ const _: () = {
     assert!(Param::KdRight.check(d.gains.right.kd).is_ok());
     assert!(Param::StallTimeoutMs.check(d.stall_timeout_ms as f32).is_ok());
     assert!(Param::StallDuty.check(d.stall_duty as f32).is_ok());
+    assert!(Param::MmPerCountLeft.check(d.mm_per_count.left).is_ok());
+    assert!(Param::MmPerCountRight.check(d.mm_per_count.right).is_ok());
+    assert!(Param::CountsPerWheelRev.check(d.counts_per_wheel_rev).is_ok());
 };

@@ -33,11 +33,13 @@ use henrytwo_firmware::clock::{self, Clock};
 use henrytwo_firmware::driver::{Driver, Mmio, StaticState};
 use henrytwo_firmware::encoder::Encoders;
 use henrytwo_firmware::hal::adc::Adc;
+use henrytwo_firmware::hal::eeprom::Eeprom;
 use henrytwo_firmware::hal::exint::ExtInts;
 use henrytwo_firmware::hal::sleep::Sleeper;
 use henrytwo_firmware::hal::usart::{self, Serial};
 use henrytwo_firmware::hal::wdt::{self, Watchdog};
 use henrytwo_firmware::robust::control::{self, StallLimits};
+use henrytwo_firmware::robust::persist::Stored;
 use henrytwo_firmware::robust::{App, Drive, Hardware};
 use henrytwo_firmware::settings::Settings;
 use henrytwo_protocol::{Fault, RunState};
@@ -105,10 +107,11 @@ fn main() -> ! {
     let mut watchdog = Watchdog::disabled(dp.WDT);
     let pins = board::Pins::new(dp.PORTB, dp.PORTD, dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH);
 
-    // A stored wiring that cannot be driven gives way to the factory one.
-    let mut settings = Settings::DEFAULT;
-    if settings.driver.check().is_err() {
-        settings.driver = Settings::DEFAULT.driver;
+    // The settings kept in the EEPROM; a stored wiring that cannot be
+    // driven gives way to the factory one.
+    let mut stored = Stored::load(Eeprom::new(dp.EEPROM), Settings::DEFAULT);
+    if stored.settings.driver.check().is_err() {
+        stored.settings.driver = Settings::DEFAULT.driver;
     }
     // Motors first, so the bridge inputs are low from the start. The driver
     // programs the pins its wiring names and timers 2-5 itself: their PAC
@@ -118,7 +121,7 @@ fn main() -> ! {
     // SAFETY: nothing else in this build touches timers 2-5, and the checked
     // wiring names none of the pins the other drivers below use; the static
     // state is taken once, here, and no handler uses the driver.
-    let motors = unsafe { Driver::with_state(Mmio::new(), StaticState::take(), &settings.driver) };
+    let motors = unsafe { Driver::with_state(Mmio::new(), StaticState::take(), &stored.settings.driver) };
     let encoders = Encoders::new(
         ExtInts::new(dp.EXINT),
         pins.left_encoder_a,
@@ -134,7 +137,7 @@ fn main() -> ! {
     let mut sleeper = Sleeper::new(dp.CPU);
     let clock = Clock::start(dp.TC1);
 
-    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug, settings);
+    let mut app = App::<Mega>::new(Drive::new(motors, encoders), clock, leds, adc, bluetooth, debug, stored);
 
     // SAFETY: every handler's state is initialised above.
     unsafe { interrupt::enable() };

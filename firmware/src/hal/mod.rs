@@ -24,6 +24,8 @@ pub mod mega_pins;
 #[cfg(target_arch = "avr")]
 pub mod adc;
 #[cfg(target_arch = "avr")]
+pub mod eeprom;
+#[cfg(target_arch = "avr")]
 pub mod exint;
 #[cfg(target_arch = "avr")]
 pub mod gpio;

@@ -6,17 +6,13 @@ use henrytwo_protocol::Fault;
 
 use crate::bench;
 use crate::io::{Bridges, Side, WheelEncoders};
-use crate::pid::{duty_from_output, rpm_table, thesis_rpm};
+use crate::pid::duty_from_output;
 use crate::robot;
 
 pub use super::drive::TABLE_COUNTS;
-use super::drive::{Drive, Stage, Wheel};
+use super::drive::{Drive, Speeds, Stage, Wheel};
 use super::progress::{fault_of, judge_progress, Check, WRONG_WAY_COUNTS};
 
-/// Thesis RPM of one count in one control period (1.107).
-pub const RPM_PER_COUNT: f32 = thesis_rpm(1, robot::SAMPLE_PERIOD_S);
-/// Thesis RPM of 0..63 counts in one control period.
-pub static RPM_OF_COUNTS: [f32; TABLE_COUNTS] = rpm_table(robot::SAMPLE_PERIOD_S);
 /// One control period in microseconds, as `HT_PERIOD_US` shows it.
 pub const PERIOD_US: f32 = robot::SAMPLE_PERIOD_US as f32;
 
@@ -34,8 +30,8 @@ pub struct StallLimits {
 /// the common path has no conversion and no division.
 #[cold]
 #[inline(never)]
-fn rpm_over(counts: u32, n: u32) -> f32 {
-    counts as f32 * RPM_PER_COUNT / n as f32
+fn rpm_over(counts: u32, n: u32, per_count: f32) -> f32 {
+    counts as f32 * per_count / n as f32
 }
 
 /// What one control period decided for one wheel.
@@ -46,17 +42,17 @@ pub(crate) struct WheelOutcome {
 }
 
 /// One control period of one driving wheel: speed over the last `n`
-/// periods, PID, output stage, stall ([`judge_progress`]; only periods
+/// periods (`speeds`: the robot's conversion), PID, output stage, stall ([`judge_progress`]; only periods
 /// driven at or above the stall duty after the start's grace are judged, any
 /// other starts the window again) and wrong-direction checks.
 #[inline(always)]
-pub(crate) fn control_wheel(w: &mut Wheel, count: i32, n: u32, stall: StallLimits) -> WheelOutcome {
+pub(crate) fn control_wheel(w: &mut Wheel, speeds: &Speeds, count: i32, n: u32, stall: StallLimits) -> WheelOutcome {
     let delta = count.wrapping_sub(w.last_count);
     w.last_count = count;
     let counts = delta.unsigned_abs();
-    let rpm = match RPM_OF_COUNTS.get(counts as usize) {
+    let rpm = match speeds.of_counts.get(counts as usize) {
         Some(&r) if n == 1 => r,
-        _ => rpm_over(counts, n),
+        _ => rpm_over(counts, n, speeds.per_count),
     };
     let duty = duty_from_output(w.pid.update(counts, rpm, n == 1));
     let mut check = Check::Ok;
@@ -90,7 +86,7 @@ pub fn tick<M: Bridges, E: WheelEncoders>(d: &mut Drive<M, E>, n: u32, stall: St
     let c = d.encoders.counts();
     let mut fault = Fault::None;
     if d.left.stage == Stage::Driving {
-        let o = control_wheel(&mut d.left, c.left, n, stall);
+        let o = control_wheel(&mut d.left, &d.speeds, c.left, n, stall);
         if d.left.forward {
             d.motors.set_forward(Side::Left, o.duty);
         } else {
@@ -101,7 +97,7 @@ pub fn tick<M: Bridges, E: WheelEncoders>(d: &mut Drive<M, E>, n: u32, stall: St
         fault = fault_of(o.check, Fault::StallLeft, Fault::WrongWayLeft);
     }
     if d.right.stage == Stage::Driving {
-        let o = control_wheel(&mut d.right, c.right, n, stall);
+        let o = control_wheel(&mut d.right, &d.speeds, c.right, n, stall);
         if d.right.forward {
             d.motors.set_forward(Side::Right, o.duty);
         } else {
@@ -119,27 +115,76 @@ pub fn tick<M: Bridges, E: WheelEncoders>(d: &mut Drive<M, E>, n: u32, stall: St
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pid::FastPid;
+    use crate::pid::{thesis_rpm, FastPid};
     use crate::robust::fake::{self, Encoders, Motors};
     use crate::robust::progress::STALL_GRACE_TICKS;
+    use crate::settings::Settings;
 
     const LIMITS: StallLimits = StallLimits { duty: 200, ticks: 14 };
+
+    /// Henrytwo's conversion (the factory settings').
+    fn henrytwo() -> Speeds {
+        let mut s = Speeds::new();
+        s.set(Settings::DEFAULT.counts_per_wheel_rev);
+        s
+    }
+
+    /// A drive at rest with Henrytwo's conversion.
+    fn drive() -> Drive<Motors, Encoders> {
+        let mut d = Drive::new(Motors::default(), Encoders::default());
+        d.speeds = henrytwo();
+        d
+    }
 
     /// A wheel driving from count 0, as a segment start leaves it.
     fn driving(forward: bool) -> Wheel {
         let mut w = Wheel::new();
         w.forward = forward;
         w.stage = Stage::Driving;
-        w.pid.prepare(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S, &RPM_OF_COUNTS);
+        w.pid.prepare(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S, &henrytwo().of_counts);
         w.applied = robot::START_DUTY;
         w.grace = STALL_GRACE_TICKS;
         w
     }
 
     #[test]
-    fn the_pid_step_is_the_thesis_law_on_the_drive_input() {
+    fn henrytwo_speeds_are_the_thesis_formula_bit_for_bit() {
+        let s = henrytwo();
+        // 1 / 0.015 * 60 / 6 * 0.0016605 = 1.107.
+        assert_eq!(s.per_count, thesis_rpm(1, robot::SAMPLE_PERIOD_S));
+        assert!((s.per_count - 1.107).abs() < 1e-6, "{}", s.per_count);
+        for (i, &r) in s.of_counts.iter().enumerate() {
+            assert_eq!(r, i as f32 * thesis_rpm(1, robot::SAMPLE_PERIOD_S), "{i} counts");
+        }
+    }
+
+    #[test]
+    fn another_robots_speeds_follow_its_counts_per_wheel_turn() {
+        // 360 counts per wheel turn: one count per 15 ms is 1/360 turn in
+        // 15 ms, 11.11 wheel RPM, thesis "RPM" (wheel RPM / 6) 1.852, up to
+        // the thesis' rounding of 1 / 602.22 (1.4e-5).
+        let mut s = Speeds::new();
+        s.set(360.0);
+        assert!((s.per_count - 1.0 / 0.015 * 60.0 / 360.0 / 6.0).abs() < 1e-4, "{}", s.per_count);
+        assert!((s.of_counts[13] - 13.0 * 1.851_85).abs() < 1e-3, "{}", s.of_counts[13]);
+        // The control tick measures with it: 13 counts in one period.
         let _bench = fake::lock();
         let mut d = Drive::new(Motors::default(), Encoders::default());
+        d.speeds = s;
+        d.left = driving(true);
+        d.encoders.counts = crate::io::Counts { left: 13, right: 0 };
+        tick(&mut d, 1, LIMITS);
+        assert!((bench::speed_left() - 24.074).abs() < 1e-2, "{}", bench::speed_left());
+        // Beyond the table, and over two periods.
+        d.encoders.counts = crate::io::Counts { left: 13 + 100, right: 0 };
+        tick(&mut d, 2, LIMITS);
+        assert!((bench::speed_left() - 92.59).abs() < 1e-1, "{}", bench::speed_left());
+    }
+
+    #[test]
+    fn the_pid_step_is_the_thesis_law_on_the_drive_input() {
+        let _bench = fake::lock();
+        let mut d = drive();
         d.left = driving(true);
         d.right = driving(false);
         let mut reference = FastPid::new(robot::GAINS_LEFT, robot::ROBUST_SETPOINT, robot::SAMPLE_PERIOD_S);
@@ -163,7 +208,7 @@ mod tests {
     #[test]
     fn only_driving_wheels_are_controlled() {
         let _bench = fake::lock();
-        let mut d = Drive::new(Motors::default(), Encoders::default());
+        let mut d = drive();
         d.left = driving(true);
         d.right.stage = Stage::Coast;
         tick(&mut d, 1, LIMITS);
@@ -172,39 +217,40 @@ mod tests {
 
     #[test]
     fn the_grace_periods_are_not_judged() {
-        let mut w = driving(true);
+        let (mut w, s) = (driving(true), henrytwo());
         w.applied = 255;
         let still = StallLimits { duty: 1, ticks: 1 };
         for _ in 0..STALL_GRACE_TICKS {
-            assert!(control_wheel(&mut w, 0, 1, still).check == Check::Ok);
+            assert!(control_wheel(&mut w, &s, 0, 1, still).check == Check::Ok);
         }
-        assert!(control_wheel(&mut w, 0, 1, still).check == Check::Stall);
+        assert!(control_wheel(&mut w, &s, 0, 1, still).check == Check::Stall);
     }
 
     #[test]
     fn a_period_below_the_stall_duty_restarts_the_window() {
-        let mut w = driving(true);
+        let (mut w, s) = (driving(true), henrytwo());
         w.grace = 0;
         w.still = 13;
         w.applied = LIMITS.duty - 1;
-        assert!(control_wheel(&mut w, 2, 1, LIMITS).check == Check::Ok);
+        assert!(control_wheel(&mut w, &s, 2, 1, LIMITS).check == Check::Ok);
         assert_eq!((w.still, w.mark), (0, 2));
     }
 
     #[test]
     fn more_than_64_counts_backwards_is_the_wrong_way() {
+        let s = henrytwo();
         for (forward, sign) in [(true, -1), (false, 1)] {
             let mut w = driving(forward);
             w.grace = u8::MAX;
-            assert!(control_wheel(&mut w, sign * WRONG_WAY_COUNTS, 1, LIMITS).check == Check::Ok);
-            assert!(control_wheel(&mut w, sign * (WRONG_WAY_COUNTS + 1), 1, LIMITS).check == Check::WrongWay);
+            assert!(control_wheel(&mut w, &s, sign * WRONG_WAY_COUNTS, 1, LIMITS).check == Check::Ok);
+            assert!(control_wheel(&mut w, &s, sign * (WRONG_WAY_COUNTS + 1), 1, LIMITS).check == Check::WrongWay);
         }
     }
 
     #[test]
     fn the_left_fault_comes_first() {
         let _bench = fake::lock();
-        let mut d = Drive::new(Motors::default(), Encoders::default());
+        let mut d = drive();
         d.left = driving(true);
         d.right = driving(true);
         d.encoders.counts = crate::io::Counts { left: -100, right: -100 };

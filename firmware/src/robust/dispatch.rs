@@ -147,7 +147,7 @@ impl<H: Hardware> App<H> {
                 } else if !super::wiring::settable(p, v) {
                     self.send(id, Status::OutOfRange, &[]);
                 } else {
-                    self.settings.set(p, v);
+                    self.set_param(p, v);
                     self.send_param(id, p);
                 }
             }
@@ -155,8 +155,17 @@ impl<H: Hardware> App<H> {
         }
     }
 
+    /// Sets `p` (checked), queues it for the EEPROM, and recomputes what
+    /// depends on it outside a segment's start: the speed conversion.
+    pub(crate) fn set_param(&mut self, p: Param, v: f32) {
+        self.stored.set(p, v);
+        if p == Param::CountsPerWheelRev {
+            self.drive.speeds.set(v);
+        }
+    }
+
     fn send_param(&mut self, id: u8, p: Param) {
-        let v = self.settings.get(p).to_le_bytes();
+        let v = self.stored.settings.get(p).to_le_bytes();
         self.send(id, Status::Ok, &[p as u8, v[0], v[1], v[2], v[3]]);
     }
 
@@ -278,12 +287,12 @@ mod tests {
         let v = 1.25f32.to_le_bytes();
         let echo = [Param::CorrLeft as u8, v[0], v[1], v[2], v[3]];
         assert_eq!(ask(&mut app, Command::SetParam(Param::CorrLeft, 1.25)), ok(CommandId::SetParam, &echo));
-        assert_eq!(app.settings.correction.left, 1.25);
+        assert_eq!(app.stored.settings.correction.left, 1.25);
         assert_eq!(ask(&mut app, Command::GetParam(Param::CorrLeft)), ok(CommandId::GetParam, &echo));
         ask(&mut app, Command::StartTest(Test::Line));
         let busy = vec![(CommandId::SetParam.reply_id(), Status::Busy as u8, vec![])];
         assert_eq!(ask(&mut app, Command::SetParam(Param::CorrLeft, 0.75)), busy);
-        assert_eq!(app.settings.correction.left, 1.25);
+        assert_eq!(app.stored.settings.correction.left, 1.25);
     }
 
     #[test]

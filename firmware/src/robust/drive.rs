@@ -2,13 +2,60 @@
 //! the current segment (its stage, its PID, its watchdog window).
 
 use crate::io::{Bridges, Side};
-use crate::pid::TablePid;
+use crate::pid::{rpm_table, thesis_rpm, TablePid};
 use crate::robot;
 
 /// Counts per control period the lookup tables cover (the wheels' PIDs and
-/// [`super::control::RPM_OF_COUNTS`]): a wheel at the set-point makes about
-/// 13; the motors' top speed is below 30.
+/// [`Speeds::of_counts`]): Henrytwo at the set-point makes about 13; its
+/// motors' top speed is below 30. A robot whose encoders make more per
+/// period takes the multiplying path for those (correct, slower).
 pub const TABLE_COUNTS: usize = 64;
+
+/// Thesis RPM of one count in one control period on Henrytwo (1.107),
+/// evaluated at compile time.
+pub const THESIS_RPM_PER_COUNT: f32 = thesis_rpm(1, robot::SAMPLE_PERIOD_S);
+/// Henrytwo's thesis RPM of 0..TABLE_COUNTS counts in one control period,
+/// evaluated at compile time: [`Speeds`] scales it, so Henrytwo's speeds are
+/// the thesis formula's bit for bit (the MCU's own float division and
+/// product need not round as the compiler's exact ones do).
+static THESIS_RPM_OF_COUNTS: [f32; TABLE_COUNTS] = rpm_table(robot::SAMPLE_PERIOD_S);
+
+/// The conversion from counts per control period to thesis "RPM" for the
+/// robot's counts per wheel turn, computed when that changes (never in the
+/// control tick): Henrytwo's scaled by `602.22 / counts_per_wheel_rev` (the
+/// thesis' factor 0.0016605 is its 1 / 602.22), which is 1 exactly for
+/// Henrytwo.
+pub struct Speeds {
+    /// Counts per wheel turn it was computed for.
+    pub(crate) counts_per_wheel_rev: f32,
+    /// Thesis RPM of one count in one period.
+    pub(crate) per_count: f32,
+    /// Thesis RPM of 0..TABLE_COUNTS counts in one period.
+    pub(crate) of_counts: [f32; TABLE_COUNTS],
+}
+
+impl Speeds {
+    /// Not computed yet (all zero; [`Speeds::set`] before a segment).
+    pub const fn new() -> Self {
+        Speeds { counts_per_wheel_rev: 0.0, per_count: 0.0, of_counts: [0.0; TABLE_COUNTS] }
+    }
+
+    /// The conversion for `counts_per_wheel_rev` counts per wheel turn.
+    pub fn set(&mut self, counts_per_wheel_rev: f32) {
+        self.counts_per_wheel_rev = counts_per_wheel_rev;
+        let scale = robot::COUNTS_PER_WHEEL_REV / counts_per_wheel_rev;
+        self.per_count = THESIS_RPM_PER_COUNT * scale;
+        for (t, &r) in self.of_counts.iter_mut().zip(THESIS_RPM_OF_COUNTS.iter()) {
+            *t = r * scale;
+        }
+    }
+}
+
+impl Default for Speeds {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 /// Where a wheel is within its segment.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -85,13 +132,15 @@ pub struct Drive<M, E> {
     pub encoders: E,
     pub(crate) left: Wheel,
     pub(crate) right: Wheel,
+    /// Counts per period to speed, for the robot's encoders.
+    pub(crate) speeds: Speeds,
 }
 
 impl<M: Bridges, E> Drive<M, E> {
     /// The drive at rest: both wheels out of any segment.
     #[inline(always)]
     pub const fn new(motors: M, encoders: E) -> Self {
-        Drive { motors, encoders, left: Wheel::new(), right: Wheel::new() }
+        Drive { motors, encoders, left: Wheel::new(), right: Wheel::new(), speeds: Speeds::new() }
     }
 
     /// Sets one bridge input: the wheel's forward (`forward_input`) or
@@ -109,6 +158,14 @@ impl<M: Bridges, E> Drive<M, E> {
         match side {
             Side::Left => &mut self.left,
             Side::Right => &mut self.right,
+        }
+    }
+
+    /// One wheel, and the speed conversion its PID's tables are made from.
+    pub(crate) fn wheel_and_speeds(&mut self, side: Side) -> (&mut Wheel, &Speeds) {
+        match side {
+            Side::Left => (&mut self.left, &self.speeds),
+            Side::Right => (&mut self.right, &self.speeds),
         }
     }
 }

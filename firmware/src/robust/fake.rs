@@ -21,6 +21,7 @@ use crate::settings::Settings;
 use crate::time::{self, reached};
 use crate::{robot, Error};
 
+use super::persist::{ByteStore, Stored};
 use super::{App, Drive, Hardware};
 
 /// Timer clocks per control tick (15 ms).
@@ -65,6 +66,64 @@ impl Hardware for Fake {
     type Adc = Adc;
     type Link = Link;
     type Debug = Link;
+    type Store = Eeprom;
+}
+
+/// The EEPROM: 4 KiB, erased (0xFF) when new; each write keeps it busy for
+/// the next `write_time` calls of `busy`.
+pub struct Eeprom {
+    /// The bytes.
+    pub bytes: Vec<u8>,
+    /// Every write, in order: address, byte.
+    pub writes: Vec<(u16, u8)>,
+    /// Reads of a byte while busy (a driver error).
+    pub reads_while_busy: u32,
+    /// How many `busy` calls a write stays busy for.
+    pub write_time: u32,
+    busy_left: core::cell::Cell<u32>,
+}
+
+impl Default for Eeprom {
+    fn default() -> Self {
+        Eeprom {
+            bytes: std::vec![0xFF; 4096],
+            writes: Vec::new(),
+            reads_while_busy: 0,
+            write_time: 0,
+            busy_left: core::cell::Cell::new(0),
+        }
+    }
+}
+
+impl Eeprom {
+    /// An EEPROM holding what `other` holds (as after a reset).
+    pub fn holding(other: &Eeprom) -> Self {
+        Eeprom { bytes: other.bytes.clone(), ..Eeprom::default() }
+    }
+}
+
+impl ByteStore for Eeprom {
+    fn read(&mut self, addr: u16) -> u8 {
+        if self.busy_left.get() > 0 {
+            self.reads_while_busy += 1;
+        }
+        self.bytes[addr as usize]
+    }
+
+    fn busy(&self) -> bool {
+        let left = self.busy_left.get();
+        if left > 0 {
+            self.busy_left.set(left - 1);
+        }
+        left > 0
+    }
+
+    fn write(&mut self, addr: u16, byte: u8) {
+        assert_eq!(self.busy_left.get(), 0, "a write started while the EEPROM was busy");
+        self.bytes[addr as usize] = byte;
+        self.writes.push((addr, byte));
+        self.busy_left.set(self.write_time);
+    }
 }
 
 /// Both bridges: the last duty of each input, and every write in order.
@@ -319,8 +378,14 @@ impl ufmt::uWrite for Link {
 pub type Sent = (u8, u8, Vec<u8>);
 
 impl App<Fake> {
-    /// An idle application on fresh fake hardware (battery reading 950).
+    /// An idle application on fresh fake hardware (battery reading 950),
+    /// the EEPROM erased.
     pub fn fake() -> Self {
+        Self::fake_with(Eeprom::default())
+    }
+
+    /// As [`App::fake`], booting from the EEPROM `eeprom`.
+    pub fn fake_with(eeprom: Eeprom) -> Self {
         App::new(
             Drive::new(Motors::default(), Encoders::default()),
             Clock::default(),
@@ -328,7 +393,7 @@ impl App<Fake> {
             Adc { value: 950, started: 0 },
             Link::default(),
             Link::default(),
-            Settings::DEFAULT,
+            Stored::load(eeprom, Settings::DEFAULT),
         )
     }
 

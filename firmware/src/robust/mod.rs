@@ -11,6 +11,7 @@
 //! - [`sequencer`]: a test's segments, their stop rules, braking, waits,
 //!   faults;
 //! - [`dispatch`]: commands and selector bytes in, replies and notices out;
+//! - [`persist`]: the settings kept in the EEPROM (layout, load, writes).
 //! - [`wiring`]: the motor driver's wiring checked and applied at START_TEST.
 //!
 //! [`App::poll`] looks at every event source once; the firmware calls it
@@ -19,6 +20,7 @@
 pub mod control;
 pub mod dispatch;
 pub mod drive;
+pub mod persist;
 pub mod progress;
 pub mod sequencer;
 pub mod wiring;
@@ -32,11 +34,11 @@ use crate::bench;
 use crate::io::{BatteryInput, BatteryLeds, Bridges, Line, TickClock, WheelEncoders};
 use crate::robot;
 use crate::selector::Isolation;
-use crate::settings::Settings;
 
 use control::StallLimits;
 use dispatch::{INTER_BYTE_TIMEOUT, RAW_QUIET};
 pub use drive::Drive;
+use persist::{ByteStore, Stored};
 use sequencer::Mode;
 
 /// The hardware the application runs on: one type per part.
@@ -55,6 +57,13 @@ pub trait Hardware {
     type Link: Line;
     /// The debug UART (text lines).
     type Debug: Line + ufmt::uWrite;
+    /// Where the settings are kept: on the AVR the MCU's EEPROM unless a
+    /// board says otherwise.
+    #[cfg(target_arch = "avr")]
+    type Store: ByteStore = crate::hal::eeprom::Eeprom;
+    /// Where the settings are kept.
+    #[cfg(not(target_arch = "avr"))]
+    type Store: ByteStore;
 
     /// One control period ([`control::tick`]). The firmware overrides this
     /// with its out-of-line, named copy, so a timing tool finds the tick's
@@ -78,7 +87,8 @@ pub struct App<H: Hardware> {
     pub(crate) parser: Parser,
     /// The isolation rule for raw selector bytes.
     pub(crate) raw: Isolation,
-    pub(crate) settings: Settings,
+    /// The settings, and the EEPROM they are kept in.
+    pub(crate) stored: Stored<H::Store>,
     pub(crate) mode: Mode,
     /// Leg length of the running test (read at its start).
     pub(crate) leg_mm: f32,
@@ -88,18 +98,19 @@ pub struct App<H: Hardware> {
 }
 
 impl<H: Hardware> App<H> {
-    /// Idle, with `settings` (the firmware starts from
-    /// [`Settings::DEFAULT`]).
+    /// Idle, with the settings `stored` (the firmware loads them from the
+    /// EEPROM, [`Stored::load`]); the speed conversion computed for them.
     #[inline(always)]
     pub fn new(
-        drive: Drive<H::Motors, H::Encoders>,
+        mut drive: Drive<H::Motors, H::Encoders>,
         clock: H::Clock,
         leds: H::Leds,
         adc: H::Adc,
         bluetooth: H::Link,
         debug: H::Debug,
-        settings: Settings,
+        stored: Stored<H::Store>,
     ) -> Self {
+        drive.speeds.set(stored.settings.counts_per_wheel_rev);
         App {
             drive,
             clock,
@@ -110,7 +121,7 @@ impl<H: Hardware> App<H> {
             debug,
             parser: Parser::new(INTER_BYTE_TIMEOUT),
             raw: Isolation::new(RAW_QUIET),
-            settings,
+            stored,
             mode: Mode::Idle,
             leg_mm: robot::DEFAULT_LEG_MM,
             segment_ticks: 0,
@@ -134,6 +145,9 @@ impl<H: Hardware> App<H> {
         }
         self.poll_commands();
         self.arm_next_deadline();
+        if self.stored.pending() {
+            self.stored.step();
+        }
     }
 
     /// Queues `line` on the debug UART (dropped if it does not fit).

@@ -23,13 +23,13 @@ use crate::battery;
 use crate::bench;
 use crate::critical;
 use crate::io::{BatteryInput, BatteryLeds, Bridges, Counts, Side, TickClock, WheelEncoders, TRIP_LEFT, TRIP_RIGHT};
-use crate::odometry::{leg_progress, leg_target, leg_trip_ahead, leg_weight, spin_target_counts};
+use crate::odometry::{leg_progress, leg_reference_mm, leg_target, leg_trip_ahead, leg_weight, spin_target_counts};
 use crate::plan::{self, Segment};
 use crate::robot;
 use crate::settings::PerWheel;
 use crate::time;
 
-use super::control::{StallLimits, PERIOD_US, RPM_OF_COUNTS, RPM_PER_COUNT};
+use super::control::{StallLimits, PERIOD_US};
 use super::drive::{Stage, Wheel};
 use super::progress::STALL_GRACE_TICKS;
 use super::{App, Hardware};
@@ -85,7 +85,7 @@ pub struct Leg {
     /// Weight of the right wheel's counts.
     pub w_right: i32,
     /// The weighted distance to reach.
-    pub target: i32,
+    pub target: i64,
 }
 
 impl<H: Hardware> App<H> {
@@ -109,27 +109,32 @@ impl<H: Hardware> App<H> {
             self.finish_test(test);
             return;
         };
-        let s = self.settings;
+        let s = self.stored.settings;
         let c = self.drive.encoders.counts();
         bench::record_segment_start(index, c.left, c.right);
         self.drive.encoders.disarm_all();
         let mut leg = None;
         let (forward, wheel_counts) = match segment {
             Segment::Leg => {
+                let m = s.mm_per_count;
+                let r = leg_reference_mm(m.left, m.right);
                 let l = Leg {
-                    w_left: leg_weight(s.correction.left),
-                    w_right: leg_weight(s.correction.right),
-                    target: leg_target(self.leg_mm),
+                    w_left: leg_weight(s.correction.left, m.left, r),
+                    w_right: leg_weight(s.correction.right, m.right, r),
+                    target: leg_target(self.leg_mm, r),
                 };
                 leg = Some(l);
                 self.arm_leg(l, c, c);
-                let c_min = if s.correction.left < s.correction.right { s.correction.left } else { s.correction.right };
-                ((true, true), self.leg_mm / (c_min * robot::MM_PER_COUNT))
+                // The wheel with the shortest corrected distance per count
+                // makes the most counts.
+                let (dl, dr) = (s.correction.left * m.left, s.correction.right * m.right);
+                ((true, true), self.leg_mm / if dl < dr { dl } else { dr })
             }
             Segment::Turn { spin, triangle } => {
                 let angle = if triangle { s.turn_triangle_deg } else { s.turn_umbmark_deg };
-                let nl = spin_target_counts(angle, s.wheelbase_mm, s.correction.left);
-                let nr = spin_target_counts(angle, s.wheelbase_mm, s.correction.right);
+                let m = s.mm_per_count;
+                let nl = spin_target_counts(angle, s.wheelbase_mm, s.correction.left, m.left);
+                let nr = spin_target_counts(angle, s.wheelbase_mm, s.correction.right, m.right);
                 let (fl, fr) = spin.forward();
                 let at = |start: i32, up: bool, n: i32| if up { start.wrapping_add(n) } else { start.wrapping_sub(n) };
                 self.drive.encoders.arm(Side::Left, fl, at(c.left, fl, nl));
@@ -144,17 +149,17 @@ impl<H: Hardware> App<H> {
         let raw = PerWheel { left: s.setpoint.left / s.correction.left, right: s.setpoint.right / s.correction.right };
         // Time-out from the slower wheel's counts per period.
         let set_min = if raw.left < raw.right { raw.left } else { raw.right };
-        let nominal = wheel_counts / (set_min / RPM_PER_COUNT);
+        let nominal = wheel_counts / (set_min / self.drive.speeds.per_count);
         self.segment_limit = (TIMEOUT_FACTOR * nominal) as u32 + TIMEOUT_EXTRA_TICKS;
         self.segment_ticks = 0;
         for (side, fwd, count, gains, set) in [
             (Side::Left, forward.0, c.left, s.gains.left, raw.left),
             (Side::Right, forward.1, c.right, s.gains.right, raw.right),
         ] {
-            let w = self.drive.wheel(side);
+            let (w, speeds) = self.drive.wheel_and_speeds(side);
             w.forward = fwd;
             w.stage = Stage::Driving;
-            w.pid.prepare(gains, set, robot::SAMPLE_PERIOD_S, &RPM_OF_COUNTS);
+            w.pid.prepare(gains, set, robot::SAMPLE_PERIOD_S, &speeds.of_counts);
             w.last_count = count;
             w.start_count = count;
             w.applied = robot::START_DUTY;
@@ -182,7 +187,7 @@ impl<H: Hardware> App<H> {
     fn arm_leg(&mut self, l: Leg, start: Counts, now: Counts) -> bool {
         let done =
             leg_progress(l.w_left, l.w_right, now.left.wrapping_sub(start.left), now.right.wrapping_sub(start.right));
-        let remaining = l.target as i64 - done;
+        let remaining = l.target - done;
         if remaining <= 0 {
             return true;
         }
@@ -329,8 +334,8 @@ impl<H: Hardware> App<H> {
             return;
         }
         bench::set_period_us(if n == 1 { PERIOD_US } else { PERIOD_US * n as f32 });
-        let stall_ticks = (self.settings.stall_timeout_ms as u32).div_ceil(robot::SAMPLE_PERIOD_US / 1000);
-        let stall = StallLimits { duty: self.settings.stall_duty, ticks: stall_ticks as u16 };
+        let stall_ticks = (self.stored.settings.stall_timeout_ms as u32).div_ceil(robot::SAMPLE_PERIOD_US / 1000);
+        let stall = StallLimits { duty: self.stored.settings.stall_duty, ticks: stall_ticks as u16 };
         let mut fault = H::control_tick(&mut self.drive, n, stall);
         self.segment_ticks = self.segment_ticks.saturating_add(n);
         if fault == Fault::None && self.segment_ticks > self.segment_limit {
@@ -423,6 +428,75 @@ mod tests {
 
     use super::*;
     use crate::robust::fake::{self, Fake};
+    use crate::settings::Settings;
+
+    /// Another robot: 0.567 mm per count on both wheels, 360 counts per
+    /// wheel turn, a 180 mm wheelbase.
+    fn other_robot(app: &mut App<Fake>) {
+        app.set_param(Param::MmPerCountLeft, 0.567);
+        app.set_param(Param::MmPerCountRight, 0.567);
+        app.set_param(Param::CountsPerWheelRev, 360.0);
+        app.set_param(Param::WheelbaseMm, 180.0);
+    }
+
+    /// Drives the running leg edge by edge, both wheels alike, until it is
+    /// cut: the count sum at the cut.
+    fn drive_leg_to_its_end(app: &mut App<Fake>) -> i32 {
+        for _ in 0..100_000 {
+            if app.drive.left.stage != Stage::Driving {
+                let c = app.drive.encoders.counts;
+                return c.left + c.right;
+            }
+            app.drive.encoders.edge(Side::Left, 1);
+            app.poll();
+            if app.drive.left.stage == Stage::Driving {
+                app.drive.encoders.edge(Side::Right, 1);
+                app.poll();
+            }
+        }
+        panic!("the leg never ended");
+    }
+
+    #[test]
+    fn a_leg_ends_at_the_count_of_the_robots_geometry() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        app.start_test(Test::Line).unwrap();
+        assert_eq!(drive_leg_to_its_end(&mut app), 23962, "Henrytwo: 4000 mm / 0.16693");
+        let mut app = App::fake();
+        other_robot(&mut app);
+        app.start_test(Test::Line).unwrap();
+        assert_eq!(drive_leg_to_its_end(&mut app), 7055, "4000 mm / 0.567 = 7054.67");
+    }
+
+    #[test]
+    fn another_geometry_turns_by_its_own_count() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        other_robot(&mut app);
+        app.start_segment(Test::UmbmarkCw, 1);
+        // 90 degrees on b = 180 mm: a 141.37 mm arc / 0.567 = 249.3 -> 250.
+        app.drive.encoders.move_by(Side::Left, 249);
+        app.poll();
+        assert_eq!(app.drive.left.stage, Stage::Driving);
+        app.drive.encoders.edge(Side::Left, 1);
+        app.poll();
+        assert_eq!((app.drive.left.stage, bench::cut_left()), (Stage::Coast, 250));
+    }
+
+    #[test]
+    fn the_time_out_counts_at_the_robots_speed() {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        other_robot(&mut app);
+        app.start_test(Test::Line).unwrap();
+        // 3527.3 counts per wheel at 14.47 / 1.8518 = 7.81 counts per period:
+        // 451.4 periods, four times that and 2 s.
+        let per_count = crate::pid::thesis_rpm(1, 0.015) * (602.22 / 360.0);
+        let nominal = 2000.0 / 0.567 / (robot::ROBUST_SETPOINT / per_count);
+        assert_eq!(app.segment_limit, (4.0 * nominal) as u32 + 134);
+        assert!((1800..1950).contains(&app.segment_limit), "{}", app.segment_limit);
+    }
 
     /// Which input of each wheel is driven: +1 forward, -1 reverse, 0 none.
     fn directions(app: &App<Fake>) -> (i8, i8) {
@@ -490,10 +564,11 @@ mod tests {
     fn a_leg_ends_on_the_edge_that_reaches_the_weighted_target() {
         let _bench = fake::lock();
         let mut app = App::fake();
-        app.settings.correction = PerWheel { left: 1.02, right: 0.97 };
+        app.stored.settings.correction = PerWheel { left: 1.02, right: 0.97 };
         bench::set_leg_length_mm(100.0);
         app.start_test(Test::Line).unwrap();
-        let (wl, wr, target) = (leg_weight(1.02), leg_weight(0.97), leg_target(100.0) as i64);
+        let m = Settings::DEFAULT.mm_per_count.left;
+        let (wl, wr, target) = (leg_weight(1.02, m, m), leg_weight(0.97, m, m), leg_target(100.0, m));
         // The right wheel makes two edges for each of the left's three.
         let mut k = 0;
         loop {
@@ -521,12 +596,13 @@ mod tests {
     fn a_turn_cuts_each_wheel_at_its_own_target() {
         let _bench = fake::lock();
         let mut app = App::fake();
-        app.settings.correction = PerWheel { left: 1.0, right: 0.9 };
+        app.stored.settings.correction = PerWheel { left: 1.0, right: 0.9 };
         app.mode = Mode::Idle;
         app.start_segment(Test::UmbmarkCw, 1);
-        let s = app.settings;
-        let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0);
-        let nr = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 0.9);
+        let s = app.stored.settings;
+        let m = s.mm_per_count.left;
+        let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0, m);
+        let nr = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 0.9, m);
         assert!(nr > nl);
         // Left forward, right backward (clockwise); the left gets there first.
         app.drive.encoders.move_by(Side::Left, nl - 1);
@@ -586,8 +662,8 @@ mod tests {
         // watchdog.
         let (mut app, _) = run(Test::Line, 2000.0, 2);
         // Four times the nominal time of the leg (in periods), and 2 s.
-        let counts = 2000.0 / robot::MM_PER_COUNT;
-        let nominal = counts / (robot::ROBUST_SETPOINT / RPM_PER_COUNT);
+        let counts = 2000.0 / Settings::DEFAULT.mm_per_count.left;
+        let nominal = counts / (robot::ROBUST_SETPOINT / crate::pid::thesis_rpm(1, robot::SAMPLE_PERIOD_S));
         assert_eq!(app.segment_limit, (4.0 * nominal) as u32 + 134);
         let faults: Vec<_> = app.sent().into_iter().filter(|s| s.0 == NOTIFY_FAULT).collect();
         assert_eq!(faults.len(), 1, "{faults:?}");

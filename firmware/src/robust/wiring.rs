@@ -30,7 +30,7 @@ impl<H: Hardware> App<H> {
     /// ([`Status::OutOfRange`]) with a debug line; the wiring the driver has
     /// already passes without a check.
     pub(crate) fn apply_wiring(&mut self) -> Result<(), Status> {
-        let w = self.settings.driver;
+        let w = self.stored.settings.driver;
         if self.drive.motors.drives(&w) {
             return Ok(());
         }
@@ -90,12 +90,12 @@ mod tests {
         for v in [0.0, 69.0, 255.0] {
             let r = ask(&mut app, Command::SetParam(Param::LeftPin3, v));
             assert_eq!(r[0].1, Status::Ok as u8, "{v}");
-            assert_eq!(app.settings.driver.left[2], v as u8);
+            assert_eq!(app.stored.settings.driver.left[2], v as u8);
         }
         for v in [70.0, 254.0] {
             let r = ask(&mut app, Command::SetParam(Param::LeftPin3, v));
             assert_eq!(r, status(CommandId::SetParam, Status::OutOfRange), "{v}");
-            assert_eq!(app.settings.driver.left[2], 255, "unchanged");
+            assert_eq!(app.stored.settings.driver.left[2], 255, "unchanged");
         }
         // Other parameters keep the protocol's range only.
         let r = ask(&mut app, Command::SetParam(Param::StallDuty, 254.0));
