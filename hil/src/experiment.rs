@@ -223,12 +223,19 @@ pub fn run_test_observed(
 struct Told {
     believed: Believed,
     warning: Option<String>,
+    sent: usize,
 }
 
 impl Told {
+    /// Records what the firmware believed, and says so when it refused any
+    /// of the parameters sent (then it does not believe what we think).
     fn apply(self, run: &mut TestRun) {
         run.believed = self.believed;
         run.warnings.extend(self.warning);
+        run.warnings.extend(crate::firmware_params::refusals(
+            &run.bluetooth_out,
+            self.sent,
+        ));
     }
 }
 
@@ -254,7 +261,11 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
     } else {
         bench.send(1, &[test.command_byte()]);
     }
-    Told { believed, warning }
+    Told {
+        believed,
+        warning,
+        sent: params.len(),
+    }
 }
 
 /// Robot time allowed from the start command to the end of the test.

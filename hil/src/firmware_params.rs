@@ -158,6 +158,28 @@ pub fn plan(
     (send, believed, warning)
 }
 
+/// A warning when the firmware refused any of the `sent` parameters (its
+/// SET_PARAM replies in `bluetooth_out` carry an error status): then it
+/// does not believe what the bench told it.
+pub fn refusals(bluetooth_out: &[u8], sent: usize) -> Option<String> {
+    let set_param = crate::link::Command::SetParam(Param::CorrLeft, 1.0)
+        .id()
+        .reply_id();
+    let refused: Vec<String> = crate::link::replies(bluetooth_out)
+        .into_iter()
+        .filter(|r| r.id == set_param && !r.ok)
+        .map(|r| r.status)
+        .collect();
+    (!refused.is_empty()).then(|| {
+        format!(
+            "the firmware refused {} of the {sent} parameters sent ({}): what it drove is not \
+             what the bench told it",
+            refused.len(),
+            refused.join(", ")
+        )
+    })
+}
+
 /// A warning naming each value where the firmware's geometry differs from
 /// the robot's by more than f32 rounding.
 fn mismatch(firmware: &Believed, robot: &Believed, fw: &Firmware) -> Option<String> {

@@ -238,7 +238,13 @@ pub fn run_line(
         cutoff_cycle: cutoff.map(|c| c.cycle),
         firmware_log: String::from_utf8_lossy(bench.uart_output(0)).into_owned(),
         believed,
-        warnings: warning.into_iter().collect(),
+        warnings: warning
+            .into_iter()
+            .chain(crate::firmware_params::refusals(
+                bench.uart_output(1),
+                params.len(),
+            ))
+            .collect(),
     };
     Ok(LineRun {
         summary,
