@@ -5,7 +5,7 @@
 mod support;
 
 use hil::bench::{Bench, BenchOptions};
-use hil::line::{run_line, wait_ready, LineOptions, LineRun, MM_PER_COUNT};
+use hil::line::{run_line, wait_ready, LineOptions, LineRun};
 use hil::link::{frame, replies, Command, Param};
 use std::sync::OnceLock;
 
@@ -15,6 +15,7 @@ fn line_2m() -> &'static LineRun {
         let opts = LineOptions {
             length_mm: 2000.0,
             bench: BenchOptions::default(),
+            tell: Default::default(),
         };
         run_line(
             support::firmware("robust"),
@@ -47,9 +48,10 @@ fn firmware_counts_equal_plant_edges() {
 
 /// The robust firmware's stop rule for a leg (`odometry::leg_target` with
 /// c_L = c_R = 1): it ends when the sum of both wheels' counts reaches
-/// `ceil(2 * length / MM_PER_COUNT)`, computed in `f32` as the firmware does.
+/// `ceil(2 * length / mm_per_count)`, computed in `f32` as the firmware does
+/// with its factory distance per count (Henrytwo's).
 fn leg_target_count_sum(length_mm: f64) -> i64 {
-    (2.0 * length_mm as f32 / MM_PER_COUNT as f32).ceil() as i64
+    (2.0 * length_mm as f32 / Param::MmPerCountLeft.factory_default()).ceil() as i64
 }
 
 /// The firmware cuts the motors by its own odometry on the edge at which
@@ -157,6 +159,7 @@ fn runs_are_deterministic() {
     let opts = LineOptions {
         length_mm: 300.0,
         bench: BenchOptions::default(),
+        tell: Default::default(),
     };
     let robot = support::robot("henrytwo-ideal");
     let a = run_line(support::firmware("robust"), &robot, &opts).unwrap();

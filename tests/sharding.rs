@@ -41,7 +41,13 @@ fn run(plan: &Plan, shard: Option<Shard>, threads: usize) -> Partial {
 #[test]
 fn shards_merge_into_the_single_machine_result() {
     let fw = support::firmware("robust");
-    let plan = Plan::new(300.0, 42, &support::robot("henrytwo-ideal"), &fw);
+    let plan = Plan::new(
+        300.0,
+        42,
+        &support::robot("henrytwo-ideal"),
+        &fw,
+        Default::default(),
+    );
     let whole = run(&plan, None, 2);
     let serial = run(&plan, None, 1);
     let a = run(&plan, Some(Shard { k: 1, n: 2 }), 2);

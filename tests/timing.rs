@@ -24,6 +24,7 @@ fn report() -> &'static TimingReport {
             framed: false,
             params: Vec::new(),
             hang_after_s: None,
+            tell: Default::default(),
         };
         let (run, obs) = run_test_observed(
             fw.clone(),

@@ -14,6 +14,7 @@ use crate::bench::{
     PinEvent, Sample, ScheduledFault, Snapshot,
 };
 use crate::elf::Firmware;
+use crate::firmware_params::{Believed, Tell};
 use crate::line::ready_bench;
 
 /// The tests the firmware's selector knows: the protocol's own, shared with
@@ -33,8 +34,11 @@ pub struct TestOptions {
     /// Start the test with a framed command (the robust build's protocol)
     /// instead of the thesis' raw selector byte.
     pub framed: bool,
-    /// Parameters to set over the protocol before the start (implies framed).
+    /// Parameters to set over the protocol before the start (implies framed),
+    /// after the robot's geometry (see [`TestOptions::tell`]).
     pub params: Vec<(crate::link::Param, f32)>,
+    /// Whether the robot config's geometry is sent first.
+    pub tell: Tell,
     /// Stop the run as hung after this much robot time without progress
     /// (see [`crate::hang`]); None: only `limit_s` ends an unfinished run.
     pub hang_after_s: Option<f64>,
@@ -50,6 +54,7 @@ impl Default for TestOptions {
             faults: Vec::new(),
             framed: false,
             params: Vec::new(),
+            tell: Tell::Robot,
             hang_after_s: None,
         }
     }
@@ -144,6 +149,13 @@ pub struct TestRun {
     /// Brown-out resets: robot times (s) the detector pulled the reset and
     /// let it go (None: still held at the end).
     pub brownouts: Vec<(f64, Option<f64>)>,
+    /// What the firmware believed about the robot during the run.
+    #[serde(skip)]
+    pub believed: Believed,
+    /// Things the run did that its numbers alone do not show (e.g. a
+    /// firmware whose geometry is not the robot's).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Run `test` from a fresh reset.
@@ -170,7 +182,7 @@ pub fn run_test_observed(
         ready_bench(firmware, robot, opts.bench, opts.leg_mm)?;
     let vars = *bench.vars();
     bench.set_observer(observer);
-    start(&mut bench, test, opts);
+    let told = start(&mut bench, robot, test, opts);
     let limit = limit_s(test, opts);
     bench.set_hang_after(opts.hang_after_s);
     let outcome = bench.run_until(limit, |b| {
@@ -202,12 +214,35 @@ pub fn run_test_observed(
     let observer = bench.take_observer();
     let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
     run.hang = hang;
+    told.apply(&mut run);
     Ok((run, observer))
 }
 
-/// Faults scheduled, recording on, and the host's start command sent: what
-/// follows the firmware's ready state.
-fn start(bench: &mut Bench, test: Test, opts: &TestOptions) {
+/// What the firmware was told before a run: what it then believed, and a
+/// warning when that is not the robot.
+struct Told {
+    believed: Believed,
+    warning: Option<String>,
+    sent: usize,
+}
+
+impl Told {
+    /// Records what the firmware believed, and says so when it refused any
+    /// of the parameters sent (then it does not believe what we think).
+    fn apply(self, run: &mut TestRun) {
+        run.believed = self.believed;
+        run.warnings.extend(self.warning);
+        run.warnings.extend(crate::firmware_params::refusals(
+            &run.bluetooth_out,
+            self.sent,
+        ));
+    }
+}
+
+/// Faults scheduled, recording on, the robot's geometry and the run's
+/// parameters sent, and the host's start command: what follows the
+/// firmware's ready state.
+fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions) -> Told {
     for f in &opts.faults {
         bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
     }
@@ -215,14 +250,21 @@ fn start(bench: &mut Bench, test: Test, opts: &TestOptions) {
         bench.true_waveforms();
         bench.start_recording();
     }
-    if opts.framed || !opts.params.is_empty() {
+    let (params, believed, warning) =
+        crate::firmware_params::plan(bench.firmware(), robot, opts.tell, &opts.params);
+    if opts.framed || !params.is_empty() {
         use crate::link::{frame, Command};
-        for (p, v) in &opts.params {
+        for (p, v) in &params {
             bench.send(1, &frame(&Command::SetParam(*p, *v)));
         }
         bench.send(1, &frame(&Command::StartTest(test)));
     } else {
         bench.send(1, &[test.command_byte()]);
+    }
+    Told {
+        believed,
+        warning,
+        sent: params.len(),
     }
 }
 
@@ -254,12 +296,13 @@ pub fn run_test_debugged(
     let limit = limit_s(test, opts);
     // (HT_DONE_COUNT before the start, the start's cycle), once started.
     let mut started: Option<(u16, u64)> = None;
-    let host = |b: &mut Bench, started: &mut Option<(u16, u64)>| -> Flow {
+    let mut told: Option<Told> = None;
+    let mut host = |b: &mut Bench, started: &mut Option<(u16, u64)>| -> Flow {
         match *started {
             None if b.is_idle() => {
                 b.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
                 *started = Some((b.read_u16(vars.done_count), b.cycle()));
-                start(b, test, opts);
+                told = Some(start(b, robot, test, opts));
                 Flow::Continue
             }
             Some((done_before, at))
@@ -296,15 +339,11 @@ pub fn run_test_debugged(
             bench.location()
         )
     });
-    Ok(Some(analyse(
-        &bench,
-        test,
-        name,
-        opts,
-        start_cycle,
-        completed,
-        finding,
-    )))
+    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    if let Some(told) = told {
+        told.apply(&mut run);
+    }
+    Ok(Some(run))
 }
 
 fn analyse(
@@ -419,6 +458,8 @@ fn analyse(
                 (s(*on), off.map(s))
             })
             .collect(),
+        believed: Believed::factory(),
+        warnings: Vec::new(),
     }
 }
 

@@ -16,6 +16,7 @@ pub mod elf;
 pub mod experiment;
 pub mod experiments;
 pub mod faults;
+pub mod firmware_params;
 pub mod fuzz;
 pub mod fwvars;
 pub mod gdb;

@@ -5,9 +5,7 @@ use plant_model::{Pose, RobotConfig, Side, World};
 
 use crate::bench::{Bench, BenchError, BenchOptions, Cutoff, PinStats, Sample};
 use crate::elf::Firmware;
-
-/// The thesis' odometry constant: mm per encoder count (pi * 32 / 602.22).
-pub const MM_PER_COUNT: f64 = 0.166_933_952_6;
+use crate::firmware_params::{Believed, Tell};
 
 /// The command byte of the straight-line test.
 pub const CMD_LINE: u8 = 4;
@@ -16,6 +14,8 @@ pub const CMD_LINE: u8 = 4;
 pub struct LineOptions {
     pub length_mm: f64,
     pub bench: BenchOptions,
+    /// Whether the robot config's geometry is sent before the start.
+    pub tell: Tell,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -65,7 +65,8 @@ pub struct LineSummary {
     /// Real-time factor (robot time / wall time); null when not measured.
     pub rtf: Option<f64>,
     pub pwm_hz: f64,
-    /// Mean of the two wheels' counts at cut-off, times the thesis' constant.
+    /// Mean of the two wheels' corrected distances at cut-off by the
+    /// firmware's own distance per count (see [`LineSummary::believed`]).
     pub distance_firmware_mm: f64,
     /// Mean of the two wheels' arcs at cut-off, by the plant.
     pub distance_plant_mm: f64,
@@ -80,6 +81,12 @@ pub struct LineSummary {
     pub awake_fraction: f64,
     pub cutoff_cycle: Option<u64>,
     pub firmware_log: String,
+    /// What the firmware believed about the robot.
+    #[serde(skip)]
+    pub believed: Believed,
+    /// E.g. a firmware whose geometry is not the robot's.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// A pose as the line's JSON has always written it: `x_mm`, `y_mm`,
@@ -139,7 +146,20 @@ pub fn run_line(
     let (mut bench, done_before, start_cycle) =
         ready_bench(firmware, robot, opts.bench, opts.length_mm)?;
     let vars = *bench.vars();
-    bench.send(1, &[CMD_LINE]);
+    let (params, believed, warning) =
+        crate::firmware_params::plan(bench.firmware(), robot, opts.tell, &[]);
+    if params.is_empty() {
+        bench.send(1, &[CMD_LINE]);
+    } else {
+        use crate::link::{frame, Command};
+        for (p, v) in &params {
+            bench.send(1, &frame(&Command::SetParam(*p, *v)));
+        }
+        bench.send(
+            1,
+            &frame(&Command::StartTest(crate::experiment::Test::Line)),
+        );
+    }
     // Generous: a third of the nominal speed, plus braking and waits.
     let limit = opts.length_mm / 50.0 + 5.0;
     let completed = bench.run_until(limit, |b| {
@@ -199,7 +219,7 @@ pub fn run_line(
             .unwrap_or(f64::NAN),
         rtf: None,
         pwm_hz,
-        distance_firmware_mm: (stop_left as f64 + stop_right as f64) / 2.0 * MM_PER_COUNT,
+        distance_firmware_mm: believed.distance_mm(stop_left as i64, stop_right as i64),
         distance_plant_mm,
         distance_plant_final_mm: (wheels.left.distance_mm + wheels.right.distance_mm) / 2.0,
         pose,
@@ -217,6 +237,14 @@ pub fn run_line(
         awake_fraction: bench.awake_fraction(),
         cutoff_cycle: cutoff.map(|c| c.cycle),
         firmware_log: String::from_utf8_lossy(bench.uart_output(0)).into_owned(),
+        believed,
+        warnings: warning
+            .into_iter()
+            .chain(crate::firmware_params::refusals(
+                bench.uart_output(1),
+                params.len(),
+            ))
+            .collect(),
     };
     Ok(LineRun {
         summary,
@@ -286,6 +314,9 @@ impl LineSummary {
             self.cycles,
             self.awake_fraction * 100.0
         );
+        for w in &self.warnings {
+            let _ = writeln!(s, "  warning: {w}");
+        }
         s
     }
 }

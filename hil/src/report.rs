@@ -110,6 +110,9 @@ pub fn render_run(run: &TestRun) -> String {
     if let Some(f) = &run.finding {
         let _ = writeln!(s, "  finding: {f}");
     }
+    for w in &run.warnings {
+        let _ = writeln!(s, "  warning: {w}");
+    }
     let mut turns = run.turns.iter().enumerate().peekable();
     for (i, leg) in run.legs.iter().enumerate() {
         let _ = writeln!(

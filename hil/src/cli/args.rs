@@ -67,9 +67,23 @@ pub struct Target {
     /// Seed of the plant's random effects.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Do not tell the firmware the robot's geometry (distance per count,
+    /// counts per wheel turn, wheelbase) before each run: it keeps its own
+    /// (factory) values, and the report warns where they are not the robot's.
+    #[arg(long)]
+    pub keep_firmware_params: bool,
 }
 
 impl Target {
+    /// Whether runs tell the firmware the robot's geometry.
+    pub fn tell(&self) -> hil::firmware_params::Tell {
+        if self.keep_firmware_params {
+            hil::firmware_params::Tell::Keep
+        } else {
+            hil::firmware_params::Tell::Robot
+        }
+    }
+
     /// The robot config asked for, else the best estimate of the thesis
     /// robot, else the ideal one.
     fn robot(&self) -> Result<RobotConfig> {
@@ -179,6 +193,7 @@ impl Common {
             leg_mm,
             bench: self.target.bench(),
             record: self.trace.vcd.is_some(),
+            tell: self.target.tell(),
             ..Default::default()
         }
     }
@@ -216,9 +231,10 @@ impl Solve {
 /// odometry, which the correction scales, and how the model is solved.
 #[derive(clap::Args, Clone, Copy)]
 pub struct Correction {
-    /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`).
-    #[arg(long, default_value_t = 130.0)]
-    pub firmware_wheelbase_mm: f64,
+    /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`;
+    /// default: the one the runs told it, the robot's, or the firmware's own).
+    #[arg(long)]
+    pub firmware_wheelbase_mm: Option<f64>,
     #[command(flatten)]
     pub solve: Solve,
 }

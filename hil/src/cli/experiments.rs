@@ -73,7 +73,9 @@ impl Umbmark {
         }
         let report = hil::umbmark::report(
             &partial,
-            correction.firmware_wheelbase_mm,
+            correction
+                .firmware_wheelbase_mm
+                .unwrap_or(partial.plan.believed().wheelbase_mm),
             correction.solve.solution(),
         )?;
         if let Some(dir) = &out.out {
@@ -134,7 +136,9 @@ impl Triangle {
         };
         let report = hil::umbmark::triangle_report(
             &full,
-            correction.firmware_wheelbase_mm,
+            correction
+                .firmware_wheelbase_mm
+                .unwrap_or(full.plan.believed().wheelbase_mm),
             correction.solve.solution(),
         )?;
         if let Some(dir) = &out.out {
@@ -181,7 +185,9 @@ impl Merge {
         let full = hil::umbmark::merge(partials)?;
         let report = hil::umbmark::report(
             &full,
-            self.correction.firmware_wheelbase_mm,
+            self.correction
+                .firmware_wheelbase_mm
+                .unwrap_or(full.plan.believed().wheelbase_mm),
             self.correction.solve.solution(),
         )?;
         self.json.emit(&report, || report.render())
@@ -258,17 +264,23 @@ impl Calibrate {
     /// Calibration rounds on the emulated robot.
     fn rounds(&self) -> Result<()> {
         let (robot, firmware, plan) = setup(&self.common, self.leg)?;
-        let plan = match self.method {
+        let mut plan = match self.method {
             None | Some(MethodArg::Umbmark) => plan,
             Some(MethodArg::Triangle) => plan.triangle(),
         };
+        // Round 0 runs with the wheelbase asked for, as the later rounds do.
+        let wheelbase_mm = self.wheelbase_mm.unwrap_or(plan.believed().wheelbase_mm);
+        if self.wheelbase_mm.is_some() {
+            plan.params
+                .push((hil::link::Param::WheelbaseMm.id(), wheelbase_mm as f32));
+        }
         let total = 2 * plan.runs_per_direction;
         let bar = progress_bar((self.rounds + 1) * total, self.leg.leg_mm);
         let results = hil::umbmark::calibrate(
             &firmware,
             &robot,
             &plan,
-            self.wheelbase_mm.unwrap_or(130.0),
+            wheelbase_mm,
             self.rounds,
             self.solve.solution(),
             &|round, n, _| {
@@ -306,7 +318,13 @@ impl Calibrate {
 /// The robot and firmware `common` names, and the plan of a UMBmark on them.
 fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
     let (robot, firmware) = common.target.load()?;
-    let plan = Plan::new(leg.leg_mm, common.target.seed, &robot, &firmware);
+    let plan = Plan::new(
+        leg.leg_mm,
+        common.target.seed,
+        &robot,
+        &firmware,
+        common.target.tell(),
+    );
     Ok((robot, firmware, plan))
 }
 

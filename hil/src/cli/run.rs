@@ -104,6 +104,7 @@ impl Line {
         let opts = LineOptions {
             length_mm: self.length_mm,
             bench: target.bench(),
+            tell: Default::default(),
         };
         let clock = self.common.print.wall_clock();
         let mut run = run_line(firmware, &robot, &opts)?;

@@ -6,6 +6,8 @@ use plant_model::RobotConfig;
 use super::ExperimentError;
 use crate::elf::Firmware;
 use crate::experiment::Test;
+use crate::firmware_params::{Believed, Tell};
+use crate::link::Param;
 
 /// Which experiment a plan runs: a set of the firmware's tests, run in two
 /// groups.
@@ -53,9 +55,14 @@ pub struct Plan {
     pub firmware: String,
     pub firmware_hash: String,
     /// Firmware parameters set over the protocol before each run: (id, value)
-    /// (see protocol/README.md: 1 cL, 2 cR, 3 wheelbase mm, ...).
+    /// (see protocol/README.md: 1 cL, 2 cR, 3 wheelbase mm, ...): the robot's
+    /// geometry where it is not the firmware's factory values, then any
+    /// correction.
     #[serde(default)]
     pub params: Vec<(u8, f32)>,
+    /// E.g. a firmware whose geometry is not the robot's.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// One run of a plan: its index, direction and seed.
@@ -88,8 +95,17 @@ impl std::str::FromStr for Shard {
 }
 
 impl Plan {
-    pub fn new(leg_mm: f64, seed: u64, robot: &RobotConfig, firmware: &Firmware) -> Self {
+    /// A UMBmark of `firmware` on `robot`; the firmware is told the robot's
+    /// geometry unless `tell` says to keep its own.
+    pub fn new(
+        leg_mm: f64,
+        seed: u64,
+        robot: &RobotConfig,
+        firmware: &Firmware,
+        tell: Tell,
+    ) -> Self {
         let name = firmware.name();
+        let (params, _, warning) = crate::firmware_params::plan(firmware, robot, tell, &[]);
         Self {
             experiment: Experiment::Umbmark,
             leg_mm,
@@ -98,8 +114,22 @@ impl Plan {
             robot: toml::to_string(robot).unwrap_or_default(),
             firmware: name,
             firmware_hash: firmware.content_hash(),
-            params: Vec::new(),
+            params: params.iter().map(|(p, v)| (p.id(), *v)).collect(),
+            warnings: warning.into_iter().collect(),
         }
+    }
+
+    /// The plan's parameters, decoded.
+    pub fn firmware_params(&self) -> Vec<(Param, f32)> {
+        self.params
+            .iter()
+            .filter_map(|&(id, v)| Param::from_u8(id).map(|p| (p, v)))
+            .collect()
+    }
+
+    /// What the firmware believes about the robot in this plan's runs.
+    pub fn believed(&self) -> Believed {
+        Believed::factory().after(&self.firmware_params())
     }
 
     /// The same plan for the Triangular Path.

@@ -79,7 +79,9 @@ pub fn calibrate(
     for round in 0..=rounds {
         let mut plan = base.clone();
         if round > 0 {
-            plan.params = vec![(1, cl as f32), (2, cr as f32), (3, b as f32)];
+            // After the robot's geometry: the corrections win.
+            plan.params
+                .extend([(1, cl as f32), (2, cr as f32), (3, b as f32)]);
         }
         let runs = execute(
             firmware,

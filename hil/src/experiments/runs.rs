@@ -95,12 +95,10 @@ pub fn execute(
                 record: false,
                 faults: Vec::new(),
                 framed: false,
-                params: plan
-                    .params
-                    .iter()
-                    .filter_map(|&(id, v)| crate::link::Param::from_u8(id).map(|p| (p, v)))
-                    .collect(),
+                // The plan holds the robot's geometry already.
+                params: plan.firmware_params(),
                 hang_after_s: None,
+                tell: crate::firmware_params::Tell::Keep,
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;

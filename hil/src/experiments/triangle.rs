@@ -42,7 +42,8 @@ pub fn triangle_report(
         solution,
         ..calib::TriangleParams::default()
     };
-    let result = calib::triangle_correction(&line, &tri, &params);
+    let mut result = calib::triangle_correction(&line, &tri, &params);
+    result.warnings.extend(full.plan.warnings.iter().cloned());
     Ok(TriangleReport {
         plan: full.plan.clone(),
         runs: full.rows(["line", "triangle"]),
@@ -93,6 +94,9 @@ impl TriangleReport {
             r.eb,
             r.wheelbase_mm
         );
+        for w in &r.warnings {
+            let _ = writeln!(s, "  warning: {w}");
+        }
         let _ = writeln!(s, "  robot time {:.1} s in all", self.robot_time_s);
         s
     }

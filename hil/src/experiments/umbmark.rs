@@ -39,7 +39,8 @@ pub fn report(
         solution,
         ..UmbmarkParams::default()
     };
-    let result = calib::umbmark_correction(&runs, &params);
+    let mut result = calib::umbmark_correction(&runs, &params);
+    result.warnings.extend(full.plan.warnings.iter().cloned());
     Ok(Report {
         plan: full.plan.clone(),
         runs: full.rows([Direction::Cw.as_str(), Direction::Ccw.as_str()]),

@@ -152,6 +152,10 @@ pub struct Observed {
     pub fault_at_s: Option<f64>,
     /// Brown-out resets: robot times (s) the reset was pulled and released.
     pub brownouts: Vec<(f64, Option<f64>)>,
+    /// Counts per second of a wheel at the firmware's set-point (mean of the
+    /// two wheels), from what the firmware believed about the robot.
+    #[serde(skip)]
+    pub setpoint_counts_per_s: f64,
 }
 
 impl Observed {
@@ -208,6 +212,9 @@ impl Observed {
             led_changes,
             led_at_end: run.leds.last().map_or("off", |e| e.colour()).into(),
             brownouts: run.brownouts.clone(),
+            setpoint_counts_per_s: (run.believed.setpoint_counts_per_s(0)
+                + run.believed.setpoint_counts_per_s(1))
+                / 2.0,
         }
     }
 
@@ -254,14 +261,9 @@ impl Observed {
     }
 }
 
-/// Counts per second of each wheel at the robust build's set-point: 14.47
-/// thesis RPM for both wheels (`firmware/src/robot.rs`, `ROBUST_SETPOINT`)
-/// at 1.107 RPM per count in a 15 ms period.
-pub const SETPOINT_COUNTS_PER_S: f64 = 14.47 / 1.107 / 0.015;
-
 /// How much longer than at the set-points the first leg took (0.1: 10 %).
 pub fn leg_overrun(o: &Observed) -> Option<f64> {
-    let nominal = o.first_leg_counts? / SETPOINT_COUNTS_PER_S;
+    let nominal = o.first_leg_counts? / o.setpoint_counts_per_s;
     Some(o.first_leg_drive_s? / nominal - 1.0)
 }
 
@@ -297,6 +299,7 @@ fn run_case(
         framed: case.framed,
         params: Vec::new(),
         hang_after_s: Some(options.hang_after_s),
+        tell: Default::default(),
     };
     let run = run_test(fw.clone(), robot, case.test, &opts)?;
     Ok(Observed::from_run(&run, opts.bench.clock.hz()))
