@@ -94,3 +94,58 @@ fn a_firmware_kept_on_its_own_geometry_is_warned_about() {
         r.warnings[0]
     );
 }
+
+/// `hil ARGS --robot fixtures/robots/ROBOT.toml --deterministic --json`,
+/// parsed; the command must succeed.
+fn hil_json(robot: &str, args: &[&str]) -> serde_json::Value {
+    let _ = support::firmware_path("robust");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(args)
+        .arg("--robot")
+        .arg(hil::paths::robot_config(robot))
+        .args(["--deterministic", "--json"])
+        .output()
+        .expect("hil runs");
+    assert!(
+        out.status.success(),
+        "hil {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
+/// Every run of an experiment's report completed, and nothing says the
+/// firmware's geometry was not the robot's.
+fn all_runs_complete(report: &serde_json::Value) {
+    let runs = report["runs"].as_array().expect("runs");
+    assert_eq!(runs.len(), 10);
+    assert!(runs.iter().all(|r| r["completed"] == true), "{runs:#?}");
+    let warnings = report["warnings"].as_array().expect("warnings");
+    assert!(
+        !warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("not the robot's")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn compact48_runs_umbmark_and_triangle() {
+    let u = hil_json("compact48", &["umbmark", "--jobs", "2"]);
+    all_runs_complete(&u);
+    // Its own wheelbase is the one the correction starts from.
+    assert_eq!(u["wheelbase_nominal_mm"], 160.0);
+    let t = hil_json("compact48", &["triangle", "--leg-mm", "1000"]);
+    all_runs_complete(&t);
+    assert_eq!(t["wheelbase_nominal_mm"], 160.0);
+}
+
+/// A calibration round takes most of compact48's UMBmark error out (the
+/// turns over-rotate by ~6 degrees from coasting, as Henrytwo's do).
+#[test]
+fn compact48_calibrates() {
+    let c = hil_json("compact48", &["calibrate", "--rounds", "1"]);
+    let e = |i: usize| c["rounds"][i]["report"]["e_max_cm"].as_f64().unwrap();
+    assert!(e(0) > 20.0, "round 0: {} cm", e(0));
+    assert!(e(1) < 0.3 * e(0), "{} cm -> {} cm", e(0), e(1));
+}
