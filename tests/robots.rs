@@ -149,3 +149,31 @@ fn compact48_calibrates() {
     assert!(e(0) > 20.0, "round 0: {} cm", e(0));
     assert!(e(1) < 0.3 * e(0), "{} cm -> {} cm", e(0), e(1));
 }
+
+/// `hil gap` on compact48's bench-made "floor" data (a right wheel 1 %
+/// larger than the left, `fixtures/robots/compact48-floor.toml`), against
+/// compact48's own config: the single effect ranked first is the wheel
+/// diameter ratio.
+#[test]
+fn compact48_gap_names_its_wheel_ratio() {
+    let _ = support::firmware_path("robust");
+    let root = hil::paths::workspace_root();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+        .arg("gap")
+        .arg("--real")
+        .arg(root.join("fixtures/real/compact48"))
+        .arg("--model")
+        .arg(hil::paths::robot_config("compact48"))
+        .arg("--json")
+        .output()
+        .expect("hil runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let g: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let first = g["which"]["singles"]
+        .as_array()
+        .expect("singles")
+        .iter()
+        .find(|s| s["rank_bic"] == 1)
+        .expect("a first single effect");
+    assert_eq!(first["fit"]["effects"], serde_json::json!(["wheel_diameter_ratio"]));
+}
