@@ -158,6 +158,44 @@ pub fn plan(
     (send, believed, warning)
 }
 
+/// Tells an idle, booted firmware on `bench` the robot's geometry (as
+/// [`plan`] with [`Tell::Robot`]) and runs until it has answered every
+/// SET_PARAM: for a session whose host is someone else (the station's
+/// emulated robots), so that it starts on a robot the firmware knows. The
+/// replies stay out of what the host is sent afterwards only if the caller
+/// forwards output from here on. Returns the warning of a refusal or of a
+/// firmware that cannot be told.
+pub fn tell(
+    bench: &mut crate::bench::Bench,
+    robot: &RobotConfig,
+) -> Result<Option<String>, crate::bench::BenchError> {
+    let (params, _, warning) = plan(bench.firmware(), robot, Tell::Robot, &[]);
+    if params.is_empty() {
+        return Ok(warning);
+    }
+    let before = bench.uart_output(1).len();
+    for (p, v) in &params {
+        bench.send(1, &crate::link::frame(&crate::link::Command::SetParam(*p, *v)));
+    }
+    let set_param = crate::link::Command::SetParam(Param::CorrLeft, 1.0)
+        .id()
+        .reply_id();
+    let answered = |b: &crate::bench::Bench| {
+        crate::link::replies(&b.uart_output(1)[before..])
+            .iter()
+            .filter(|r| r.id == set_param)
+            .count()
+            >= params.len()
+    };
+    // 9600 baud: about 10 ms per frame each way.
+    bench.run_expect(
+        "the firmware did not answer the SET_PARAMs of the robot's geometry",
+        1.0 + 0.03 * params.len() as f64,
+        answered,
+    )?;
+    Ok(refusals(&bench.uart_output(1)[before..], params.len()).or(warning))
+}
+
 /// A warning when the firmware refused any of the `sent` parameters (its
 /// SET_PARAM replies in `bluetooth_out` carry an error status): then it
 /// does not believe what the bench told it.

@@ -166,7 +166,15 @@ impl EmulatedRobot {
                 .name("emulated-robot".into())
                 .spawn(move || {
                     let bench = Bench::new(firmware, &robot, options.bench)
-                        .and_then(|mut b| wait_ready(&mut b).map(|_| b));
+                        .and_then(|mut b| wait_ready(&mut b).map(|_| b))
+                        .and_then(|mut b| {
+                            // Told its robot before the host comes: as a real
+                            // robot keeps what it was told in its EEPROM.
+                            if let Some(w) = crate::firmware_params::tell(&mut b, &robot)? {
+                                eprintln!("warning: {w}");
+                            }
+                            Ok(b)
+                        });
                     let bench = match bench {
                         Ok(b) => {
                             let _ = ready_tx.send(Ok(()));
