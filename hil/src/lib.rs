@@ -11,6 +11,7 @@
 #![deny(unsafe_code)]
 
 pub mod bench;
+pub mod board;
 pub mod calibrate;
 pub mod elf;
 pub mod experiment;

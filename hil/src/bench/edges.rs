@@ -18,10 +18,10 @@ use plant_model::{Robot, Seconds, Side};
 
 use super::recorder::Recorder;
 use super::NEVER;
+use crate::board::{Board, EncoderWiring};
 use crate::inject::{EncoderFault, Injection};
 use crate::sim::{Core, Irq};
 use crate::time::Clock;
-use crate::wiring::{EncoderWiring, Wiring};
 
 /// Transitions planned per wheel beyond the next when nothing tells how
 /// long the inputs will last (see `Encoders::plan_edge`).
@@ -108,7 +108,7 @@ pub(super) struct Encoders {
 }
 
 impl Encoders {
-    pub(super) fn new(wiring: &Wiring) -> Self {
+    pub(super) fn new(wiring: &Board) -> Self {
         Self {
             wiring: Side::BOTH.map(|side| *wiring.encoder(side)),
             irq: [[None; 2]; 2],
