@@ -588,3 +588,28 @@ impl Encoders {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::board::{mega2560, HENRYTWO};
+
+    /// B is raised lazily only where its pin cannot interrupt: Henrytwo's
+    /// D4 and D5; a board with B on INT0 and INT1 (D21, D20) gets B's edges
+    /// at their own cycles, and one with a single such B on that side only.
+    #[test]
+    fn lazy_b_follows_the_boards_pins() {
+        let inject = Injection::new(0);
+        let henrytwo = Encoders::new(&HENRYTWO);
+        assert_eq!(henrytwo.lazy_b_change(&inject), Some([true, true]));
+        let mut board = HENRYTWO;
+        board.left_encoder.b = mega2560::pin(21).unwrap();
+        board.right_encoder.b = mega2560::pin(20).unwrap();
+        let eager = Encoders::new(&board);
+        assert_eq!(eager.lazy_b_change(&inject), None, "both stay eager");
+        assert_eq!(eager.watch(0), Watch::Both);
+        board.left_encoder.b = HENRYTWO.left_encoder.b;
+        let one = Encoders::new(&board);
+        assert_eq!(one.lazy_b_change(&inject), Some([true, false]));
+    }
+}
