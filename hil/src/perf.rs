@@ -21,12 +21,12 @@ use plant_model::RobotConfig;
 use serde::Serialize;
 
 use crate::bench::{AnalogEvent, AnalogInput, BenchError, BenchOptions, PinEvent};
+use crate::board::HENRYTWO;
 use crate::elf::Firmware;
 use crate::experiment::Test;
 use crate::line::ready_bench;
 use crate::pwm::PwmTimer;
 use crate::sim::{Avr, Core, Handler, IoClaim, Irq};
-use crate::wiring::HENRYTWO;
 
 /// One measured run.
 #[derive(Debug, Clone, Copy, Serialize)]

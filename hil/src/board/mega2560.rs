@@ -243,8 +243,10 @@ mod tests {
     /// timer channel (the header gives one timer for PB7: TIMER0A).
     #[test]
     fn the_table_is_the_arduino_cores() {
-        let Ok(text) = std::fs::read_to_string(HEADER) else {
-            eprintln!("{HEADER} not installed: checked against the copy below only");
+        // ARDUINO_MEGA_PINS_H: the header elsewhere (an unpacked arduino-core).
+        let path = std::env::var("ARDUINO_MEGA_PINS_H").unwrap_or_else(|_| HEADER.to_string());
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            eprintln!("{path} not installed: the table is checked by the spot checks only");
             return;
         };
         let ports = header_table(&text, "digital_pin_to_port_PGM");
