@@ -171,3 +171,59 @@ fn other_drivers_load(
     assert_eq!(board.left_motor.pin2.pwm, None);
     assert_eq!(board.right_motor.pin1.pin.arduino, 46);
 }
+
+/// A board with an input on another port and timer runs the firmware as
+/// Henrytwo's does while that input is idle: with the right motor's reverse
+/// input on D46 (OC5A, port L) the bench emulates timers 2, 4 and 5 and
+/// reads ports H and L, and the first 1.5 s of the line test (forward only)
+/// end at exactly Henrytwo's pose, D46 never driven.
+#[test]
+fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
+    use hil::bench::{Bench, BenchOptions};
+    use hil::board::{mega2560, BridgeInput, PwmSource};
+    use hil::line::{wait_ready, CMD_LINE};
+
+    #[path = "support/mod.rs"]
+    mod support;
+
+    let mut board = HENRYTWO;
+    board.right_motor.pin2 = BridgeInput {
+        pin: mega2560::pin(46).unwrap(),
+        pwm: Some(PwmSource {
+            timer: 5,
+            channel: 'A',
+        }),
+    };
+    assert_eq!(board.pwm_timers(), vec![2, 4, 5]);
+    let run = |board: Board| {
+        let mut bench = Bench::new(
+            support::firmware("robust"),
+            &support::robot("henrytwo-ideal"),
+            BenchOptions {
+                board,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        wait_ready(&mut bench).unwrap();
+        bench.send(board.command_uart.usart, &[CMD_LINE]);
+        bench.run_for(1.5).unwrap();
+        let core = bench.core();
+        let pose = core.robot().pose();
+        let pins: Vec<(u8, bool)> = core
+            .pin_stats()
+            .iter()
+            .map(|p| (p.pin, p.active_s > 0.0))
+            .collect();
+        ([pose.x().0, pose.y().0, pose.theta().0], pins)
+    };
+    let (henrytwo, _) = run(HENRYTWO);
+    let (moved, pins) = run(board);
+    assert!(henrytwo[0] > 100.0, "the robot drove: {henrytwo:?}");
+    assert_eq!(moved, henrytwo);
+    assert_eq!(
+        pins,
+        vec![(7, true), (8, false), (9, true), (46, false)],
+        "D46 is watched, idle"
+    );
+}
