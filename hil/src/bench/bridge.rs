@@ -288,12 +288,7 @@ impl Bridge {
 
     /// What the two motors do together.
     pub(super) fn motion(&self) -> Motion {
-        let sign = |(f, r): (f64, f64)| match (f > 0.0, r > 0.0) {
-            (false, false) => 0,
-            (true, false) => 1,
-            (false, true) => -1,
-            (true, true) => 2,
-        };
+        let sign = |pair| driver::motion_sign(self.board.driver, pair);
         Motion::classify(sign(self.duty[0]), sign(self.duty[1]))
     }
 

@@ -89,6 +89,28 @@ pub(super) fn plant_inputs(kind: DriverKind, d: [f64; 3]) -> (f64, f64) {
     (clamp(s.brake + s.forward), clamp(s.brake + s.reverse))
 }
 
+/// What a motor does as [`super::recorder::Motion`] counts it, from the
+/// plant inputs `(in1, in2)` [`plant_inputs`] gave: +1 forward, -1 reverse,
+/// 0 off, 2 brake. A DRV8833 brakes when the firmware holds both inputs on,
+/// whatever else it drives; the other drivers brake in the PWM's off-time
+/// by design (TB6612, PWM/DIR), so for them a motor driven at all is
+/// driven, and brakes only when not driven.
+pub(super) fn motion_sign(kind: DriverKind, (in1, in2): (f64, f64)) -> i8 {
+    let drive = in1 - in2;
+    match kind {
+        DriverKind::Drv8833 => match (in1 > 0.0, in2 > 0.0) {
+            (false, false) => 0,
+            (true, false) => 1,
+            (false, true) => -1,
+            (true, true) => 2,
+        },
+        _ if drive > 0.0 => 1,
+        _ if drive < 0.0 => -1,
+        _ if in1.min(in2) > 0.0 => 2,
+        _ => 0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,5 +159,24 @@ mod tests {
         let (in1, in2) = plant_inputs(kind, d);
         assert_relative_eq!(in1 - in2, forward - reverse, epsilon = 1e-12);
         assert_relative_eq!(in1.min(in2), brake, epsilon = 1e-12);
+    }
+
+    /// Driving with PWM counts as driving on every driver; a DRV8833 with
+    /// both inputs on counts as braking (the thesis firmware's brake), the
+    /// others brake when no part of the period is driven.
+    #[rstest]
+    #[case::drv_forward(Drv8833, [0.7, 0.0, 0.0], 1)]
+    #[case::drv_both_on_brakes(Drv8833, [1.0, 0.3, 0.0], 2)]
+    #[case::drv_off(Drv8833, [0.0, 0.0, 0.0], 0)]
+    #[case::tb_forward_pwm(Tb6612, [0.6, 1.0, 0.0], 1)]
+    #[case::tb_reverse_pwm(Tb6612, [0.6, 0.0, 1.0], -1)]
+    #[case::tb_brake(Tb6612, [0.6, 1.0, 1.0], 2)]
+    #[case::tb_stop(Tb6612, [0.6, 0.0, 0.0], 0)]
+    #[case::dir_reverse(PwmDir, [0.8, 0.0, 0.0], -1)]
+    #[case::dir_pwm_low_brakes(PwmDir, [0.0, 1.0, 0.0], 2)]
+    #[case::l298_enable_low_coasts(L298n, [0.0, 1.0, 0.0], 0)]
+    #[case::l298_forward(L298n, [0.6, 1.0, 0.0], 1)]
+    fn motion_signs(#[case] kind: DriverKind, #[case] d: [f64; 3], #[case] sign: i8) {
+        assert_eq!(motion_sign(kind, plant_inputs(kind, d)), sign);
     }
 }
