@@ -82,7 +82,9 @@ fn edges_raised_from_the_plan_change_nothing() {
         let sram: Vec<u8> = (0x200..0x2200).map(|a| bench.read_u8(a)).collect();
         let stats = core
             .pin_stats()
-            .map(|p| (p.active_s.to_bits(), p.mean_active_duty.to_bits()));
+            .iter()
+            .map(|p| (p.active_s.to_bits(), p.mean_active_duty.to_bits()))
+            .collect::<Vec<_>>();
         let lines = core.recording().unwrap().to_vec();
         let a_lines: Vec<_> = lines.iter().copied().filter(|e| e.line % 2 == 0).collect();
         (

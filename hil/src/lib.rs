@@ -3,14 +3,15 @@
 //! The firmware's real ELF runs inside simavr ([`sim`]); the plant model
 //! (`plant-model`) drives the MCU's encoder pins at the exact cycles at which
 //! the physics says the edges happen, and sees the H-bridge inputs through the
-//! bench's own model of the PWM timers ([`pwm`]), wired as the robot is wired
-//! ([`wiring`]). [`bench`] ties them together on one event queue; [`line`] is
+//! bench's own model of the PWM timers ([`pwm`]), wired as the robot's
+//! [`board`] says. [`bench`] ties them together on one event queue; [`line`] is
 //! the straight-line test. [`station`] is the operator's side: the protocol
 //! client for real and emulated robots, `hil serve` and the `hil ui` page.
 
 #![deny(unsafe_code)]
 
 pub mod bench;
+pub mod board;
 pub mod calibrate;
 pub mod elf;
 pub mod experiment;

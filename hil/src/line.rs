@@ -106,7 +106,7 @@ pub struct LineRun {
     pub summary: LineSummary,
     pub trace: Vec<Sample>,
     pub cutoffs: Vec<Cutoff>,
-    pub pins: [PinStats; 4],
+    pub pins: Vec<PinStats>,
     /// Cycle at which the command byte was sent.
     pub start_cycle: u64,
 }

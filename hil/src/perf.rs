@@ -21,12 +21,12 @@ use plant_model::RobotConfig;
 use serde::Serialize;
 
 use crate::bench::{AnalogEvent, AnalogInput, BenchError, BenchOptions, PinEvent};
+use crate::board::HENRYTWO;
 use crate::elf::Firmware;
 use crate::experiment::Test;
 use crate::line::ready_bench;
 use crate::pwm::PwmTimer;
 use crate::sim::{Avr, Core, Handler, IoClaim, Irq};
-use crate::wiring::HENRYTWO;
 
 /// One measured run.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -259,8 +259,8 @@ pub fn raw_replay(
         avr.port_pin(w.right_encoder.a.port, w.right_encoder.a.bit)?,
         avr.port_pin(w.right_encoder.b.port, w.right_encoder.b.bit)?,
     ];
-    let (uart_in, _) = avr.uart(w.bluetooth_uart)?;
-    let _ = avr.uart(w.debug_uart)?;
+    let (uart_in, _) = avr.uart(w.command_uart.usart)?;
+    let _ = avr.uart(w.debug_uart.usart)?;
     let adc0 = avr.adc_input(0)?;
     {
         let h = avr.handler_mut();

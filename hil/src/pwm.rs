@@ -1,9 +1,9 @@
-//! The bench's own model of the ATmega2560's PWM timers 2 and 4.
+//! The bench's own model of the ATmega2560's PWM timers 2, 3, 4 and 5.
 //!
 //! simavr emulates phase-correct PWM wrongly (it counts to 256 instead of up to
 //! 255 and back down, and produces no output-pin edges), and each running
 //! prescaler-1 timer costs it one callback per period and compare channel. So
-//! the bench takes these two timers over: their registers are handled here,
+//! the bench takes the timers a board's PWM pins are on over: their registers are handled here,
 //! simavr never clocks them, and the waveform is computed from the registers
 //! exactly as the datasheet specifies (ATmega640/1280/2560 datasheet, section
 //! 17.9.4 / 20.7.4 "Phase Correct PWM Mode"):
@@ -15,7 +15,8 @@
 //!   counting and set on the match while down counting; OCR = 0 keeps it low,
 //!   OCR = TOP keeps it high; inverting (COMnx = 3) is the complement;
 //! - OCR writes are double buffered and take effect at TOP;
-//! - 16-bit registers of timer 4 are written through the shared TEMP byte:
+//! - 16-bit registers of timers 3, 4 and 5 (laid out alike, section 17.11)
+//!   are written through the shared TEMP byte:
 //!   the high byte first, then the low byte commits both.
 //!
 //! Anything else (other modes, timer interrupts, reading the counter, force
@@ -24,19 +25,30 @@
 
 use thiserror::Error;
 
-/// One of the two timers the bench emulates.
+/// One of the timers the bench emulates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum TimerId {
     Timer2,
+    Timer3,
     Timer4,
+    Timer5,
+}
+
+impl TimerId {
+    /// The timer's number.
+    pub fn number(self) -> u8 {
+        match self {
+            TimerId::Timer2 => 2,
+            TimerId::Timer3 => 3,
+            TimerId::Timer4 => 4,
+            TimerId::Timer5 => 5,
+        }
+    }
 }
 
 impl std::fmt::Display for TimerId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            TimerId::Timer2 => write!(f, "timer 2"),
-            TimerId::Timer4 => write!(f, "timer 4"),
-        }
+        write!(f, "timer {}", self.number())
     }
 }
 
@@ -211,6 +223,34 @@ const TIMER2: Layout = Layout {
     sixteen_bit: false,
 };
 
+/// Timer 3 (register summary: 0x90-0x9D, TIMSK3 0x71).
+const TIMER3: Layout = Layout {
+    id: TimerId::Timer3,
+    tccra: 0x90,
+    tccrb: 0x91,
+    tccrc: Some(0x92),
+    tcnt: 0x94,
+    ocr: &[('A', 0x98), ('B', 0x9A), ('C', 0x9C)],
+    icr: Some(0x96),
+    timsk: 0x71,
+    assr: None,
+    sixteen_bit: true,
+};
+
+/// Timer 5 (register summary: 0x120-0x12D, TIMSK5 0x73).
+const TIMER5: Layout = Layout {
+    id: TimerId::Timer5,
+    tccra: 0x120,
+    tccrb: 0x121,
+    tccrc: Some(0x122),
+    tcnt: 0x124,
+    ocr: &[('A', 0x128), ('B', 0x12A), ('C', 0x12C)],
+    icr: Some(0x126),
+    timsk: 0x73,
+    assr: None,
+    sixteen_bit: true,
+};
+
 const TIMER4: Layout = Layout {
     id: TimerId::Timer4,
     tccra: 0xA0,
@@ -250,8 +290,27 @@ impl PwmTimer {
         Self::new(TIMER2)
     }
 
+    pub fn timer3() -> Self {
+        Self::new(TIMER3)
+    }
+
     pub fn timer4() -> Self {
         Self::new(TIMER4)
+    }
+
+    pub fn timer5() -> Self {
+        Self::new(TIMER5)
+    }
+
+    /// Timer `n`, if the bench emulates it (2-5).
+    pub fn number(n: u8) -> Option<Self> {
+        match n {
+            2 => Some(Self::timer2()),
+            3 => Some(Self::timer3()),
+            4 => Some(Self::timer4()),
+            5 => Some(Self::timer5()),
+            _ => None,
+        }
     }
 
     fn new(layout: Layout) -> Self {
@@ -336,8 +395,9 @@ impl PwmTimer {
         let n = match (id, cs) {
             (_, 0) => return Ok(None),
             (TimerId::Timer2, _) => [0, 1, 8, 32, 64, 128, 256, 1024][cs as usize],
-            (TimerId::Timer4, 1..=5) => [0, 1, 8, 64, 256, 1024][cs as usize],
-            (TimerId::Timer4, _) => return Err(PwmError::ExternalClock { timer: id, cs }),
+            // The 16-bit timers share one prescaler table (table 17-6).
+            (_, 1..=5) => [0, 1, 8, 64, 256, 1024][cs as usize],
+            (_, _) => return Err(PwmError::ExternalClock { timer: id, cs }),
         };
         Ok(Some(n))
     }
@@ -366,7 +426,10 @@ impl PwmTimer {
                     ));
                 }
                 if l.sixteen_bit && value & 0xC0 != 0 {
-                    return refuse(format!("set input-capture bits (TCCR4B = 0x{value:02X})"));
+                    return refuse(format!(
+                        "set input-capture bits (TCCR{}B = 0x{value:02X})",
+                        id.number()
+                    ));
                 }
                 self.tccrb = value;
             }
@@ -374,7 +437,10 @@ impl PwmTimer {
             effect.outputs_changed = true;
         } else if Some(addr) == l.tccrc {
             if value != 0 {
-                return refuse(format!("forced an output compare (TCCR4C = 0x{value:02X})"));
+                return refuse(format!(
+                    "forced an output compare (TCCR{}C = 0x{value:02X})",
+                    id.number()
+                ));
             }
         } else if addr == l.timsk {
             if value != 0 {
@@ -512,157 +578,4 @@ impl PwmTimer {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rstest::rstest;
-
-    const F_CPU: u32 = 16_000_000;
-
-    /// The check at each write and the list the bench claims agree on every
-    /// data-space address.
-    #[test]
-    fn owns_write_is_the_list_of_write_addresses() {
-        for timer in [PwmTimer::timer2(), PwmTimer::timer4()] {
-            let list = timer.write_addresses();
-            for addr in 0..0x2200u16 {
-                assert_eq!(
-                    timer.owns_write(addr),
-                    list.contains(&addr),
-                    "address {addr:#x}"
-                );
-            }
-        }
-    }
-
-    /// Measure frequency and duty from the edges over one second of waveform.
-    fn measure(ocr: u32, com: Com) -> (f64, f64) {
-        let w = PhaseCorrect {
-            start: 1234,
-            prescaler: 1,
-        };
-        let from = w.start;
-        let to = from + F_CPU as u64;
-        let edges = w.edges(ocr, com, from, to);
-        let rises: Vec<u64> = edges.iter().filter(|e| e.1).map(|e| e.0).collect();
-        let hz = if rises.len() >= 2 {
-            (rises.len() - 1) as f64 * F_CPU as f64 / (rises[rises.len() - 1] - rises[0]) as f64
-        } else {
-            0.0
-        };
-        // Duty by integrating the level between edges.
-        let mut level = w.level(ocr, com, from);
-        let mut t = from;
-        let mut high = 0u64;
-        for &(c, l) in &edges {
-            if level {
-                high += c - t;
-            }
-            t = c;
-            level = l;
-        }
-        if level {
-            high += to - t;
-        }
-        (hz, high as f64 / (to - from) as f64)
-    }
-
-    /// Datasheet: f_OCnxPCPWM = f_clk / (2 * N * TOP); duty = OCR / TOP for
-    /// non-inverting; OCR = 0 continuously low, OCR = TOP continuously high.
-    #[rstest]
-    #[case(0)]
-    #[case(1)]
-    #[case(64)]
-    #[case(128)]
-    #[case(170)]
-    #[case(254)]
-    #[case(255)]
-    fn waveform_matches_the_datasheet(#[case] ocr: u32) {
-        let (hz, duty) = measure(ocr, Com::NonInverting);
-        let expected_duty = ocr as f64 / 255.0;
-        assert!(
-            (duty - expected_duty).abs() < 1e-4,
-            "OCR {ocr}: duty {duty} vs {expected_duty}"
-        );
-        if ocr == 0 || ocr == 255 {
-            assert_eq!(hz, 0.0, "constant output has no edges");
-        } else {
-            let f = 16e6 / (2.0 * 1.0 * 255.0);
-            assert!((hz - 31_372.55).abs() / 31_372.55 < 1e-4, "{hz}");
-            assert!((hz - f).abs() / f < 1e-9, "{hz} vs {f}");
-        }
-        let (_, inv) = measure(ocr, Com::Inverting);
-        assert!((inv - (1.0 - expected_duty)).abs() < 1e-4);
-    }
-
-    #[test]
-    fn counter_runs_up_to_top_and_back() {
-        let w = PhaseCorrect {
-            start: 0,
-            prescaler: 1,
-        };
-        assert_eq!(w.tcnt(0), 0);
-        assert_eq!(w.tcnt(255), 255);
-        assert_eq!(w.tcnt(256), 254);
-        assert_eq!(w.tcnt(509), 1);
-        assert_eq!(w.tcnt(510), 0);
-        assert_eq!(w.next_top(0), 255);
-        assert_eq!(w.next_top(255), 765);
-    }
-
-    #[test]
-    fn prescaler_scales_the_period() {
-        let w = PhaseCorrect {
-            start: 0,
-            prescaler: 64,
-        };
-        assert!((w.frequency_hz(F_CPU) - 490.196).abs() < 1e-3); // Arduino's default
-    }
-
-    fn started_timer4(cycle: u64) -> PwmTimer {
-        let mut t = PwmTimer::timer4();
-        t.write(0xA0, 0b0000_0001, cycle).unwrap(); // WGM40
-        t.write(0xA1, 0b0000_0001, cycle).unwrap(); // CS40
-        t
-    }
-
-    #[test]
-    fn ocr_write_takes_effect_at_top_through_temp() {
-        let mut t = started_timer4(100);
-        t.write(0xA0, 0b0010_0001, 100).unwrap(); // COM4B1 + WGM40
-        t.write(0xAB, 0x00, 200).unwrap(); // OCR4BH -> TEMP
-        let e = t.write(0xAA, 170, 201).unwrap(); // OCR4BL commits
-        assert!(e.pending_update);
-        assert_eq!(
-            t.drive('B', F_CPU),
-            PinDrive::Pwm {
-                duty: 0.0,
-                hz: 16e6 / 510.0
-            }
-        );
-        assert_eq!(t.pending_update_at(201), Some(100 + 255));
-        t.apply_buffered();
-        match t.drive('B', F_CPU) {
-            PinDrive::Pwm { duty, .. } => assert!((duty - 170.0 / 255.0).abs() < 1e-12),
-            other => panic!("{other:?}"),
-        }
-        assert_eq!(t.drive('A', F_CPU), PinDrive::Gpio);
-    }
-
-    #[rstest]
-    #[case::fast_pwm(0b11, 0b001, "waveform mode 3")]
-    #[case::ctc(0b00, 0b01_001, "waveform mode 4")]
-    fn unverified_modes_are_refused(#[case] a: u8, #[case] b: u8, #[case] msg: &str) {
-        let mut t = PwmTimer::timer4();
-        t.write(0xA0, a, 0).unwrap();
-        let err = t.write(0xA1, b, 0).unwrap_err();
-        assert!(err.to_string().contains(msg), "{err}");
-    }
-
-    #[test]
-    fn interrupts_and_counter_access_are_refused() {
-        let mut t = PwmTimer::timer2();
-        assert!(t.write(0x70, 1, 0).is_err());
-        assert!(t.write(0xB2, 0, 0).is_err());
-        assert!(t.read(0xB2).to_string().contains("counter"));
-    }
-}
+mod tests;

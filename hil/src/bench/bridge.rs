@@ -1,15 +1,18 @@
-//! The H-bridge inputs: what the firmware's PWM timers (2 and 4, emulated by
-//! the bench from their registers, see `crate::pwm`) and port H drive on the
-//! four DRV8833 inputs, and how a change reaches the plant. Also the PWM
-//! statistics per pin, and the [`Motion`] the two motors make together.
+//! The motor driver's inputs: what the firmware's PWM timers (those of the
+//! board's PWM pins, emulated by the bench from their registers, see
+//! `crate::pwm`) and the inputs' ports drive on them, and how a change
+//! reaches the plant (through the driver's truth table, `driver.rs`). Also
+//! the PWM statistics per pin, and the [`Motion`] the two motors make
+//! together.
 
 use plant_model::Side;
 
+use super::driver;
 use super::recorder::{DriveEvent, Motion, Recorder};
 use super::NEVER;
+use crate::board::{Board, BridgeInput, PwmSource};
 use crate::pwm::{PinDrive, PwmError, PwmTimer};
 use crate::time::Clock;
-use crate::wiring::{BridgeInput, PwmSource, Wiring};
 
 /// Per-pin PWM statistics.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
@@ -24,66 +27,118 @@ pub struct PinStats {
     duty_integral: f64,
 }
 
-/// The bridge inputs' sources (timers 2 and 4, port H) and what the plant
-/// was last given.
+/// One IO port a driver input is on: what the firmware last wrote to its
+/// PORT and DDR registers.
+#[derive(Debug, Clone, Copy)]
+struct PortState {
+    port: char,
+    value: u8,
+    ddr: u8,
+}
+
+/// The driver inputs' sources (the board's PWM timers, their ports) and
+/// what the plant was last given.
 pub(super) struct Bridge {
     clock: Clock,
-    wiring: Wiring,
-    timer2: PwmTimer,
-    timer4: PwmTimer,
+    board: Board,
+    /// Every driver input, in Arduino pin order.
+    inputs: Vec<BridgeInput>,
+    /// The timers the board's PWM inputs are on, in timer order.
+    timers: Vec<PwmTimer>,
     /// Cycle of each timer's next TOP with a buffered update waiting.
-    pending_top: [u64; 2],
-    port_value: u8,
-    port_ddr: u8,
-    /// (forward, reverse) duty applied to each motor's bridge, by side index.
+    pending_top: Vec<u64>,
+    ports: Vec<PortState>,
+    /// Each motor's pin 1-3 duties as last seen, by side index.
+    seen: [[f64; 3]; 2],
+    /// The DRV8833 inputs (in1, in2) last given to each motor's plant
+    /// bridge, by side index (see `driver.rs`).
     duty: [(f64, f64); 2],
-    /// Duty each bridge input sees (in `bridge_inputs` order).
-    input_duties: [f64; 4],
-    pins: [PinStats; 4],
+    /// Duty each driver input sees (in `inputs` order).
+    input_duties: Vec<f64>,
+    pins: Vec<PinStats>,
     /// Cycle up to which the PWM statistics are integrated.
     stats_cycle: u64,
 }
 
+fn timers_of(board: &Board) -> Vec<PwmTimer> {
+    board
+        .pwm_timers()
+        .into_iter()
+        .map(|n| PwmTimer::number(n).expect("the board check allows timers 2-5 only"))
+        .collect()
+}
+
 impl Bridge {
-    pub(super) fn new(wiring: Wiring, clock: Clock) -> Self {
+    pub(super) fn new(board: Board, clock: Clock) -> Self {
+        let inputs = board.bridge_inputs();
+        let mut ports: Vec<PortState> = Vec::new();
+        for i in &inputs {
+            if !ports.iter().any(|p| p.port == i.pin.port) {
+                ports.push(PortState {
+                    port: i.pin.port,
+                    value: 0,
+                    ddr: 0,
+                });
+            }
+        }
+        let timers = timers_of(&board);
         Self {
             clock,
-            wiring,
-            timer2: PwmTimer::timer2(),
-            timer4: PwmTimer::timer4(),
-            pending_top: [NEVER; 2],
-            port_value: 0,
-            port_ddr: 0,
+            board,
+            pending_top: vec![NEVER; timers.len()],
+            timers,
+            ports,
+            seen: [[0.0; 3]; 2],
             duty: [(0.0, 0.0); 2],
-            input_duties: [0.0; 4],
-            pins: wiring.bridge_inputs().map(|b| PinStats {
-                pin: b.pin.arduino,
-                ..Default::default()
-            }),
+            input_duties: vec![0.0; inputs.len()],
+            pins: inputs
+                .iter()
+                .map(|b| PinStats {
+                    pin: b.pin.arduino,
+                    ..Default::default()
+                })
+                .collect(),
+            inputs,
             stats_cycle: 0,
         }
     }
 
-    /// Back to the reset state: timers stopped, port H all inputs.
+    /// Back to the reset state: timers stopped, every port all inputs.
     pub(super) fn reset(&mut self) {
-        self.timer2 = PwmTimer::timer2();
-        self.timer4 = PwmTimer::timer4();
-        self.pending_top = [NEVER; 2];
-        self.port_value = 0;
-        self.port_ddr = 0;
+        self.timers = timers_of(&self.board);
+        self.pending_top.fill(NEVER);
+        for p in &mut self.ports {
+            p.value = 0;
+            p.ddr = 0;
+        }
     }
 
-    pub(super) fn set_port(&mut self, value: u8) {
-        self.port_value = value;
+    /// The timers this bridge emulates, in timer order.
+    pub(super) fn timers(&self) -> &[PwmTimer] {
+        &self.timers
     }
 
-    pub(super) fn set_ddr(&mut self, value: u8) {
-        self.port_ddr = value;
+    /// Whether the bench emulates timer `n` (simavr then never clocks it).
+    pub(super) fn emulates(&self, n: u8) -> bool {
+        self.timers.iter().any(|t| t.id().number() == n)
+    }
+
+    /// The ports the driver inputs are on, indexed as `set_port` takes them.
+    pub(super) fn ports(&self) -> Vec<char> {
+        self.ports.iter().map(|p| p.port).collect()
+    }
+
+    pub(super) fn set_port(&mut self, k: usize, value: u8) {
+        self.ports[k].value = value;
+    }
+
+    pub(super) fn set_ddr(&mut self, k: usize, value: u8) {
+        self.ports[k].ddr = value;
     }
 
     /// The earliest TOP with a buffered update waiting.
     pub(super) fn next_top(&self) -> u64 {
-        self.pending_top[0].min(self.pending_top[1])
+        self.pending_top.iter().copied().min().unwrap_or(NEVER)
     }
 
     /// Apply timer `which`'s buffered values if its TOP is due at `when`.
@@ -91,13 +146,14 @@ impl Bridge {
         if self.pending_top[which] > when {
             return false;
         }
-        self.timer_mut(which).apply_buffered();
+        self.timers[which].apply_buffered();
         self.pending_top[which] = NEVER;
         true
     }
 
     /// Make the plant see `side`'s inputs anew at the next refresh.
     pub(super) fn forget_drive(&mut self, side: Side) {
+        self.seen[side.index()] = [f64::NAN; 3];
         self.duty[side.index()] = (f64::NAN, f64::NAN);
     }
 
@@ -107,30 +163,35 @@ impl Bridge {
         f - r
     }
 
-    fn timer_mut(&mut self, which: usize) -> &mut PwmTimer {
-        if which == 0 {
-            &mut self.timer2
-        } else {
-            &mut self.timer4
-        }
+    fn timer_of(&self, source: PwmSource) -> &PwmTimer {
+        self.timers
+            .iter()
+            .find(|t| t.id().number() == source.timer)
+            .expect("a PWM input's timer is emulated")
     }
 
     fn drive(&self, input: &BridgeInput) -> PinDrive {
         match input.pwm {
-            PwmSource::Timer2(ch) => self.timer2.drive(ch, self.clock.hz()),
-            PwmSource::Timer4(ch) => self.timer4.drive(ch, self.clock.hz()),
+            Some(source) => self.timer_of(source).drive(source.channel, self.clock.hz()),
+            None => PinDrive::Gpio,
         }
     }
 
     fn input_duty(&self, input: &BridgeInput) -> f64 {
         let bit = 1u8 << input.pin.bit;
-        if self.port_ddr & bit == 0 {
-            // An input pin floats; the DRV8833's inputs have internal
-            // pull-downs, so the bridge sees low.
+        let port = self
+            .ports
+            .iter()
+            .find(|p| p.port == input.pin.port)
+            .expect("a driver input's port is watched");
+        if port.ddr & bit == 0 {
+            // An input pin floats; the DRV8833's and TB6612's inputs have
+            // internal pull-downs, the L298N's are taken as pulled down on
+            // its board: the driver sees low.
             return 0.0;
         }
         match self.drive(input) {
-            PinDrive::Gpio => f64::from(self.port_value & bit != 0),
+            PinDrive::Gpio => f64::from(port.value & bit != 0),
             PinDrive::Pwm { duty, .. } => duty,
         }
     }
@@ -157,29 +218,26 @@ impl Bridge {
         }
     }
 
-    /// What each bridge input sees, for the PWM statistics: recomputed
-    /// after every change of the timers' and the port's registers (the
+    /// What each driver input sees, for the PWM statistics: recomputed
+    /// after every change of the timers' and the ports' registers (the
     /// statistics first integrate what was held up to `cycle`).
     pub(super) fn update_input_duties(&mut self, cycle: u64) {
         self.integrate_pin_stats(cycle);
-        let duties = self
-            .wiring
-            .bridge_inputs()
-            .map(|input| self.input_duty(&input));
+        let duties = self.inputs.iter().map(|i| self.input_duty(i)).collect();
         self.input_duties = duties;
     }
 
     fn pin_slot(&self, arduino: u8) -> usize {
-        self.wiring
-            .bridge_inputs()
+        self.inputs
             .iter()
             .position(|b| b.pin.arduino == arduino)
-            .expect("pin is a bridge input")
+            .expect("pin is a driver input")
     }
 
-    /// `side`'s (forward, reverse) duties now, when they differ from what
-    /// the plant was given: logged per input into `log`, kept as the
-    /// plant's, and returned with the old ones.
+    /// `side`'s DRV8833-equivalent inputs (in1, in2) now, when its driver's
+    /// inputs differ from what was last seen: each changed input logged
+    /// into `log`, the pair kept as the plant's, and returned with the old
+    /// one.
     pub(super) fn drive_change(
         &mut self,
         side: Side,
@@ -187,24 +245,24 @@ impl Bridge {
         cycle: u64,
         log: &mut Recorder,
     ) -> Option<((f64, f64), (f64, f64))> {
-        let m = *self.wiring.motor(side);
+        let m = *self.board.motor(side);
         let i = side.index();
-        let (fwd, rev) = if disconnected {
-            (0.0, 0.0)
-        } else {
-            (self.input_duty(&m.forward), self.input_duty(&m.reverse))
-        };
-        let (old_f, old_r) = self.duty[i];
-        if (fwd, rev) == (old_f, old_r) {
+        let inputs = [Some(m.pin1), Some(m.pin2), m.pin3];
+        let now = inputs.map(|input| match input {
+            Some(input) if !disconnected => self.input_duty(&input),
+            _ => 0.0,
+        });
+        let old = self.seen[i];
+        if now == old {
             return None;
         }
-        for (input, old, new) in [(m.forward, old_f, fwd), (m.reverse, old_r, rev)] {
+        for ((input, old), new) in inputs.into_iter().zip(old).zip(now) {
+            let Some(input) = input else { continue };
             if old != new {
-                let wave = match input.pwm {
-                    PwmSource::Timer2(ch) => self.timer2.waveform(ch),
-                    PwmSource::Timer4(ch) => self.timer4.waveform(ch),
-                }
-                .filter(|(_, _, com)| *com != crate::pwm::Com::Disconnected);
+                let wave = input
+                    .pwm
+                    .and_then(|s| self.timer_of(s).waveform(s.channel))
+                    .filter(|(_, _, com)| *com != crate::pwm::Com::Disconnected);
                 log.drive(DriveEvent {
                     cycle,
                     pin: input.pin.arduino,
@@ -217,22 +275,24 @@ impl Bridge {
                 }
             }
         }
-        self.duty[i] = (fwd, rev);
-        Some(((old_f, old_r), (fwd, rev)))
+        self.seen[i] = now;
+        let pair = if disconnected {
+            // The motor's wires are cut: it coasts whatever the driver does.
+            (0.0, 0.0)
+        } else {
+            driver::plant_inputs(self.board.driver, now)
+        };
+        let old_pair = std::mem::replace(&mut self.duty[i], pair);
+        Some((old_pair, pair))
     }
 
     /// What the two motors do together.
     pub(super) fn motion(&self) -> Motion {
-        let sign = |(f, r): (f64, f64)| match (f > 0.0, r > 0.0) {
-            (false, false) => 0,
-            (true, false) => 1,
-            (false, true) => -1,
-            (true, true) => 2,
-        };
+        let sign = |pair| driver::motion_sign(self.board.driver, pair);
         Motion::classify(sign(self.duty[0]), sign(self.duty[1]))
     }
 
-    /// A write to a register of timer 2 or 4, at `cycle` (the caller
+    /// A write to a register of an emulated timer, at `cycle` (the caller
     /// brought the plant there first): whether the outputs changed (then
     /// the caller refreshes the bridge).
     pub(super) fn write_register(
@@ -241,41 +301,39 @@ impl Bridge {
         value: u8,
         cycle: u64,
     ) -> Result<bool, PwmError> {
-        let which = if self.timer2.owns_write(addr) { 0 } else { 1 };
-        let effect = self.timer_mut(which).write(addr, value, cycle);
+        let which = self
+            .timers
+            .iter()
+            .position(|t| t.owns_write(addr))
+            .expect("the bench claims only its timers' registers");
+        let effect = self.timers[which].write(addr, value, cycle);
         self.update_input_duties(cycle);
         let effect = effect?;
         if effect.pending_update {
-            self.pending_top[which] = self
-                .timer_mut(which)
-                .pending_update_at(cycle)
-                .unwrap_or(NEVER);
+            self.pending_top[which] = self.timers[which].pending_update_at(cycle).unwrap_or(NEVER);
         }
         if effect.outputs_changed && self.pending_top[which] == NEVER {
             // A timer that just started applies buffered values at its
             // first TOP.
-            self.pending_top[which] = self
-                .timer_mut(which)
-                .pending_update_at(cycle)
-                .unwrap_or(NEVER);
+            self.pending_top[which] = self.timers[which].pending_update_at(cycle).unwrap_or(NEVER);
         }
         Ok(effect.outputs_changed)
     }
 
-    /// A read of a register of timer 2 or 4: none is verified, so the run
-    /// ends with this error naming it.
+    /// A read of a register of an emulated timer: none is verified, so the
+    /// run ends with this error naming it.
     pub(super) fn refused_read(&self, addr: u16) -> PwmError {
-        let timer = if self.timer2.read_addresses().contains(&addr) {
-            &self.timer2
-        } else {
-            &self.timer4
-        };
+        let timer = self
+            .timers
+            .iter()
+            .find(|t| t.read_addresses().contains(&addr))
+            .unwrap_or(&self.timers[0]);
         timer.read(addr)
     }
 
-    /// Mean active duty per pin, finalised.
-    pub(super) fn pin_stats(&self) -> [PinStats; 4] {
-        let mut out = self.pins;
+    /// Mean active duty per driver input, finalised, in Arduino pin order.
+    pub(super) fn pin_stats(&self) -> Vec<PinStats> {
+        let mut out = self.pins.clone();
         for p in &mut out {
             p.mean_active_duty = if p.active_s > 0.0 {
                 p.duty_integral / p.active_s

@@ -20,15 +20,17 @@ use super::registers::{ACSR, ACSR_ACIC, ACSR_ACIE, CHECKED_TIMERS};
 use super::requests::Requests;
 use super::uart::HostUart;
 use super::{BenchOptions, NEVER};
+use crate::board::Board;
 use crate::fwvars::FwVars;
 use crate::inject::Injection;
 use crate::sim::{Core, Handler, Irq};
 use crate::time::Clock;
-use crate::wiring::Wiring;
 
 /// Tags of the IRQs the bench watches (see `BenchCore::irq`).
-pub(super) const TAG_PORT_REG: u32 = 1;
-pub(super) const TAG_PORT_DDR: u32 = 2;
+/// A driver input port's PORT and DDR register: + the port's index in
+/// `Bridge::ports`.
+pub(super) const TAG_PORT_REG: u32 = 0x100;
+pub(super) const TAG_PORT_DDR: u32 = 0x200;
 pub(super) const TAG_LED_PORT: u32 = 3;
 pub(super) const TAG_UART_OUT: u32 = 16; // + USART number
 
@@ -62,7 +64,7 @@ impl BenchCore {
     pub(super) fn new(
         robot: &RobotConfig,
         options: &BenchOptions,
-        wiring: &Wiring,
+        wiring: &Board,
         vars: FwVars,
     ) -> Result<Self, plant_model::Error> {
         let clock = options.clock;
@@ -76,10 +78,10 @@ impl BenchCore {
             inject: Injection::new(options.seed ^ 0x5eed_f417),
             bridge: Bridge::new(*wiring, clock),
             edges: Encoders::new(wiring),
-            uart: HostUart::new(wiring.bluetooth_uart, clock),
+            uart: HostUart::new(wiring.command_uart.usart, clock),
             power: Power::new(
                 options.supply,
-                options.battery_divider,
+                wiring.battery.divider,
                 clock.cycles_in(Seconds(options.supply.startup_s)),
             ),
             faults: FaultSchedule::default(),
@@ -337,7 +339,7 @@ impl BenchCore {
         }
     }
 
-    /// A write to a register of timer 2 or 4: the plant is brought to this
+    /// A write to a register of an emulated timer (see `crate::pwm`): the plant is brought to this
     /// cycle before the output can change.
     fn write_pwm_register(&mut self, core: &mut Core, addr: u16, value: u8) {
         let cycle = core.cycle();
@@ -505,7 +507,7 @@ impl BenchCore {
     }
 
     /// Mean active duty per pin, finalised.
-    pub fn pin_stats(&self) -> [PinStats; 4] {
+    pub fn pin_stats(&self) -> Vec<PinStats> {
         self.bridge.pin_stats()
     }
 
@@ -596,7 +598,10 @@ impl Handler for BenchCore {
             core.schedule(self.next_event());
             return;
         }
-        if let Some(&(timer, a, b)) = CHECKED_TIMERS.iter().find(|t| t.1 == addr || t.2 == addr) {
+        let checked = CHECKED_TIMERS
+            .iter()
+            .find(|t| (t.1 == addr || t.2 == addr) && !self.bridge.emulates(t.0));
+        if let Some(&(timer, a, b)) = checked {
             self.check_simavr_timer(core, timer, a, b);
             return;
         }
@@ -614,7 +619,7 @@ impl Handler for BenchCore {
     }
 
     fn io_read(&mut self, core: &mut Core, addr: u16) -> u8 {
-        // No read of timer 2 or 4 is verified: the run ends naming it.
+        // No read of an emulated timer is verified: the run ends naming it.
         let err = self.bridge.refused_read(addr);
         self.requests
             .fail(PendingError::Pwm(err, core.cycle(), core.pc()));
@@ -628,7 +633,7 @@ impl Handler for BenchCore {
         }
         let edge_due = self.edges.due(when);
         self.advance_plant(when);
-        for which in 0..2 {
+        for which in 0..self.bridge.timers().len() {
             if self.bridge.apply_top_if_due(which, when) {
                 self.refresh_bridge(core, when);
             }
@@ -652,13 +657,15 @@ impl Handler for BenchCore {
         self.callbacks += 1;
         match tag {
             TAG_LED_PORT => self.recorder.leds_changed(core.cycle(), value as u8),
-            TAG_PORT_REG => {
-                self.bridge.set_port(value as u8);
+            t if (TAG_PORT_REG..TAG_PORT_REG + 16).contains(&t) => {
+                self.bridge
+                    .set_port((t - TAG_PORT_REG) as usize, value as u8);
                 self.refresh_bridge(core, core.cycle());
                 core.schedule(self.next_event());
             }
-            TAG_PORT_DDR => {
-                self.bridge.set_ddr(value as u8);
+            t if (TAG_PORT_DDR..TAG_PORT_DDR + 16).contains(&t) => {
+                self.bridge
+                    .set_ddr((t - TAG_PORT_DDR) as usize, value as u8);
                 self.refresh_bridge(core, core.cycle());
                 core.schedule(self.next_event());
             }

@@ -18,10 +18,10 @@ use plant_model::{Robot, Seconds, Side};
 
 use super::recorder::Recorder;
 use super::NEVER;
+use crate::board::{Board, EncoderWiring};
 use crate::inject::{EncoderFault, Injection};
 use crate::sim::{Core, Irq};
 use crate::time::Clock;
-use crate::wiring::{EncoderWiring, Wiring};
 
 /// Transitions planned per wheel beyond the next when nothing tells how
 /// long the inputs will last (see `Encoders::plan_edge`).
@@ -108,7 +108,7 @@ pub(super) struct Encoders {
 }
 
 impl Encoders {
-    pub(super) fn new(wiring: &Wiring) -> Self {
+    pub(super) fn new(wiring: &Board) -> Self {
         Self {
             wiring: Side::BOTH.map(|side| *wiring.encoder(side)),
             irq: [[None; 2]; 2],
@@ -586,5 +586,30 @@ impl Encoders {
                 recorder.pin(cycle, 2 * i as u8 + 1, b);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::board::{mega2560, HENRYTWO};
+
+    /// B is raised lazily only where its pin cannot interrupt: Henrytwo's
+    /// D4 and D5; a board with B on INT0 and INT1 (D21, D20) gets B's edges
+    /// at their own cycles, and one with a single such B on that side only.
+    #[test]
+    fn lazy_b_follows_the_boards_pins() {
+        let inject = Injection::new(0);
+        let henrytwo = Encoders::new(&HENRYTWO);
+        assert_eq!(henrytwo.lazy_b_change(&inject), Some([true, true]));
+        let mut board = HENRYTWO;
+        board.left_encoder.b = mega2560::pin(21).unwrap();
+        board.right_encoder.b = mega2560::pin(20).unwrap();
+        let eager = Encoders::new(&board);
+        assert_eq!(eager.lazy_b_change(&inject), None, "both stay eager");
+        assert_eq!(eager.watch(0), Watch::Both);
+        board.left_encoder.b = HENRYTWO.left_encoder.b;
+        let one = Encoders::new(&board);
+        assert_eq!(one.lazy_b_change(&inject), Some([true, false]));
     }
 }

@@ -14,10 +14,11 @@
 //! | file | what |
 //! |---|---|
 //! | `mod.rs` | [`Bench`], its public API, [`BenchOptions`] |
-//! | `setup.rs` | building a bench: flash, register claims, the IRQs a [`Wiring`] connects |
+//! | `setup.rs` | building a bench: flash, register claims, the IRQs a [`Board`] connects |
 //! | `run.rs` | the run loops ([`Bench::run_until`]), [`Step`] and [`Observer`] |
 //! | `core.rs` | [`BenchCore`], the handler simavr calls back, dispatching to the parts below; what needs several parts (a bridge change reaching the plant, a fault action) |
-//! | `bridge.rs` | the H-bridge inputs from the PWM timers and port H, to the plant; [`PinStats`] |
+//! | `bridge.rs` | the motor driver's inputs from the PWM timers and ports, to the plant; [`PinStats`] |
+//! | `driver.rs` | each driver's truth table (DRV8833, L298N, TB6612, PWM/DIR) as the plant's bridge inputs |
 //! | `edges.rs` | where an encoder edge is born: planning, raising, lazy channel B |
 //! | `uart.rs` | the host's side of the USARTs |
 //! | `power.rs` | A0, VCC and the brown-out detector |
@@ -29,6 +30,7 @@
 
 mod bridge;
 mod core;
+mod driver;
 mod edges;
 mod error;
 mod faults;
@@ -55,13 +57,13 @@ pub use self::recorder::{
 pub use self::run::{Observer, Step, CHECK_PERIOD_S};
 pub use crate::elf::Location;
 
+use crate::board::Board;
 use crate::elf::Firmware;
 use crate::fwvars::FwVars;
 use crate::hang::{HangWatch, Progress};
 use crate::sim::Avr;
 use crate::supply::Supply;
 use crate::time::Clock;
-use crate::wiring::{Wiring, HENRYTWO};
 
 /// No event: a cycle never reached.
 const NEVER: u64 = u64::MAX;
@@ -75,10 +77,9 @@ pub struct BenchOptions {
     /// Interval of trace samples (a multiple of the plant step).
     pub trace_interval_s: f64,
     pub seed: u64,
-    /// The battery divider on A0: volts at A0 per battery volt. 0.55 puts
-    /// the thesis' LED thresholds (ADC 942 and 901 of 1023 at 5 V) at a
-    /// battery of 8.37 V and 8.01 V: a 2S LiPo full, half, low.
-    pub battery_divider: f64,
+    /// Which MCU pin each part is on, the links' USARTs, the battery's
+    /// divider (default: Henrytwo's, [`crate::board::HENRYTWO`]).
+    pub board: Board,
     /// The MCU's supply from the battery, and its brown-out detector.
     pub supply: Supply,
 }
@@ -93,7 +94,7 @@ impl Default for BenchOptions {
             plant_step_s: 10e-3,
             trace_interval_s: 10e-3,
             seed: 0,
-            battery_divider: 0.55,
+            board: Board::default(),
             supply: Supply::default(),
         }
     }
@@ -113,24 +114,15 @@ pub struct Bench {
 }
 
 impl Bench {
-    /// The firmware on `robot`, wired as Henrytwo is ([`HENRYTWO`]).
+    /// The firmware on `robot`, its parts on the MCU pins `options.board`
+    /// names.
     pub fn new(
         firmware: Firmware,
         robot: &RobotConfig,
         options: BenchOptions,
     ) -> Result<Self, BenchError> {
-        Self::with_wiring(firmware, robot, options, &HENRYTWO)
-    }
-
-    /// The firmware on `robot`, its parts on the MCU pins `wiring` names.
-    pub fn with_wiring(
-        firmware: Firmware,
-        robot: &RobotConfig,
-        options: BenchOptions,
-        wiring: &Wiring,
-    ) -> Result<Self, BenchError> {
         let vars = FwVars::resolve(&firmware)?;
-        let avr = setup::build(&firmware, robot, &options, wiring, vars)?;
+        let avr = setup::build(&firmware, robot, &options, vars)?;
         Ok(Self {
             avr,
             firmware,
@@ -340,8 +332,8 @@ impl Bench {
     pub fn reset_mcu(&mut self) {
         self.avr.reset();
         // The MCU's registers are back at their reset values, the bench's
-        // emulated timers and its view of port H too: all pins inputs, the
-        // bridge sees low (its inputs have pull-downs).
+        // emulated timers and its view of the driver's ports too: all pins
+        // inputs, the driver sees low (its inputs have pull-downs).
         self.avr.with_core(|core, c| core.after_reset(c));
         let next = self.avr.handler().next_event();
         self.avr.schedule(next);

@@ -5,9 +5,9 @@
 
 use plant_model::{Robot, Side};
 
+use crate::board::{LedWiring, Pin};
 use crate::fwvars::FwVars;
 use crate::sim::Core;
-use crate::wiring::{LedWiring, Pin};
 
 /// One trace sample of the plant.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

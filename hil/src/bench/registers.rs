@@ -1,7 +1,7 @@
 //! The ATmega2560 registers the bench itself reads or watches, by their
 //! data-space addresses (datasheet, register summary). The PWM timers'
 //! registers are the timer model's (`crate::pwm`), the PIN registers the
-//! wiring table's (`crate::wiring::Pin::pin_register`).
+//! board's (`crate::board::Pin::pin_register`).
 
 /// MCUSR and its brown-out reset flag.
 pub(super) const MCUSR: u16 = 0x54;

@@ -1,34 +1,35 @@
 //! Building a bench: the MCU with the firmware's flash, the registers the
 //! bench claims or watches, and the IRQs that connect the robot's parts to
-//! the MCU pins a [`Wiring`] names (the parts never name a pin themselves).
+//! the MCU pins a [`Board`] names (the parts never name a pin themselves).
 
 use plant_model::{RobotConfig, Side};
 
 use super::core::{BenchCore, TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_OUT};
 use super::registers::{ACSR, CHECKED_TIMERS};
 use super::{BenchError, BenchOptions};
+use crate::board::Board;
 use crate::elf::Firmware;
 use crate::fwvars::FwVars;
-use crate::pwm::PwmTimer;
 use crate::sim::{Avr, IoClaim, Irq, SimError};
-use crate::wiring::Wiring;
 
-/// The MCU running `firmware`, its pins wired to `robot`'s parts as `wiring`
-/// says, the bench's first event scheduled.
+/// The MCU running `firmware`, its pins wired to `robot`'s parts as
+/// `options.board` says, the bench's first event scheduled.
 pub(super) fn build(
     firmware: &Firmware,
     robot: &RobotConfig,
     options: &BenchOptions,
-    wiring: &Wiring,
     vars: FwVars,
 ) -> Result<Avr<BenchCore>, BenchError> {
+    let wiring: &Board = &options.board;
     let core = BenchCore::new(robot, options, wiring, vars)?;
     let mut avr = Avr::new("atmega2560", options.clock.hz(), core)?;
     for (addr, bytes) in &firmware.segments {
         avr.load_flash(*addr, bytes)?;
     }
-    // Timers 2 and 4: emulated by the bench (see pwm.rs).
-    for timer in [PwmTimer::timer2(), PwmTimer::timer4()] {
+    // The timers of the board's PWM pins: emulated by the bench (see
+    // pwm.rs), never clocked by simavr; the others' modes are checked.
+    let timers = avr.handler().bridge.timers().to_vec();
+    for timer in &timers {
         for addr in timer.write_addresses() {
             avr.claim_io_write(addr, IoClaim::Replace)?;
         }
@@ -36,20 +37,24 @@ pub(super) fn build(
             avr.claim_io_read(addr)?;
         }
     }
-    for (_, a, b) in CHECKED_TIMERS {
-        avr.claim_io_write(a, IoClaim::Observe)?;
-        avr.claim_io_write(b, IoClaim::Observe)?;
+    for (n, a, b) in CHECKED_TIMERS {
+        if timers.iter().all(|t| t.id().number() != n) {
+            avr.claim_io_write(a, IoClaim::Observe)?;
+            avr.claim_io_write(b, IoClaim::Observe)?;
+        }
     }
-    // All four bridge inputs are on one port (checked by a wiring test).
-    let port = wiring.left_motor.forward.pin.port;
-    let reg = avr.port_register(port)?;
-    let ddr = avr.port_direction(port)?;
-    avr.watch_irq(reg, TAG_PORT_REG);
-    avr.watch_irq(ddr, TAG_PORT_DDR);
+    // The driver inputs' ports, watched like the PWM registers.
+    let ports = avr.handler().bridge.ports();
+    for (k, port) in ports.into_iter().enumerate() {
+        let reg = avr.port_register(port)?;
+        let ddr = avr.port_direction(port)?;
+        avr.watch_irq(reg, TAG_PORT_REG + k as u32);
+        avr.watch_irq(ddr, TAG_PORT_DDR + k as u32);
+    }
     let leds = avr.port_register(wiring.battery_leds.green.port)?;
     avr.watch_irq(leds, TAG_LED_PORT);
-    let adc0 = avr.adc_input(0)?;
-    avr.handler_mut().power.connect(adc0);
+    let adc = avr.adc_input(wiring.battery.adc)?;
+    avr.handler_mut().power.connect(adc);
     // B lines may be raised lazily, before reads of their PIN registers;
     // the comparator's control register says when AIN1 is watched.
     for side in Side::BOTH {
@@ -64,7 +69,7 @@ pub(super) fn build(
         ])
     };
     let encoders = [encoder_pins(Side::Left)?, encoder_pins(Side::Right)?];
-    for n in [wiring.debug_uart, wiring.bluetooth_uart] {
+    for n in [wiring.debug_uart.usart, wiring.command_uart.usart] {
         let (input, output) = avr.uart(n)?;
         avr.watch_irq(output, TAG_UART_OUT + n as u32);
         avr.handler_mut().uart.connect(n, input);

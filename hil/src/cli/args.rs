@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use hil::bench::BenchOptions;
+use hil::board::Board;
 use hil::elf::Firmware;
 use hil::experiment::TestOptions;
 use plant_model::RobotConfig;
@@ -51,7 +52,7 @@ pub enum Build {
     Thesis,
 }
 
-/// What to run: the firmware, the robot and the plant's seed.
+/// What to run: the firmware, the robot, its board and the plant's seed.
 #[derive(clap::Args, Clone)]
 pub struct Target {
     /// Which firmware build to run.
@@ -64,6 +65,11 @@ pub struct Target {
     /// estimate of the thesis robot).
     #[arg(long, value_name = "FILE")]
     pub robot: Option<PathBuf>,
+    /// Board TOML: which MCU pin each part is on, the motor driver, the
+    /// links' USARTs (default: Henrytwo's, fixtures/boards/henrytwo.toml,
+    /// built in). Checked before anything runs.
+    #[arg(long, value_name = "FILE", value_parser = super::board::parse_board)]
+    pub board: Option<Board>,
     /// Seed of the plant's random effects.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -116,10 +122,11 @@ impl Target {
         Ok((robot, self.firmware()?))
     }
 
-    /// Bench options with this seed.
+    /// Bench options with this seed and board.
     pub fn bench(&self) -> BenchOptions {
         BenchOptions {
             seed: self.seed,
+            board: self.board.unwrap_or_default(),
             ..Default::default()
         }
     }

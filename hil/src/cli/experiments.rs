@@ -52,7 +52,9 @@ impl Umbmark {
             .build()
             .context("starting the worker threads")?;
         let clock = common.print.wall_clock();
-        let runs = pool.install(|| execute_with_progress(&firmware, &robot, &plan, &specs))?;
+        let runs = pool.install(|| {
+            execute_with_progress(&firmware, &robot, &plan, &specs, common.target.bench())
+        })?;
         let wall_s = clock.stop();
         let partial = Partial {
             kind: if shard.is_some() {
@@ -126,7 +128,13 @@ impl Triangle {
         let (robot, firmware, plan) = setup(&common, leg)?;
         let plan = plan.triangle();
         let clock = common.print.wall_clock();
-        let runs = execute_with_progress(&firmware, &robot, &plan, &plan.runs())?;
+        let runs = execute_with_progress(
+            &firmware,
+            &robot,
+            &plan,
+            &plan.runs(),
+            common.target.bench(),
+        )?;
         let wall_s = clock.stop();
         let full = Partial {
             kind: "triangle".into(),
@@ -328,25 +336,20 @@ fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
     Ok((robot, firmware, plan))
 }
 
-/// Run `specs` of `plan` with a progress bar of runs and robot time.
+/// Run `specs` of `plan` on `bench` (its board; each run's own seed) with
+/// a progress bar of runs and robot time.
 fn execute_with_progress(
     firmware: &Firmware,
     robot: &RobotConfig,
     plan: &Plan,
     specs: &[RunSpec],
+    bench: BenchOptions,
 ) -> Result<Vec<IndexedRun>> {
     let bar = progress_bar(specs.len(), plan.leg_mm);
-    let runs = execute(
-        firmware,
-        robot,
-        plan,
-        specs,
-        BenchOptions::default(),
-        &|n, robot_s| {
-            bar.set_position(n as u64);
-            bar.set_message(format!("{robot_s:.0} s of robot time"));
-        },
-    )?;
+    let runs = execute(firmware, robot, plan, specs, bench, &|n, robot_s| {
+        bar.set_position(n as u64);
+        bar.set_message(format!("{robot_s:.0} s of robot time"));
+    })?;
     bar.finish_and_clear();
     Ok(runs)
 }

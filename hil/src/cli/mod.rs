@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 
 mod args;
 mod bench;
+mod board;
 mod experiments;
 mod faults;
 mod gap;
@@ -69,6 +70,9 @@ enum Command {
     /// (emulated or on a serial port), run tests, watch telemetry, enter end
     /// points and send the correction.
     Ui(station::Ui),
+    /// Board descriptions (which MCU pin each part of the robot is on):
+    /// `hil board check FILE`.
+    Board(board::BoardCmd),
 }
 
 impl Command {
@@ -88,6 +92,7 @@ impl Command {
             Command::Line(c) => c.run(),
             Command::Serve(c) => c.run(),
             Command::Ui(c) => c.run(),
+            Command::Board(c) => c.run(),
         }
     }
 }

@@ -1,0 +1,369 @@
+//! From a board file to a [`Board`]: every pin resolved on the Arduino Mega
+//! and every rule checked before anything runs. Each problem is one line:
+//! the file, the field, what is wrong and what is allowed.
+
+use std::collections::BTreeMap;
+
+use thiserror::Error;
+
+use super::file::{BoardFile, DriverFile, EncoderFile, Sides};
+use super::mega2560::{self, UartLine};
+use super::{
+    BatteryWiring, Board, BridgeInput, DriverKind, EncoderWiring, LedWiring, MotorWiring, Pin,
+    PwmSource, UartWiring,
+};
+use crate::time::Clock;
+
+/// Why a board file is refused.
+#[derive(Debug, Error)]
+pub enum BoardError {
+    #[error("board {path}: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    /// Not TOML, or not the schema (an unknown or missing field, a wrong type).
+    #[error("{file}:{line}: {message}")]
+    Syntax {
+        file: String,
+        line: usize,
+        message: String,
+    },
+    /// The schema's fields, with values no board may have: one line each.
+    #[error("{}", .0.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n"))]
+    Invalid(Vec<Problem>),
+}
+
+/// One thing wrong with a board: where, and what.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    pub file: String,
+    /// The field, as a TOML path (`motor_driver.left.forward`).
+    pub field: String,
+    pub kind: ProblemKind,
+}
+
+impl std::fmt::Display for Problem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}: {}", self.file, self.field, self.kind)
+    }
+}
+
+/// The PWM pins the bench and the robust firmware drive: those of timers 2-5.
+const PWM_PINS: &str =
+    "D9 D10 (timer 2), D2 D3 D5 (timer 3), D6 D7 D8 (timer 4), D44 D45 D46 (timer 5)";
+
+/// What is wrong with one field.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ProblemKind {
+    #[error("no Arduino Mega pin {given:?}; give \"D0\"-\"D69\" or \"A0\"-\"A15\"")]
+    UnknownPin { given: String },
+    #[error("D{pin} is already used by {first}; each pin carries one signal")]
+    PinReused { pin: u8, first: String },
+    #[error("D{pin} is on no timer's output-compare channel, so no PWM reaches it; PWM pins: {PWM_PINS}")]
+    NotPwm { pin: u8 },
+    #[error("D{pin} is {oc} on timer {}, {}; PWM pins: {PWM_PINS}", oc.timer, why_reserved(oc.timer))]
+    ReservedTimer { pin: u8, oc: PwmSource },
+    #[error("D{pin} cannot interrupt (no INTn or PCINTn), so the firmware would miss channel A's edges; give D2 D3 D18 D19 D20 D21 (INT), D10-D13 D50-D53 A8-A15 D14 D15 (PCINT)")]
+    CannotInterrupt { pin: u8 },
+    #[error("no USART {usart}; the ATmega2560 has USART 0-3")]
+    UartOutOfRange { usart: i64 },
+    #[error("USART {usart} already carries {first}; each link needs a USART of its own (0-3)")]
+    UartReused { usart: u8, first: String },
+    #[error("no ADC channel {adc}; give 0-15 (pins A0-A15)")]
+    AdcOutOfRange { adc: i64 },
+    #[error("{baud} baud is not within {BAUD_TOLERANCE_PERCENT} % of a rate the USART makes from 16 MHz (UBRR 0-4095, normal or double speed); e.g. 9600, 19200, 38400, 57600, 115200")]
+    BadBaud { baud: i64 },
+    #[error("divider {divider} is not a ratio of volts at the pin per battery volt; give one above 0 and at most 1")]
+    BadDivider { divider: f64 },
+}
+
+fn why_reserved(timer: u8) -> &'static str {
+    match timer {
+        1 => "the robust firmware's clock (its control period)",
+        _ => "reserved: the Arduino core's millis() (the thesis firmware's clock), left to simavr",
+    }
+}
+
+/// The receiver's tolerance the bench accepts: the datasheet recommends at
+/// most 2 % for 8-bit frames (table 22-2); the Arduino core's 115200 baud at
+/// 16 MHz is 2.1 % off and works, so 2.5 %.
+const BAUD_TOLERANCE_PERCENT: f64 = 2.5;
+
+/// Whether the USART can make `baud` from the 16 MHz clock within the
+/// tolerance (datasheet 22.3.1: BAUD = f / (16 (UBRR + 1)), or 8 with U2X).
+fn baud_ok(baud: i64) -> bool {
+    if baud <= 0 {
+        return false;
+    }
+    let f = f64::from(Clock::MEGA_16MHZ.hz());
+    let b = baud as f64;
+    [16.0, 8.0].iter().any(|&div| {
+        let ubrr = (f / (div * b)).round() - 1.0;
+        (0.0..=4095.0).contains(&ubrr) && {
+            let actual = f / (div * (ubrr + 1.0));
+            ((actual / b - 1.0) * 100.0).abs() <= BAUD_TOLERANCE_PERCENT
+        }
+    })
+}
+
+/// `text` as a board, checked; errors name `file`.
+pub(super) fn parse(text: &str, file: &str) -> Result<Board, BoardError> {
+    let raw: BoardFile = toml::from_str(text).map_err(|e| BoardError::Syntax {
+        file: file.to_string(),
+        line: e
+            .span()
+            .map_or(0, |s| text[..s.start].matches('\n').count() + 1),
+        message: e.message().replace('\n', " "),
+    })?;
+    let mut c = Checker {
+        file,
+        problems: Vec::new(),
+        used: BTreeMap::new(),
+        uarts: Vec::new(),
+    };
+    let board = c.board(&raw);
+    match board {
+        Some(b) if c.problems.is_empty() => Ok(b),
+        _ => Err(BoardError::Invalid(c.problems)),
+    }
+}
+
+/// The problems found so far and the pins taken, by Arduino number.
+struct Checker<'a> {
+    file: &'a str,
+    problems: Vec<Problem>,
+    used: BTreeMap<u8, String>,
+    /// The USARTs taken, and by which link.
+    uarts: Vec<(u8, String)>,
+}
+
+/// A pin's Arduino name, `"D<n>"` or `"A<n>"`, as its number.
+fn arduino_number(name: &str) -> Option<u8> {
+    let digits = |s: &str| -> Option<u8> {
+        (!s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) && s.len() <= 2)
+            .then(|| s.parse().ok())
+            .flatten()
+    };
+    if let Some(n) = name.strip_prefix('D').and_then(digits) {
+        (n <= mega2560::LAST_PIN).then_some(n)
+    } else if let Some(n) = name.strip_prefix('A').and_then(digits) {
+        (n < 16).then_some(mega2560::A0 + n)
+    } else {
+        None
+    }
+}
+
+impl Checker<'_> {
+    fn problem(&mut self, field: &str, kind: ProblemKind) {
+        self.problems.push(Problem {
+            file: self.file.to_string(),
+            field: field.to_string(),
+            kind,
+        });
+    }
+
+    /// Take `pin` for `what` (said in the message of a later clash).
+    fn take(&mut self, field: &str, pin: Pin, what: String) {
+        if let Some(first) = self.used.get(&pin.arduino) {
+            let first = first.clone();
+            self.problem(
+                field,
+                ProblemKind::PinReused {
+                    pin: pin.arduino,
+                    first,
+                },
+            );
+        } else {
+            self.used.insert(pin.arduino, what);
+        }
+    }
+
+    /// The pin named at `field`, taken.
+    fn pin(&mut self, field: &str, name: &str) -> Option<Pin> {
+        let Some(pin) = arduino_number(name).and_then(mega2560::pin) else {
+            self.problem(
+                field,
+                ProblemKind::UnknownPin {
+                    given: name.to_string(),
+                },
+            );
+            return None;
+        };
+        self.take(field, pin, field.to_string());
+        Some(pin)
+    }
+
+    /// A driver input driven with PWM, by a timer of 2-5.
+    fn pwm(&mut self, field: &str, name: &str) -> Option<BridgeInput> {
+        let pin = self.pin(field, name)?;
+        let sources = pin.pwm_sources();
+        let Some(&source) = sources.iter().find(|s| (2..=5).contains(&s.timer)) else {
+            let kind = match sources.first() {
+                Some(&oc) => ProblemKind::ReservedTimer {
+                    pin: pin.arduino,
+                    oc,
+                },
+                None => ProblemKind::NotPwm { pin: pin.arduino },
+            };
+            self.problem(field, kind);
+            return None;
+        };
+        Some(BridgeInput {
+            pin,
+            pwm: Some(source),
+        })
+    }
+
+    /// A direction input: any pin, as GPIO.
+    fn gpio(&mut self, field: &str, name: &str) -> Option<BridgeInput> {
+        let pin = self.pin(field, name)?;
+        Some(BridgeInput { pin, pwm: None })
+    }
+
+    fn motors(&mut self, d: &DriverFile) -> Option<(DriverKind, [MotorWiring; 2])> {
+        let f = |side: &str, name: &str| format!("motor_driver.{side}.{name}");
+        let motor = |c: &mut Self, side: &str| -> Option<MotorWiring> {
+            let (p1, p2, p3) = match d {
+                DriverFile::Drv8833 { left, right } => {
+                    let m = if side == "left" { left } else { right };
+                    let p1 = c.pwm(&f(side, "forward"), &m.forward);
+                    (p1, c.pwm(&f(side, "reverse"), &m.reverse), Some(None))
+                }
+                DriverFile::L298n { left, right } => {
+                    let m = if side == "left" { left } else { right };
+                    let p1 = c.pwm(&f(side, "enable"), &m.enable);
+                    let p2 = c.gpio(&f(side, "in1"), &m.in1);
+                    (p1, p2, c.gpio(&f(side, "in2"), &m.in2).map(Some))
+                }
+                DriverFile::Tb6612 { left, right } => {
+                    let m = if side == "left" { left } else { right };
+                    let p1 = c.pwm(&f(side, "pwm"), &m.pwm);
+                    let p2 = c.gpio(&f(side, "in1"), &m.in1);
+                    (p1, p2, c.gpio(&f(side, "in2"), &m.in2).map(Some))
+                }
+                DriverFile::PwmDir { left, right } => {
+                    let m = if side == "left" { left } else { right };
+                    let p1 = c.pwm(&f(side, "pwm"), &m.pwm);
+                    (p1, c.gpio(&f(side, "dir"), &m.dir), Some(None))
+                }
+            };
+            Some(MotorWiring {
+                pin1: p1?,
+                pin2: p2?,
+                pin3: p3?,
+            })
+        };
+        let left = motor(self, "left");
+        let right = motor(self, "right");
+        let kind = match d {
+            DriverFile::Drv8833 { .. } => DriverKind::Drv8833,
+            DriverFile::L298n { .. } => DriverKind::L298n,
+            DriverFile::Tb6612 { .. } => DriverKind::Tb6612,
+            DriverFile::PwmDir { .. } => DriverKind::PwmDir,
+        };
+        Some((kind, [left?, right?]))
+    }
+
+    fn encoders(&mut self, e: &Sides<EncoderFile>) -> Option<[EncoderWiring; 2]> {
+        let one = |c: &mut Self, side: &str, e: &EncoderFile| {
+            let a_field = format!("encoders.{side}.a");
+            let a = c.pin(&a_field, &e.a);
+            if let Some(a) = a.filter(|a| !a.can_interrupt()) {
+                c.problem(&a_field, ProblemKind::CannotInterrupt { pin: a.arduino });
+            }
+            let b = c.pin(&format!("encoders.{side}.b"), &e.b);
+            Some(EncoderWiring { a: a?, b: b? })
+        };
+        let left = one(self, "left", &e.left);
+        let right = one(self, "right", &e.right);
+        Some([left?, right?])
+    }
+
+    /// A USART: its number in range, its two pins taken.
+    fn uart(&mut self, name: &str, u: &super::file::UartFile) -> Option<UartWiring> {
+        let usart_field = format!("{name}.usart");
+        let pins = u8::try_from(u.usart).ok().and_then(mega2560::uart_pins);
+        let first = self
+            .uarts
+            .iter()
+            .find(|(n, _)| i64::from(*n) == u.usart)
+            .map(|(_, name)| name.clone());
+        match (pins, first) {
+            (None, _) => self.problem(&usart_field, ProblemKind::UartOutOfRange { usart: u.usart }),
+            (Some(_), Some(first)) => self.problem(
+                &usart_field,
+                ProblemKind::UartReused {
+                    usart: u.usart as u8,
+                    first,
+                },
+            ),
+            (Some(pins), None) => {
+                self.uarts.push((u.usart as u8, name.to_string()));
+                for p in pins {
+                    let line = match p.uart_line() {
+                        Some(UartLine::Rxd(n)) => format!("RXD{n}"),
+                        Some(UartLine::Txd(n)) => format!("TXD{n}"),
+                        None => unreachable!("a USART's pin is on its line"),
+                    };
+                    self.take(&usart_field, p, format!("{name}'s {line}"));
+                }
+            }
+        }
+        let baud_ok = baud_ok(u.baud);
+        if !baud_ok {
+            self.problem(
+                &format!("{name}.baud"),
+                ProblemKind::BadBaud { baud: u.baud },
+            );
+        }
+        Some(UartWiring {
+            usart: u8::try_from(u.usart).ok().filter(|_| pins.is_some())?,
+            baud: u32::try_from(u.baud).ok().filter(|_| baud_ok)?,
+        })
+    }
+
+    fn board(&mut self, raw: &BoardFile) -> Option<Board> {
+        let motors = self.motors(&raw.motor_driver);
+        let encoders = self.encoders(&raw.encoders);
+        let leds = (
+            self.pin("leds.green", &raw.leds.green),
+            self.pin("leds.blue", &raw.leds.blue),
+            self.pin("leds.red", &raw.leds.red),
+        );
+        let command = self.uart("command_uart", &raw.command_uart);
+        let debug = self.uart("debug_uart", &raw.debug_uart);
+        let b = &raw.battery;
+        let adc_pin = u8::try_from(b.adc).ok().and_then(mega2560::adc_pin);
+        match adc_pin {
+            Some(p) => self.take("battery.adc", p, format!("battery.adc (ADC{})", b.adc)),
+            None => self.problem("battery.adc", ProblemKind::AdcOutOfRange { adc: b.adc }),
+        }
+        if !(b.divider > 0.0 && b.divider <= 1.0) {
+            self.problem(
+                "battery.divider",
+                ProblemKind::BadDivider { divider: b.divider },
+            );
+        }
+        let (driver, [left_motor, right_motor]) = motors?;
+        let [left_encoder, right_encoder] = encoders?;
+        Some(Board {
+            driver,
+            left_motor,
+            right_motor,
+            left_encoder,
+            right_encoder,
+            command_uart: command?,
+            debug_uart: debug?,
+            battery: BatteryWiring {
+                adc: adc_pin.map(|_| b.adc as u8)?,
+                divider: b.divider,
+            },
+            battery_leds: LedWiring {
+                green: leds.0?,
+                blue: leds.1?,
+                red: leds.2?,
+            },
+        })
+    }
+}

@@ -1,0 +1,102 @@
+//! A board TOML as written: pins by their Arduino names, numbers as given.
+//! `check.rs` turns it into a [`super::Board`]; nothing here is checked
+//! beyond its shape (an unknown field is refused).
+//!
+//! A pin is a string: `"D<n>"` for Arduino Mega pin n (D0-D69), or
+//! `"A<n>"` for analog pin n (A0-A15, the same pins as D54-D69), exactly as
+//! the Arduino core and the Mega's silk screen name them.
+
+use serde::Deserialize;
+
+/// The whole file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BoardFile {
+    pub motor_driver: DriverFile,
+    pub encoders: Sides<EncoderFile>,
+    pub command_uart: UartFile,
+    pub debug_uart: UartFile,
+    pub battery: BatteryFile,
+    pub leds: LedsFile,
+}
+
+/// Something per motor or encoder.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Sides<T> {
+    pub left: T,
+    pub right: T,
+}
+
+/// `[motor_driver]`: the kind, and each motor's pins under its own names.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub(super) enum DriverFile {
+    Drv8833 { left: TwoPwmFile, right: TwoPwmFile },
+    L298n { left: EnableFile, right: EnableFile },
+    Tb6612 { left: PwmInFile, right: PwmInFile },
+    PwmDir { left: PwmDirFile, right: PwmDirFile },
+}
+
+/// DRV8833: IN1 driven with PWM drives forward, IN2 reverse.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct TwoPwmFile {
+    pub forward: String,
+    pub reverse: String,
+}
+
+/// L298N: ENA/ENB with PWM, IN1 and IN2 as direction.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct EnableFile {
+    pub enable: String,
+    pub in1: String,
+    pub in2: String,
+}
+
+/// TB6612FNG: PWMA/PWMB with PWM, AIN1/AIN2 (BIN1/BIN2) as direction.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PwmInFile {
+    pub pwm: String,
+    pub in1: String,
+    pub in2: String,
+}
+
+/// A PWM/DIR driver: one PWM input and one direction input.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PwmDirFile {
+    pub pwm: String,
+    pub dir: String,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct EncoderFile {
+    pub a: String,
+    pub b: String,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct UartFile {
+    pub usart: i64,
+    pub baud: i64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BatteryFile {
+    pub adc: i64,
+    pub divider: f64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct LedsFile {
+    pub green: String,
+    pub blue: String,
+    pub red: String,
+}

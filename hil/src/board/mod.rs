@@ -1,0 +1,389 @@
+//! The board: which MCU pin each signal of the robot is on, as data.
+//!
+//! Parts (the plant's encoders and motor-driver inputs) know only their own
+//! signals; a [`Board`] is the one place that names MCU pins, as the robot's
+//! board does. Henrytwo's is built in ([`HENRYTWO`]) and written out in
+//! `fixtures/boards/henrytwo.toml`; another robot's comes from a board TOML
+//! ([`Board::load`]), checked before anything runs.
+//!
+//! | file | what |
+//! |---|---|
+//! | `mod.rs` | [`Board`] and its parts, [`HENRYTWO`], the firmware's driver parameters |
+//! | `file.rs` | the TOML schema, as written |
+//! | `check.rs` | from the file to a [`Board`]: every pin resolved and checked, [`BoardError`] |
+//! | `mega2560.rs` | the Arduino Mega's pins: port, bit, timer channel, interrupts, USART, ADC |
+//! | `henrytwo.rs` | `board_rs_names_the_same_pins`: the firmware's `board.rs` agrees with [`HENRYTWO`] |
+
+mod check;
+mod file;
+#[cfg(test)]
+mod henrytwo;
+pub mod mega2560;
+
+use std::path::Path;
+
+use henrytwo_protocol::{DriverKind as WireKind, Param, NO_PIN};
+use plant_model::Side;
+
+pub use self::check::{BoardError, Problem, ProblemKind};
+pub use self::mega2560::PwmSource;
+
+/// An MCU pin: IO port letter and bit, with its Arduino Mega number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Pin {
+    pub port: char,
+    pub bit: u8,
+    pub arduino: u8,
+}
+
+impl Pin {
+    /// Data-space address of the pin's PIN register (ATmega2560 datasheet,
+    /// register summary): ports A-G in the low IO space, H-L in extended IO.
+    pub fn pin_register(&self) -> u16 {
+        match self.port {
+            'A' => 0x20,
+            'B' => 0x23,
+            'C' => 0x26,
+            'D' => 0x29,
+            'E' => 0x2C,
+            'F' => 0x2F,
+            'G' => 0x32,
+            'H' => 0x100,
+            'J' => 0x103,
+            'K' => 0x106,
+            'L' => 0x109,
+            p => panic!("the ATmega2560 has no port {p}"),
+        }
+    }
+
+    /// Whether a level change on this pin can start something in the
+    /// ATmega2560 by itself, however the firmware configures it: an external
+    /// interrupt (INT0-7), a pin-change interrupt (PCINT0-23), an input
+    /// capture (ICP1/3/4/5), a counter or asynchronous clock input
+    /// (T0/1/3/4/5, TOSC1/2), a USART clock input (XCK0-3), SPI or TWI. The
+    /// analog comparator's inputs are separate ([`Pin::is_comparator_input`]).
+    pub fn can_interrupt(&self) -> bool {
+        match (self.port, self.bit) {
+            ('B', _) | ('K', _) => true, // PCINT0-7, PCINT16-23 (and SPI on B0-3)
+            ('D', 0..=7) => true,        // INT0-3, XCK1, ICP1, T1, T0
+            ('E', 0) | ('E', 2) | ('E', 4..=7) => true, // PCINT8, XCK0, INT4-7, T3, ICP3
+            ('G', 3) | ('G', 4) => true, // TOSC2, TOSC1
+            ('H', 2) | ('H', 7) => true, // XCK2, T4
+            ('J', 0..=6) => true,        // PCINT9-15, XCK3
+            ('L', 0..=2) => true,        // ICP4, ICP5, T5
+            _ => false,
+        }
+    }
+
+    /// AIN0 (PE2) or AIN1 (PE3): the analog comparator can interrupt or
+    /// capture on it when ACSR enables that.
+    pub fn is_comparator_input(&self) -> bool {
+        matches!((self.port, self.bit), ('E', 2) | ('E', 3))
+    }
+}
+
+/// One motor-driver input: its pin, and the timer channel that drives it
+/// with PWM (None: a direction input, plain GPIO).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct BridgeInput {
+    pub pin: Pin,
+    pub pwm: Option<PwmSource>,
+}
+
+/// The motor driver, and what its inputs mean (each motor's pins 1-3 in
+/// [`MotorWiring`], numbered as the robust firmware's parameters number
+/// them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DriverKind {
+    /// Two PWM inputs per motor: pin 1 IN1 (forward), pin 2 IN2 (reverse).
+    /// Both low coast, both high brake (DRV8833 datasheet, table 2).
+    Drv8833,
+    /// Pin 1 the enable (PWM), pin 2 IN1, pin 3 IN2: enable low coasts
+    /// ("free running motor stop"), IN1 = IN2 with enable high brakes
+    /// ("fast motor stop") (L298 datasheet, figure 6).
+    L298n,
+    /// Pin 1 PWM, pin 2 IN1, pin 3 IN2: PWM low short-brakes, IN1 and IN2
+    /// both high short-brake, both low stop (high impedance) (TB6612FNG
+    /// datasheet, H-SW control function; STBY held high).
+    Tb6612,
+    /// Pin 1 PWM, pin 2 direction (high forward): PWM low brakes, both
+    /// outputs low (the phase/enable drivers: DRV8835 in PH/EN mode,
+    /// DRV8838).
+    PwmDir,
+}
+
+impl DriverKind {
+    /// The firmware's name for this kind of wiring.
+    pub fn wire_kind(self) -> WireKind {
+        match self {
+            DriverKind::Drv8833 => WireKind::TwoPwm,
+            DriverKind::L298n | DriverKind::Tb6612 => WireKind::EnableTwoDir,
+            DriverKind::PwmDir => WireKind::PwmDir,
+        }
+    }
+}
+
+/// One motor's driver inputs, pins 1-3 as [`DriverKind`] names them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct MotorWiring {
+    pub pin1: BridgeInput,
+    pub pin2: BridgeInput,
+    pub pin3: Option<BridgeInput>,
+}
+
+impl MotorWiring {
+    /// The inputs in pin order (1, 2, then 3 if any).
+    pub fn inputs(&self) -> impl Iterator<Item = BridgeInput> {
+        [Some(self.pin1), Some(self.pin2), self.pin3]
+            .into_iter()
+            .flatten()
+    }
+}
+
+/// One encoder's two channels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct EncoderWiring {
+    pub a: Pin,
+    pub b: Pin,
+}
+
+/// The battery-level LEDs (thesis `Nivel_Bateria`), each lit by a high pin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct LedWiring {
+    pub green: Pin,
+    pub blue: Pin,
+    pub red: Pin,
+}
+
+/// One USART link: its number (0-3) and baud rate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct UartWiring {
+    pub usart: u8,
+    pub baud: u32,
+}
+
+/// The battery's voltage divider into an ADC input.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BatteryWiring {
+    /// ADC channel (0-15, pins A0-A15).
+    pub adc: u8,
+    /// Volts at the ADC pin per battery volt.
+    pub divider: f64,
+}
+
+/// The whole robot's wiring.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Board {
+    pub driver: DriverKind,
+    pub left_motor: MotorWiring,
+    pub right_motor: MotorWiring,
+    pub left_encoder: EncoderWiring,
+    pub right_encoder: EncoderWiring,
+    /// USART carrying the command link (Henrytwo: the HC-05 Bluetooth).
+    pub command_uart: UartWiring,
+    /// USART carrying the debug/telemetry link (USB serial).
+    pub debug_uart: UartWiring,
+    pub battery: BatteryWiring,
+    pub battery_leds: LedWiring,
+}
+
+const fn pin(port: char, bit: u8, arduino: u8) -> Pin {
+    Pin { port, bit, arduino }
+}
+
+const fn pwm(pin: Pin, timer: u8, channel: char) -> BridgeInput {
+    BridgeInput {
+        pin,
+        pwm: Some(PwmSource { timer, channel }),
+    }
+}
+
+/// Henrytwo as the thesis wires it (Annex A): encoders on D2-D5, the DRV8833
+/// on D6-D9. `Adelante` drives D7 with the right wheel's PID and D9 with the
+/// left's; `Inercia_Stop_Ad` brakes with D6 and D8: so D7/D6 are the right
+/// motor's forward/reverse inputs and D9/D8 the left's.
+pub const HENRYTWO: Board = Board {
+    driver: DriverKind::Drv8833,
+    right_motor: MotorWiring {
+        pin1: pwm(pin('H', 4, 7), 4, 'B'),
+        pin2: pwm(pin('H', 3, 6), 4, 'A'),
+        pin3: None,
+    },
+    left_motor: MotorWiring {
+        pin1: pwm(pin('H', 6, 9), 2, 'B'),
+        pin2: pwm(pin('H', 5, 8), 4, 'C'),
+        pin3: None,
+    },
+    left_encoder: EncoderWiring {
+        a: pin('E', 4, 2),
+        b: pin('G', 5, 4),
+    },
+    right_encoder: EncoderWiring {
+        a: pin('E', 5, 3),
+        b: pin('E', 3, 5),
+    },
+    command_uart: UartWiring {
+        usart: 1,
+        baud: 9600,
+    },
+    debug_uart: UartWiring {
+        usart: 0,
+        baud: 9600,
+    },
+    // 0.55 puts the thesis' LED thresholds (ADC 942 and 901 of 1023 at
+    // 5 V) at a battery of 8.37 V and 8.01 V: a 2S LiPo full, half, low.
+    battery: BatteryWiring {
+        adc: 0,
+        divider: 0.55,
+    },
+    // D10 green, D11 blue, D12 red (firmware/src/battery.rs).
+    battery_leds: LedWiring {
+        green: pin('B', 4, 10),
+        blue: pin('B', 5, 11),
+        red: pin('B', 6, 12),
+    },
+};
+
+impl Default for Board {
+    fn default() -> Self {
+        HENRYTWO
+    }
+}
+
+impl Board {
+    /// The board described by the TOML file at `path`, checked.
+    pub fn load(path: impl AsRef<Path>) -> Result<Board, BoardError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| BoardError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Board::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// The board described by `text`, checked; errors name `file`.
+    pub fn from_toml_str(text: &str, file: &str) -> Result<Board, BoardError> {
+        check::parse(text, file)
+    }
+
+    pub fn motor(&self, side: Side) -> &MotorWiring {
+        match side {
+            Side::Left => &self.left_motor,
+            Side::Right => &self.right_motor,
+        }
+    }
+
+    pub fn encoder(&self, side: Side) -> &EncoderWiring {
+        match side {
+            Side::Left => &self.left_encoder,
+            Side::Right => &self.right_encoder,
+        }
+    }
+
+    /// Every motor-driver input, in Arduino pin order.
+    pub fn bridge_inputs(&self) -> Vec<BridgeInput> {
+        let mut v: Vec<BridgeInput> = Side::BOTH
+            .iter()
+            .flat_map(|&s| self.motor(s).inputs())
+            .collect();
+        v.sort_by_key(|b| b.pin.arduino);
+        v
+    }
+
+    /// The timers driving the board's PWM inputs, in timer order.
+    pub fn pwm_timers(&self) -> Vec<u8> {
+        let mut v: Vec<u8> = self
+            .bridge_inputs()
+            .iter()
+            .filter_map(|b| b.pwm.map(|s| s.timer))
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    /// The robust firmware's parameters that tell it this board's motor
+    /// driver: its kind and each motor's pins 1-3 (Arduino numbers,
+    /// [`NO_PIN`] where a kind has no third pin), as `protocol/README.md`
+    /// (Parameters) defines them.
+    pub fn firmware_params(&self) -> Vec<(Param, f32)> {
+        let num = |b: Option<BridgeInput>| f32::from(b.map_or(NO_PIN, |b| b.pin.arduino));
+        let (l, r) = (&self.left_motor, &self.right_motor);
+        vec![
+            (Param::DriverKind, f32::from(self.driver.wire_kind() as u8)),
+            (Param::LeftPin1, num(Some(l.pin1))),
+            (Param::LeftPin2, num(Some(l.pin2))),
+            (Param::LeftPin3, num(l.pin3)),
+            (Param::RightPin1, num(Some(r.pin1))),
+            (Param::RightPin2, num(Some(r.pin2))),
+            (Param::RightPin3, num(r.pin3)),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn battery_leds_share_one_port() {
+        let l = HENRYTWO.battery_leds;
+        assert!([l.blue.port, l.red.port].iter().all(|p| *p == l.green.port));
+    }
+
+    #[test]
+    fn bridge_inputs_are_all_on_port_h_and_distinct() {
+        let inputs = HENRYTWO.bridge_inputs();
+        let arduino: Vec<u8> = inputs.iter().map(|b| b.pin.arduino).collect();
+        assert_eq!(arduino, vec![6, 7, 8, 9]);
+        assert!(inputs.iter().all(|b| b.pin.port == 'H'));
+        assert_eq!(HENRYTWO.pwm_timers(), vec![2, 4]);
+    }
+
+    /// The thesis wires A to INT4/INT5 (D2, D3) and B to D4 (PG5) and D5
+    /// (PE3, AIN1): the bench may raise B lazily only because of that.
+    #[test]
+    fn encoder_a_interrupts_and_b_cannot() {
+        for side in [Side::Left, Side::Right] {
+            let e = HENRYTWO.encoder(side);
+            assert!(e.a.can_interrupt(), "{side:?} A");
+            assert!(!e.b.can_interrupt(), "{side:?} B");
+        }
+        assert!(HENRYTWO.encoder(Side::Right).b.is_comparator_input());
+        assert_eq!(HENRYTWO.encoder(Side::Left).b.pin_register(), 0x32); // PING
+        assert_eq!(HENRYTWO.encoder(Side::Right).b.pin_register(), 0x2C); // PINE
+    }
+
+    /// Henrytwo's board is what the robust firmware assumes when nobody
+    /// tells it otherwise.
+    #[test]
+    fn henrytwo_maps_to_the_firmwares_factory_defaults() {
+        for (param, value) in HENRYTWO.firmware_params() {
+            assert_eq!(value, param.factory_default(), "{param:?}");
+        }
+        assert_eq!(HENRYTWO.firmware_params().len(), 7);
+    }
+
+    /// Each kind's pins reach the firmware in the order its parameters
+    /// name them.
+    #[test]
+    fn an_enable_and_two_directions_map_to_kind_1() {
+        let dir = |arduino| BridgeInput {
+            pin: mega2560::pin(arduino).unwrap(),
+            pwm: None,
+        };
+        let mut b = HENRYTWO;
+        b.driver = DriverKind::L298n;
+        b.left_motor.pin2 = dir(22);
+        b.left_motor.pin3 = Some(dir(23));
+        let params = b.firmware_params();
+        assert_eq!(params[0], (Param::DriverKind, 1.0));
+        assert_eq!(params[1], (Param::LeftPin1, 9.0));
+        assert_eq!(params[2], (Param::LeftPin2, 22.0));
+        assert_eq!(params[3], (Param::LeftPin3, 23.0));
+        assert_eq!(params[6], (Param::RightPin3, 255.0));
+        b.driver = DriverKind::PwmDir;
+        assert_eq!(b.firmware_params()[0], (Param::DriverKind, 2.0));
+    }
+}

@@ -1,0 +1,63 @@
+//! `hil board check FILE`: a board TOML decoded, or why it is refused.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Result};
+use hil::board::{Board, BoardError};
+
+/// Board descriptions.
+#[derive(clap::Args)]
+pub struct BoardCmd {
+    #[command(subcommand)]
+    command: BoardCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum BoardCommand {
+    /// Load and check a board TOML; print the decoded board (pins with
+    /// their ports and timer channels) and the robust firmware's driver
+    /// parameters for it, or each problem on a line of its own.
+    Check {
+        /// The board TOML (e.g. fixtures/boards/henrytwo.toml).
+        #[arg(value_name = "FILE")]
+        file: PathBuf,
+    },
+}
+
+impl BoardCmd {
+    pub fn run(self) -> Result<()> {
+        let BoardCommand::Check { file } = self.command;
+        match Board::load(&file) {
+            Ok(board) => {
+                let params: serde_json::Map<String, serde_json::Value> = board
+                    .firmware_params()
+                    .into_iter()
+                    .map(|(p, v)| (p.name().to_string(), v.into()))
+                    .collect();
+                let out = serde_json::json!({ "board": board, "firmware_params": params });
+                println!("{}", serde_json::to_string_pretty(&out)?);
+                Ok(())
+            }
+            Err(BoardError::Invalid(problems)) => {
+                for p in &problems {
+                    eprintln!("{p}");
+                }
+                bail!("{}: {} problem(s)", file.display(), problems.len())
+            }
+            Err(e) => Err(e.into()),
+        }
+    }
+}
+
+/// `--board FILE`: the board, loaded and checked as the argument is parsed;
+/// its problems on one line (the CLI's errors are one line each).
+pub fn parse_board(path: &str) -> Result<Board, String> {
+    Board::load(path).map_err(|e| match e {
+        BoardError::Invalid(problems) => problems
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("; "),
+        e => e.to_string(),
+    })
+}

@@ -1,0 +1,242 @@
+//! The timer model against the datasheet: waveforms, buffering, refusals, and
+//! each emulated timer's register addresses.
+
+use super::*;
+use rstest::rstest;
+
+const F_CPU: u32 = 16_000_000;
+
+/// The check at each write and the list the bench claims agree on every
+/// data-space address.
+#[test]
+fn owns_write_is_the_list_of_write_addresses() {
+    for timer in (2..=5).filter_map(PwmTimer::number) {
+        let list = timer.write_addresses();
+        for addr in 0..0x2200u16 {
+            assert_eq!(
+                timer.owns_write(addr),
+                list.contains(&addr),
+                "address {addr:#x}"
+            );
+        }
+    }
+}
+
+/// Measure frequency and duty from the edges over one second of waveform.
+fn measure(ocr: u32, com: Com) -> (f64, f64) {
+    let w = PhaseCorrect {
+        start: 1234,
+        prescaler: 1,
+    };
+    let from = w.start;
+    let to = from + F_CPU as u64;
+    let edges = w.edges(ocr, com, from, to);
+    let rises: Vec<u64> = edges.iter().filter(|e| e.1).map(|e| e.0).collect();
+    let hz = if rises.len() >= 2 {
+        (rises.len() - 1) as f64 * F_CPU as f64 / (rises[rises.len() - 1] - rises[0]) as f64
+    } else {
+        0.0
+    };
+    // Duty by integrating the level between edges.
+    let mut level = w.level(ocr, com, from);
+    let mut t = from;
+    let mut high = 0u64;
+    for &(c, l) in &edges {
+        if level {
+            high += c - t;
+        }
+        t = c;
+        level = l;
+    }
+    if level {
+        high += to - t;
+    }
+    (hz, high as f64 / (to - from) as f64)
+}
+
+/// Datasheet: f_OCnxPCPWM = f_clk / (2 * N * TOP); duty = OCR / TOP for
+/// non-inverting; OCR = 0 continuously low, OCR = TOP continuously high.
+#[rstest]
+#[case(0)]
+#[case(1)]
+#[case(64)]
+#[case(128)]
+#[case(170)]
+#[case(254)]
+#[case(255)]
+fn waveform_matches_the_datasheet(#[case] ocr: u32) {
+    let (hz, duty) = measure(ocr, Com::NonInverting);
+    let expected_duty = ocr as f64 / 255.0;
+    assert!(
+        (duty - expected_duty).abs() < 1e-4,
+        "OCR {ocr}: duty {duty} vs {expected_duty}"
+    );
+    if ocr == 0 || ocr == 255 {
+        assert_eq!(hz, 0.0, "constant output has no edges");
+    } else {
+        let f = 16e6 / (2.0 * 1.0 * 255.0);
+        assert!((hz - 31_372.55).abs() / 31_372.55 < 1e-4, "{hz}");
+        assert!((hz - f).abs() / f < 1e-9, "{hz} vs {f}");
+    }
+    let (_, inv) = measure(ocr, Com::Inverting);
+    assert!((inv - (1.0 - expected_duty)).abs() < 1e-4);
+}
+
+#[test]
+fn counter_runs_up_to_top_and_back() {
+    let w = PhaseCorrect {
+        start: 0,
+        prescaler: 1,
+    };
+    assert_eq!(w.tcnt(0), 0);
+    assert_eq!(w.tcnt(255), 255);
+    assert_eq!(w.tcnt(256), 254);
+    assert_eq!(w.tcnt(509), 1);
+    assert_eq!(w.tcnt(510), 0);
+    assert_eq!(w.next_top(0), 255);
+    assert_eq!(w.next_top(255), 765);
+}
+
+#[test]
+fn prescaler_scales_the_period() {
+    let w = PhaseCorrect {
+        start: 0,
+        prescaler: 64,
+    };
+    assert!((w.frequency_hz(F_CPU) - 490.196).abs() < 1e-3); // Arduino's default
+}
+
+/// The 16-bit timers' registers (datasheet, register summary): TCCRnA,
+/// TCCRnB, OCRnB low and high byte, TIMSKn.
+struct Regs16 {
+    tccra: u16,
+    tccrb: u16,
+    ocrb: u16,
+    timsk: u16,
+}
+
+const REGS3: Regs16 = Regs16 {
+    tccra: 0x90,
+    tccrb: 0x91,
+    ocrb: 0x9A,
+    timsk: 0x71,
+};
+const REGS4: Regs16 = Regs16 {
+    tccra: 0xA0,
+    tccrb: 0xA1,
+    ocrb: 0xAA,
+    timsk: 0x72,
+};
+const REGS5: Regs16 = Regs16 {
+    tccra: 0x120,
+    tccrb: 0x121,
+    ocrb: 0x12A,
+    timsk: 0x73,
+};
+
+fn started(n: u8, r: &Regs16, cycle: u64) -> PwmTimer {
+    let mut t = PwmTimer::number(n).unwrap();
+    t.write(r.tccra, 0b0000_0001, cycle).unwrap(); // WGMn0
+    t.write(r.tccrb, 0b0000_0001, cycle).unwrap(); // CSn0
+    t
+}
+
+/// Each 16-bit timer's register block, as the register summary lays it
+/// out: TCCRnA/B/C, TCNTn, ICRn, OCRnA/B/C (low, high), TIMSKn.
+#[rstest]
+#[case::timer3(3, 0x90, 0x71)]
+#[case::timer4(4, 0xA0, 0x72)]
+#[case::timer5(5, 0x120, 0x73)]
+fn sixteen_bit_register_blocks(#[case] n: u8, #[case] base: u16, #[case] timsk: u16) {
+    let t = PwmTimer::number(n).unwrap();
+    let mut list = t.write_addresses();
+    list.sort_unstable();
+    let mut expected: Vec<u16> = [0, 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13]
+        .iter()
+        .map(|o| base + o)
+        .collect();
+    expected.insert(0, timsk);
+    assert_eq!(list, expected, "timer {n}");
+    assert_eq!(t.read_addresses(), vec![base + 4, base + 5]);
+    assert_eq!(t.id().number(), n);
+}
+
+#[rstest]
+#[case::timer3(3, REGS3)]
+#[case::timer4(4, REGS4)]
+#[case::timer5(5, REGS5)]
+fn ocr_write_takes_effect_at_top_through_temp(#[case] n: u8, #[case] r: Regs16) {
+    let mut t = started(n, &r, 100);
+    t.write(r.tccra, 0b0010_0001, 100).unwrap(); // COMnB1 + WGMn0
+    t.write(r.ocrb + 1, 0x00, 200).unwrap(); // OCRnBH -> TEMP
+    let e = t.write(r.ocrb, 170, 201).unwrap(); // OCRnBL commits
+    assert!(e.pending_update);
+    assert_eq!(
+        t.drive('B', F_CPU),
+        PinDrive::Pwm {
+            duty: 0.0,
+            hz: 16e6 / 510.0
+        }
+    );
+    assert_eq!(t.pending_update_at(201), Some(100 + 255));
+    t.apply_buffered();
+    match t.drive('B', F_CPU) {
+        PinDrive::Pwm { duty, .. } => assert!((duty - 170.0 / 255.0).abs() < 1e-12),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(t.drive('A', F_CPU), PinDrive::Gpio);
+    assert!(t.write(r.timsk, 1, 300).is_err(), "interrupts refused");
+}
+
+/// Table 17-6: clock selects 1-5 divide by 1, 8, 64, 256, 1024 (the
+/// frequency f_clk / (2 N TOP)); 6 and 7 are the external clock on Tn.
+#[rstest]
+fn sixteen_bit_prescalers(
+    #[values(3, 4, 5)] n: u8,
+    #[values((1, 1), (2, 8), (3, 64), (4, 256), (5, 1024))] cs: (u8, u32),
+) {
+    let r = [REGS3, REGS4, REGS5]
+        .into_iter()
+        .nth(n as usize - 3)
+        .unwrap();
+    let mut t = PwmTimer::number(n).unwrap();
+    t.write(r.tccra, 0b1000_0001, 0).unwrap(); // COMnA1 + WGMn0
+    t.write(r.tccrb, cs.0, 0).unwrap();
+    match t.drive('A', F_CPU) {
+        PinDrive::Pwm { hz, .. } => {
+            let f = 16e6 / (2.0 * cs.1 as f64 * 255.0);
+            assert!((hz - f).abs() / f < 1e-12, "timer {n} CS {}: {hz}", cs.0)
+        }
+        other => panic!("{other:?}"),
+    }
+    let err = t.write(r.tccrb, 6, 0).unwrap_err();
+    assert!(err.to_string().contains("external clock"), "{err}");
+}
+
+#[rstest]
+#[case::fast_pwm(0b11, 0b001, "waveform mode 3")]
+#[case::ctc(0b00, 0b01_001, "waveform mode 4")]
+fn unverified_modes_are_refused(
+    #[values(3, 4, 5)] n: u8,
+    #[case] a: u8,
+    #[case] b: u8,
+    #[case] msg: &str,
+) {
+    let r = [REGS3, REGS4, REGS5]
+        .into_iter()
+        .nth(n as usize - 3)
+        .unwrap();
+    let mut t = PwmTimer::number(n).unwrap();
+    t.write(r.tccra, a, 0).unwrap();
+    let err = t.write(r.tccrb, b, 0).unwrap_err();
+    assert!(err.to_string().contains(msg), "{err}");
+    assert!(err.to_string().contains(&format!("timer {n}")), "{err}");
+}
+
+#[test]
+fn interrupts_and_counter_access_are_refused() {
+    let mut t = PwmTimer::timer2();
+    assert!(t.write(0x70, 1, 0).is_err());
+    assert!(t.write(0xB2, 0, 0).is_err());
+    assert!(t.read(0xB2).to_string().contains("counter"));
+}

@@ -1,0 +1,229 @@
+//! A board TOML is checked before anything runs: each rule refuses the
+//! board that breaks it with one line naming the file, the field, what is
+//! wrong and what is allowed; Henrytwo's fixture and the other driver kinds
+//! load.
+
+use hil::board::{Board, BoardError, DriverKind, Problem, ProblemKind, HENRYTWO};
+use rstest::rstest;
+
+const FIXTURE: &str = include_str!("../fixtures/boards/henrytwo.toml");
+
+/// Henrytwo's fixture with `from` replaced by `to` (which must be in it);
+/// several edits are separated by `|` in both.
+fn edited(from: &str, to: &str) -> String {
+    let mut text = FIXTURE.to_string();
+    for (from, to) in from.split('|').zip(to.split('|')) {
+        assert!(text.contains(from), "{from:?} not in the fixture");
+        text = text.replacen(from, to, 1);
+    }
+    text
+}
+
+fn problems(text: &str) -> Vec<Problem> {
+    match Board::from_toml_str(text, "my.toml") {
+        Err(BoardError::Invalid(p)) => p,
+        other => panic!("expected problems, got {other:?}"),
+    }
+}
+
+#[test]
+fn henrytwos_fixture_is_the_built_in_board() {
+    assert_eq!(
+        Board::from_toml_str(FIXTURE, "henrytwo.toml").unwrap(),
+        HENRYTWO
+    );
+}
+
+/// Each rule, broken once: exactly that one problem, on that field, and
+/// its line says what is allowed.
+#[rstest]
+#[case::pin_used_twice(
+    r#"green = "D10""#, r#"green = "D9""#, "leds.green",
+    ProblemKind::PinReused { pin: 9, first: "motor_driver.left.forward".into() },
+    "each pin carries one signal"
+)]
+#[case::no_timer_channel(
+    r#"forward = "D9""#, r#"forward = "D22""#, "motor_driver.left.forward",
+    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D9 D10 (timer 2)"
+)]
+#[case::timer_1_is_the_firmwares_clock(
+    r#"forward = "D9"|blue = "D11""#, r#"forward = "D11"|blue = "D9""#, "motor_driver.left.forward",
+    ProblemKind::ReservedTimer { pin: 11, oc: hil::board::PwmSource { timer: 1, channel: 'A' } },
+    "the robust firmware's clock"
+)]
+#[case::timer_0_is_reserved(
+    r#"forward = "D9""#, r#"forward = "D13""#, "motor_driver.left.forward",
+    ProblemKind::ReservedTimer { pin: 13, oc: hil::board::PwmSource { timer: 0, channel: 'A' } },
+    "millis()"
+)]
+#[case::encoder_a_cannot_interrupt(
+    r#"a = "D2""#, r#"a = "D22""#, "encoders.left.a",
+    ProblemKind::CannotInterrupt { pin: 22 }, "give D2 D3 D18"
+)]
+#[case::uart_out_of_range(
+    "usart = 1", "usart = 4", "command_uart.usart",
+    ProblemKind::UartOutOfRange { usart: 4 }, "USART 0-3"
+)]
+#[case::uart_pin_reused(
+    r#"red = "D12""#, r#"red = "D19""#, "command_uart.usart",
+    ProblemKind::PinReused { pin: 19, first: "leds.red".into() }, "one signal"
+)]
+#[case::same_uart_twice(
+    "usart = 0", "usart = 1", "debug_uart.usart",
+    ProblemKind::UartReused { usart: 1, first: "command_uart".into() }, "a USART of its own (0-3)"
+)]
+#[case::adc_out_of_range(
+    "adc = 0", "adc = 16", "battery.adc",
+    ProblemKind::AdcOutOfRange { adc: 16 }, "give 0-15"
+)]
+#[case::unknown_pin(
+    r#"b = "D4""#, r#"b = "D70""#, "encoders.left.b",
+    ProblemKind::UnknownPin { given: "D70".into() }, r#"give "D0"-"D69" or "A0"-"A15""#
+)]
+#[case::bad_baud(
+    "baud = 9600             # firmware", "baud = 12345678  # firmware", "command_uart.baud",
+    ProblemKind::BadBaud { baud: 12345678 }, "e.g. 9600"
+)]
+#[case::zero_baud(
+    "baud = 9600             # firmware", "baud = 0  # firmware", "command_uart.baud",
+    ProblemKind::BadBaud { baud: 0 }, "e.g. 9600"
+)]
+fn each_rule_refuses_its_board(
+    #[case] from: &str,
+    #[case] to: &str,
+    #[case] field: &str,
+    #[case] kind: ProblemKind,
+    #[case] allowed: &str,
+) {
+    let p = problems(&edited(from, to));
+    assert_eq!(p.len(), 1, "{p:#?}");
+    assert_eq!(p[0].field, field);
+    assert_eq!(p[0].kind, kind);
+    let line = p[0].to_string();
+    assert!(!line.contains('\n'), "{line}");
+    assert!(line.starts_with(&format!("my.toml: {field}: ")), "{line}");
+    assert!(line.contains(allowed), "{line}");
+}
+
+/// An unknown field or driver kind is refused by the schema, with the
+/// line it is on and the names allowed.
+#[rstest]
+#[case::unknown_field("[leds]", "[leds]\norange = \"D13\"", "unknown field `orange`")]
+#[case::unknown_kind(r#"kind = "drv8833""#, r#"kind = "l293d""#, "unknown variant `l293d`")]
+#[case::pin_as_number(r#"a = "D2""#, "a = 2", "expected a string")]
+fn the_schema_refuses_what_it_does_not_know(
+    #[case] from: &str,
+    #[case] to: &str,
+    #[case] message: &str,
+) {
+    match Board::from_toml_str(&edited(from, to), "my.toml") {
+        Err(e @ BoardError::Syntax { .. }) => {
+            let line = e.to_string();
+            assert!(line.starts_with("my.toml:"), "{line}");
+            assert!(line.contains(message), "{line}");
+            assert!(!line.contains('\n'), "{line}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The other driver kinds load, with direction pins as GPIO and the
+/// PWM pins on their timers.
+#[rstest]
+#[case::l298n(
+    "kind = \"l298n\"",
+    "enable = \"D9\"\nin1 = \"D22\"\nin2 = \"D23\"",
+    "enable = \"D46\"\nin1 = \"D24\"\nin2 = \"D25\"",
+    DriverKind::L298n
+)]
+#[case::tb6612(
+    "kind = \"tb6612\"",
+    "pwm = \"D9\"\nin1 = \"D22\"\nin2 = \"D23\"",
+    "pwm = \"D46\"\nin1 = \"D24\"\nin2 = \"D25\"",
+    DriverKind::Tb6612
+)]
+#[case::pwm_dir(
+    "kind = \"pwm_dir\"",
+    "pwm = \"D9\"\ndir = \"D22\"",
+    "pwm = \"D46\"\ndir = \"A8\"",
+    DriverKind::PwmDir
+)]
+fn other_drivers_load(
+    #[case] kind_line: &str,
+    #[case] left: &str,
+    #[case] right: &str,
+    #[case] kind: DriverKind,
+) {
+    let text = edited(r#"kind = "drv8833""#, kind_line)
+        .replacen(
+            "forward = \"D9\"          # OC2B; the thesis' Adelante drives it with the left wheel's PID\nreverse = \"D8\"          # OC4C; Inercia_Stop_Ad brakes with it",
+            left,
+            1,
+        )
+        .replacen(
+            "forward = \"D7\"          # OC4B\nreverse = \"D6\"          # OC4A",
+            right,
+            1,
+        );
+    let board = Board::from_toml_str(&text, "my.toml").unwrap();
+    assert_eq!(board.driver, kind);
+    assert_eq!(board.pwm_timers(), vec![2, 5]);
+    assert_eq!(board.left_motor.pin2.pwm, None);
+    assert_eq!(board.right_motor.pin1.pin.arduino, 46);
+}
+
+/// A board with an input on another port and timer runs the firmware as
+/// Henrytwo's does while that input is idle: with the right motor's reverse
+/// input on D46 (OC5A, port L) the bench emulates timers 2, 4 and 5 and
+/// reads ports H and L, and the first 1.5 s of the line test (forward only)
+/// end at exactly Henrytwo's pose, D46 never driven.
+#[test]
+fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
+    use hil::bench::{Bench, BenchOptions};
+    use hil::board::{mega2560, BridgeInput, PwmSource};
+    use hil::line::{wait_ready, CMD_LINE};
+
+    #[path = "support/mod.rs"]
+    mod support;
+
+    let mut board = HENRYTWO;
+    board.right_motor.pin2 = BridgeInput {
+        pin: mega2560::pin(46).unwrap(),
+        pwm: Some(PwmSource {
+            timer: 5,
+            channel: 'A',
+        }),
+    };
+    assert_eq!(board.pwm_timers(), vec![2, 4, 5]);
+    let run = |board: Board| {
+        let mut bench = Bench::new(
+            support::firmware("robust"),
+            &support::robot("henrytwo-ideal"),
+            BenchOptions {
+                board,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        wait_ready(&mut bench).unwrap();
+        bench.send(board.command_uart.usart, &[CMD_LINE]);
+        bench.run_for(1.5).unwrap();
+        let core = bench.core();
+        let pose = core.robot().pose();
+        let pins: Vec<(u8, bool)> = core
+            .pin_stats()
+            .iter()
+            .map(|p| (p.pin, p.active_s > 0.0))
+            .collect();
+        ([pose.x().0, pose.y().0, pose.theta().0], pins)
+    };
+    let (henrytwo, _) = run(HENRYTWO);
+    let (moved, pins) = run(board);
+    assert!(henrytwo[0] > 100.0, "the robot drove: {henrytwo:?}");
+    assert_eq!(moved, henrytwo);
+    assert_eq!(
+        pins,
+        vec![(7, true), (8, false), (9, true), (46, false)],
+        "D46 is watched, idle"
+    );
+}
