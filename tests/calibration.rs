@@ -32,7 +32,14 @@ fn ideal_with(extra: &str) -> RobotConfig {
 /// no noise, so one run per direction (or per line/triangle) is the centroid.
 fn measure(robot: &RobotConfig, triangle: bool) -> [(f64, f64); 2] {
     let fw = support::firmware("robust");
-    let mut plan = Plan::new(LEG_MM, 1, robot, &fw, Default::default());
+    let mut plan = Plan::new(
+        LEG_MM,
+        1,
+        robot,
+        &Default::default(),
+        &fw,
+        Default::default(),
+    );
     plan.runs_per_direction = 1;
     if triangle {
         plan = plan.triangle();
@@ -111,7 +118,14 @@ fn calibration_rounds_shrink_the_default_robots_error() {
     let fw = support::firmware("robust");
     let robot = support::robot("henrytwo");
     for (name, triangle) in [("umbmark", false), ("triangle", true)] {
-        let mut plan = Plan::new(LEG_MM, 7, &robot, &fw, Default::default());
+        let mut plan = Plan::new(
+            LEG_MM,
+            7,
+            &robot,
+            &Default::default(),
+            &fw,
+            Default::default(),
+        );
         if triangle {
             plan = plan.triangle();
         }
@@ -122,6 +136,7 @@ fn calibration_rounds_shrink_the_default_robots_error() {
             WHEELBASE_MM,
             1,
             Solution::Exact,
+            Default::default(),
             &|_, _, _| {},
         )
         .expect("calibration rounds");

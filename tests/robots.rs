@@ -4,21 +4,32 @@
 //! 1 % of its length, spin turns within 10 degrees of 90).
 //!
 //! `compact48` has other wheels, gears and encoder resolution on Henrytwo's
-//! board; each must end its legs by its own distance per count.
+//! board; `rover65` other wheels, gears and encoders again and an L298N on
+//! other pins (`fixtures/boards/rover65.toml`). Each must end its legs by
+//! its own distance per count and drive its own driver.
 
 mod support;
 
 use hil::bench::BenchOptions;
+use hil::board::Board;
 use hil::experiment::{run_test, Test, TestOptions, TestRun};
 use hil::firmware_params::Tell;
 use plant_model::RobotConfig;
 
 const LEG_MM: f64 = 2000.0;
 
-fn run(robot: &RobotConfig, test: Test, tell: Tell) -> TestRun {
+fn board(name: &str) -> Board {
+    Board::load(hil::paths::workspace_root().join(format!("fixtures/boards/{name}.toml")))
+        .expect("board loads")
+}
+
+fn run_on(robot: &RobotConfig, board: Board, test: Test, tell: Tell) -> TestRun {
     let opts = TestOptions {
         leg_mm: LEG_MM,
-        bench: BenchOptions::default(),
+        bench: BenchOptions {
+            board,
+            ..BenchOptions::default()
+        },
         limit_s: Some(200.0),
         tell,
         ..Default::default()
@@ -26,10 +37,14 @@ fn run(robot: &RobotConfig, test: Test, tell: Tell) -> TestRun {
     run_test(support::firmware("robust"), robot, test, &opts).expect("the bench runs the test")
 }
 
+fn run(robot: &RobotConfig, test: Test, tell: Tell) -> TestRun {
+    run_on(robot, Board::default(), test, tell)
+}
+
 /// A 2 m line ends within 1 % of 2 m, straight, by the firmware's own
 /// odometry of this robot's counts.
-fn drives_a_line(robot: &RobotConfig) {
-    let r = run(robot, Test::Line, Tell::Robot);
+fn drives_a_line(robot: &RobotConfig, board: Board) {
+    let r = run_on(robot, board, Test::Line, Tell::Robot);
     assert!(r.completed, "{:?}", r.finding);
     assert_eq!(r.legs.len(), 1, "{:#?}", r.legs);
     let leg = &r.legs[0];
@@ -43,8 +58,8 @@ fn drives_a_line(robot: &RobotConfig) {
 
 /// A CW square: four legs of 2 m within 1 %, four turns within 10 degrees
 /// of 90.
-fn drives_a_square(robot: &RobotConfig) {
-    let r = run(robot, Test::UmbmarkCw, Tell::Robot);
+fn drives_a_square(robot: &RobotConfig, board: Board) {
+    let r = run_on(robot, board, Test::UmbmarkCw, Tell::Robot);
     assert!(r.completed, "{:?}", r.finding);
     assert_eq!((r.legs.len(), r.turns.len()), (4, 4), "{r:#?}");
     for leg in &r.legs {
@@ -65,12 +80,47 @@ fn drives_a_square(robot: &RobotConfig) {
 
 #[test]
 fn compact48_drives_a_line() {
-    drives_a_line(&support::robot("compact48"));
+    drives_a_line(&support::robot("compact48"), Board::default());
 }
 
 #[test]
 fn compact48_drives_a_square() {
-    drives_a_square(&support::robot("compact48"));
+    drives_a_square(&support::robot("compact48"), Board::default());
+}
+
+#[test]
+fn rover65_drives_a_line() {
+    drives_a_line(&support::robot("rover65"), board("rover65"));
+}
+
+#[test]
+fn rover65_drives_a_square() {
+    drives_a_square(&support::robot("rover65"), board("rover65"));
+}
+
+/// Told nothing about rover65's L298N, the firmware drives Henrytwo's
+/// DRV8833 pins: the wheels never turn and the run cannot end.
+#[test]
+fn rover65_untold_does_not_move() {
+    let opts = TestOptions {
+        leg_mm: 300.0,
+        bench: BenchOptions {
+            board: board("rover65"),
+            ..BenchOptions::default()
+        },
+        limit_s: Some(10.0),
+        tell: Tell::Keep,
+        ..Default::default()
+    };
+    let r = run_test(
+        support::firmware("robust"),
+        &support::robot("rover65"),
+        Test::Line,
+        &opts,
+    )
+    .expect("the bench runs");
+    assert!(!r.completed);
+    assert!(r.final_pose.x_mm.abs() < 1.0, "{:?}", r.final_pose);
 }
 
 /// Told nothing, the firmware drives Henrytwo's distance per count on
@@ -95,17 +145,21 @@ fn a_firmware_kept_on_its_own_geometry_is_warned_about() {
     );
 }
 
-/// `hil ARGS --robot fixtures/robots/ROBOT.toml --deterministic --json`,
-/// parsed; the command must succeed.
+/// `hil ARGS --robot fixtures/robots/ROBOT.toml --deterministic --json`
+/// (with `--board fixtures/boards/ROBOT.toml` when there is one), parsed;
+/// the command must succeed.
 fn hil_json(robot: &str, args: &[&str]) -> serde_json::Value {
     let _ = support::firmware_path("robust");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(args)
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_hil"));
+    cmd.args(args)
         .arg("--robot")
         .arg(hil::paths::robot_config(robot))
-        .args(["--deterministic", "--json"])
-        .output()
-        .expect("hil runs");
+        .args(["--deterministic", "--json"]);
+    let board = hil::paths::workspace_root().join(format!("fixtures/boards/{robot}.toml"));
+    if board.exists() {
+        cmd.arg("--board").arg(board);
+    }
+    let out = cmd.output().expect("hil runs");
     assert!(
         out.status.success(),
         "hil {args:?}: {}",
@@ -129,25 +183,44 @@ fn all_runs_complete(report: &serde_json::Value) {
     );
 }
 
-#[test]
-fn compact48_runs_umbmark_and_triangle() {
-    let u = hil_json("compact48", &["umbmark", "--jobs", "2"]);
+/// `hil umbmark` and `hil triangle` complete every run, and the correction
+/// starts from the robot's own wheelbase.
+fn runs_umbmark_and_triangle(robot: &str, wheelbase_mm: f64) {
+    let u = hil_json(robot, &["umbmark", "--jobs", "2"]);
     all_runs_complete(&u);
-    // Its own wheelbase is the one the correction starts from.
-    assert_eq!(u["wheelbase_nominal_mm"], 160.0);
-    let t = hil_json("compact48", &["triangle", "--leg-mm", "1000"]);
+    assert_eq!(u["wheelbase_nominal_mm"], wheelbase_mm);
+    let t = hil_json(robot, &["triangle", "--leg-mm", "1000"]);
     all_runs_complete(&t);
-    assert_eq!(t["wheelbase_nominal_mm"], 160.0);
+    assert_eq!(t["wheelbase_nominal_mm"], wheelbase_mm);
 }
 
-/// A calibration round takes most of compact48's UMBmark error out (the
-/// turns over-rotate by ~6 degrees from coasting, as Henrytwo's do).
-#[test]
-fn compact48_calibrates() {
-    let c = hil_json("compact48", &["calibrate", "--rounds", "1"]);
+/// A calibration round takes most of the UMBmark error out (the turns
+/// over-rotate by ~5-6 degrees from coasting, as Henrytwo's do).
+fn calibrates(robot: &str) {
+    let c = hil_json(robot, &["calibrate", "--rounds", "1"]);
     let e = |i: usize| c["rounds"][i]["report"]["e_max_cm"].as_f64().unwrap();
     assert!(e(0) > 20.0, "round 0: {} cm", e(0));
     assert!(e(1) < 0.3 * e(0), "{} cm -> {} cm", e(0), e(1));
+}
+
+#[test]
+fn compact48_runs_umbmark_and_triangle() {
+    runs_umbmark_and_triangle("compact48", 160.0);
+}
+
+#[test]
+fn compact48_calibrates() {
+    calibrates("compact48");
+}
+
+#[test]
+fn rover65_runs_umbmark_and_triangle() {
+    runs_umbmark_and_triangle("rover65", 180.0);
+}
+
+#[test]
+fn rover65_calibrates() {
+    calibrates("rover65");
 }
 
 /// `hil gap` on compact48's bench-made "floor" data (a right wheel 1 %
@@ -167,7 +240,11 @@ fn compact48_gap_names_its_wheel_ratio() {
         .arg("--json")
         .output()
         .expect("hil runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let g: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     let first = g["which"]["singles"]
         .as_array()
@@ -175,5 +252,8 @@ fn compact48_gap_names_its_wheel_ratio() {
         .iter()
         .find(|s| s["rank_bic"] == 1)
         .expect("a first single effect");
-    assert_eq!(first["fit"]["effects"], serde_json::json!(["wheel_diameter_ratio"]));
+    assert_eq!(
+        first["fit"]["effects"],
+        serde_json::json!(["wheel_diameter_ratio"])
+    );
 }

@@ -45,6 +45,7 @@ fn shards_merge_into_the_single_machine_result() {
         300.0,
         42,
         &support::robot("henrytwo-ideal"),
+        &Default::default(),
         &fw,
         Default::default(),
     );

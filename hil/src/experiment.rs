@@ -250,8 +250,13 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
         bench.true_waveforms();
         bench.start_recording();
     }
-    let (params, believed, warning) =
-        crate::firmware_params::plan(bench.firmware(), robot, opts.tell, &opts.params);
+    let (params, believed, warning) = crate::firmware_params::plan(
+        bench.firmware(),
+        robot,
+        bench.board(),
+        opts.tell,
+        &opts.params,
+    );
     if opts.framed || !params.is_empty() {
         use crate::link::{frame, Command};
         for (p, v) in &params {

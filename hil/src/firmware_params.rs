@@ -18,6 +18,7 @@
 use henrytwo_protocol::Param;
 use plant_model::RobotConfig;
 
+use crate::board::Board;
 use crate::elf::Firmware;
 
 /// Whether the bench tells the firmware the robot's geometry before a run.
@@ -117,11 +118,13 @@ pub fn nominal(robot: &RobotConfig) -> [(Param, f32); 4] {
     ]
 }
 
-/// What of [`nominal`] the firmware does not hold already (its factory
-/// values), in id order: Henrytwo's own config needs nothing.
-pub fn to_send(robot: &RobotConfig) -> Vec<(Param, f32)> {
+/// What of [`nominal`] and of the board's driver wiring the firmware does
+/// not hold already (its factory values), geometry first: Henrytwo on its
+/// own board needs nothing.
+pub fn to_send(robot: &RobotConfig, board: &Board) -> Vec<(Param, f32)> {
     nominal(robot)
         .into_iter()
+        .chain(board.firmware_params())
         .filter(|&(p, v)| v != p.factory_default())
         .collect()
 }
@@ -133,18 +136,20 @@ pub fn takes_params(firmware: &Firmware) -> bool {
     firmware.symbol("HT_SELECTOR").is_err()
 }
 
-/// The parameters to send before a run of `firmware` on `robot` (the
-/// nominal geometry, then `extra` in its order), what the firmware then
-/// believes, and a warning when its geometry is not the robot's.
+/// The parameters to send before a run of `firmware` on `robot` wired by
+/// `board` (the nominal geometry and the driver wiring, then `extra` in its
+/// order), what the firmware then believes, and a warning when its geometry
+/// is not the robot's.
 pub fn plan(
     firmware: &Firmware,
     robot: &RobotConfig,
+    board: &Board,
     tell: Tell,
     extra: &[(Param, f32)],
 ) -> (Vec<(Param, f32)>, Believed, Option<String>) {
     let mut send = Vec::new();
     if tell == Tell::Robot && takes_params(firmware) {
-        send = to_send(robot);
+        send = to_send(robot, board);
     }
     if takes_params(firmware) {
         send.extend_from_slice(extra);
@@ -169,13 +174,16 @@ pub fn tell(
     bench: &mut crate::bench::Bench,
     robot: &RobotConfig,
 ) -> Result<Option<String>, crate::bench::BenchError> {
-    let (params, _, warning) = plan(bench.firmware(), robot, Tell::Robot, &[]);
+    let (params, _, warning) = plan(bench.firmware(), robot, bench.board(), Tell::Robot, &[]);
     if params.is_empty() {
         return Ok(warning);
     }
     let before = bench.uart_output(1).len();
     for (p, v) in &params {
-        bench.send(1, &crate::link::frame(&crate::link::Command::SetParam(*p, *v)));
+        bench.send(
+            1,
+            &crate::link::frame(&crate::link::Command::SetParam(*p, *v)),
+        );
     }
     let set_param = crate::link::Command::SetParam(Param::CorrLeft, 1.0)
         .id()
@@ -266,7 +274,7 @@ mod tests {
     /// nothing to send, to the last f32 bit.
     #[test]
     fn henrytwo_needs_nothing() {
-        assert_eq!(to_send(&RobotConfig::default()), vec![]);
+        assert_eq!(to_send(&RobotConfig::default(), &Board::default()), vec![]);
         let robot = Believed::factory().after(&nominal(&RobotConfig::default()));
         assert_eq!(robot, Believed::factory());
     }
@@ -279,7 +287,7 @@ mod tests {
         r.geometry.wheelbase_mm = 180.0;
         r.encoder.gear_ratio = 30.0;
         r.encoder.a_edges_per_motor_rev = 12;
-        let sent = to_send(&r);
+        let sent = to_send(&r, &Board::default());
         let mm = (std::f64::consts::PI * 65.0 / 360.0) as f32;
         assert_eq!(
             sent,

@@ -147,7 +147,7 @@ pub fn run_line(
         ready_bench(firmware, robot, opts.bench, opts.length_mm)?;
     let vars = *bench.vars();
     let (params, believed, warning) =
-        crate::firmware_params::plan(bench.firmware(), robot, opts.tell, &[]);
+        crate::firmware_params::plan(bench.firmware(), robot, bench.board(), opts.tell, &[]);
     if params.is_empty() {
         bench.send(1, &[CMD_LINE]);
     } else {

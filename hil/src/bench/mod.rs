@@ -111,6 +111,7 @@ pub struct Bench {
     profile: Option<Vec<u64>>,
     observer: Option<Box<dyn Observer>>,
     hang: Option<HangWatch>,
+    board: Board,
 }
 
 impl Bench {
@@ -132,7 +133,13 @@ impl Bench {
             profile: None,
             observer: None,
             hang: None,
+            board: options.board,
         })
+    }
+
+    /// The board the firmware's parts are wired by.
+    pub fn board(&self) -> &Board {
+        &self.board
     }
 
     pub fn clock(&self) -> Clock {

@@ -291,6 +291,7 @@ impl Calibrate {
             wheelbase_mm,
             self.rounds,
             self.solve.solution(),
+            self.common.target.bench(),
             &|round, n, _| {
                 bar.set_position((round * total + n) as u64);
                 bar.set_message(format!("round {round}"));
@@ -330,6 +331,7 @@ fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
         leg.leg_mm,
         common.target.seed,
         &robot,
+        &common.target.bench().board,
         &firmware,
         common.target.tell(),
     );

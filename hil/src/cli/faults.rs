@@ -36,6 +36,7 @@ impl Faults {
     pub fn run(self) -> Result<()> {
         let options = FaultOptions {
             seed: self.common.target.seed,
+            board: self.common.target.bench().board,
             hang_after_s: self.hang_after,
         };
         let library = match &self.scenario {

@@ -4,6 +4,7 @@
 use plant_model::RobotConfig;
 
 use super::ExperimentError;
+use crate::board::Board;
 use crate::elf::Firmware;
 use crate::experiment::Test;
 use crate::firmware_params::{Believed, Tell};
@@ -95,17 +96,19 @@ impl std::str::FromStr for Shard {
 }
 
 impl Plan {
-    /// A UMBmark of `firmware` on `robot`; the firmware is told the robot's
-    /// geometry unless `tell` says to keep its own.
+    /// A UMBmark of `firmware` on `robot` wired by `board`; the firmware is
+    /// told the robot's geometry and the board's driver wiring (in `params`)
+    /// unless `tell` says to keep its own.
     pub fn new(
         leg_mm: f64,
         seed: u64,
         robot: &RobotConfig,
+        board: &Board,
         firmware: &Firmware,
         tell: Tell,
     ) -> Self {
         let name = firmware.name();
-        let (params, _, warning) = crate::firmware_params::plan(firmware, robot, tell, &[]);
+        let (params, _, warning) = crate::firmware_params::plan(firmware, robot, board, tell, &[]);
         Self {
             experiment: Experiment::Umbmark,
             leg_mm,

@@ -72,6 +72,7 @@ pub fn calibrate(
     wheelbase_mm: f64,
     rounds: usize,
     solution: calib::Solution,
+    bench: BenchOptions,
     progress: &(dyn Fn(usize, usize, f64) + Sync),
 ) -> Result<Vec<CalibrationRound>, ExperimentError> {
     let (mut cl, mut cr, mut b) = (1.0f64, 1.0f64, wheelbase_mm);
@@ -83,14 +84,9 @@ pub fn calibrate(
             plan.params
                 .extend([(1, cl as f32), (2, cr as f32), (3, b as f32)]);
         }
-        let runs = execute(
-            firmware,
-            robot,
-            &plan,
-            &plan.runs(),
-            BenchOptions::default(),
-            &|n, t| progress(round, n, t),
-        )?;
+        let runs = execute(firmware, robot, &plan, &plan.runs(), bench, &|n, t| {
+            progress(round, n, t)
+        })?;
         let full = RunSet::new(plan, None, runs);
         let rep = match full.plan.experiment {
             Experiment::Umbmark => RoundReport::Umbmark(report(&full, b, solution)?),

@@ -80,6 +80,8 @@ pub fn library() -> Vec<FaultCase> {
 #[derive(Debug, Clone, Copy)]
 pub struct FaultOptions {
     pub seed: u64,
+    /// The board the robot is wired by.
+    pub board: crate::board::Board,
     /// Robot time without progress after which a busy firmware is hung
     /// (see [`crate::hang`]).
     pub hang_after_s: f64,
@@ -89,6 +91,7 @@ impl Default for FaultOptions {
     fn default() -> Self {
         Self {
             seed: 0,
+            board: Default::default(),
             hang_after_s: crate::hang::DEFAULT_HANG_AFTER_S,
         }
     }
@@ -159,15 +162,24 @@ pub struct Observed {
 }
 
 impl Observed {
-    pub fn from_run(run: &TestRun, clock_hz: u32) -> Self {
+    /// What `run` showed, its motors wired by `board`.
+    pub fn from_run(run: &TestRun, clock_hz: u32, board: &crate::board::Board) -> Self {
         let fault_cycle = run.applied.first().map(|a| a.0);
+        // The PWM inputs: with all of them at zero no motor is driven,
+        // whatever the direction pins of an L298N-style driver say.
+        let inputs: Vec<u8> = board
+            .bridge_inputs()
+            .iter()
+            .filter(|b| b.pwm.is_some())
+            .map(|b| b.pin.arduino)
+            .collect();
         let motors_off_after_s = fault_cycle.and_then(|fc| {
-            // Replay the drive log to find the first all-off moment after
-            // the fault.
-            let mut duty = [0.0f64; 10];
+            // Replay the drive log to find the first moment after the fault
+            // with every PWM bridge input at zero.
+            let mut duty = [0.0f64; 70];
             for e in &run.drive {
                 duty[e.pin as usize] = e.duty;
-                if e.cycle >= fc && duty[6..10].iter().all(|d| *d == 0.0) {
+                if e.cycle >= fc && inputs.iter().all(|&p| duty[p as usize] == 0.0) {
                     return Some((e.cycle - fc) as f64 / clock_hz as f64);
                 }
             }
@@ -291,6 +303,7 @@ fn run_case(
         leg_mm: case.leg_mm,
         bench: BenchOptions {
             seed: options.seed,
+            board: options.board,
             ..Default::default()
         },
         limit_s: Some(case.limit_s),
@@ -302,7 +315,11 @@ fn run_case(
         tell: Default::default(),
     };
     let run = run_test(fw.clone(), robot, case.test, &opts)?;
-    Ok(Observed::from_run(&run, opts.bench.clock.hz()))
+    Ok(Observed::from_run(
+        &run,
+        opts.bench.clock.hz(),
+        &options.board,
+    ))
 }
 
 /// Run one fault against the robust build and, when given, the thesis build.
