@@ -133,10 +133,12 @@ fn calibration_rounds_shrink_the_default_robots_error() {
             &fw,
             &robot,
             &plan,
-            WHEELBASE_MM,
-            1,
-            Solution::Exact,
-            Default::default(),
+            &umbmark::RoundOptions {
+                wheelbase_mm: WHEELBASE_MM,
+                rounds: 1,
+                solution: Solution::Exact,
+                bench: Default::default(),
+            },
             &|_, _, _| {},
         )
         .expect("calibration rounds");

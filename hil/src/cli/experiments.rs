@@ -288,10 +288,12 @@ impl Calibrate {
             &firmware,
             &robot,
             &plan,
-            wheelbase_mm,
-            self.rounds,
-            self.solve.solution(),
-            self.common.target.bench(),
+            &hil::umbmark::RoundOptions {
+                wheelbase_mm,
+                rounds: self.rounds,
+                solution: self.solve.solution(),
+                bench: self.common.target.bench(),
+            },
             &|round, n, _| {
                 bar.set_position((round * total + n) as u64);
                 bar.set_message(format!("round {round}"));

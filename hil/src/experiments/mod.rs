@@ -35,7 +35,7 @@ mod triangle;
 mod umbmark;
 
 pub use plan::{Experiment, Plan, RunSpec, Shard};
-pub use rounds::{calibrate, table10, CalibrationRound, RoundReport};
+pub use rounds::{calibrate, table10, CalibrationRound, RoundOptions, RoundReport};
 pub use runs::{execute, IndexedRun, RunRow, RunSet};
 pub use shard::{merge, partial_path};
 pub use triangle::{triangle_report, write_triangle_outputs, TriangleReport};

@@ -60,6 +60,18 @@ impl RoundReport {
     }
 }
 
+/// How calibration rounds run.
+#[derive(Debug, Clone, Copy)]
+pub struct RoundOptions {
+    /// The wheelbase the firmware's odometry uses in round 0, mm.
+    pub wheelbase_mm: f64,
+    /// Corrections after round 0.
+    pub rounds: usize,
+    pub solution: calib::Solution,
+    /// The bench (its board; each run its own seed).
+    pub bench: BenchOptions,
+}
+
 /// Calibrate the emulated robot: run the plan's experiment (UMBmark or
 /// Triangular Path), send the correction (cL, cR, wheelbase) over the
 /// protocol, run again, `rounds` corrections in all. The corrections compose:
@@ -69,12 +81,15 @@ pub fn calibrate(
     firmware: &Firmware,
     robot: &RobotConfig,
     base: &Plan,
-    wheelbase_mm: f64,
-    rounds: usize,
-    solution: calib::Solution,
-    bench: BenchOptions,
+    options: &RoundOptions,
     progress: &(dyn Fn(usize, usize, f64) + Sync),
 ) -> Result<Vec<CalibrationRound>, ExperimentError> {
+    let RoundOptions {
+        wheelbase_mm,
+        rounds,
+        solution,
+        bench,
+    } = *options;
     let (mut cl, mut cr, mut b) = (1.0f64, 1.0f64, wheelbase_mm);
     let mut out = Vec::new();
     for round in 0..=rounds {
