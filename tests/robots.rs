@@ -257,3 +257,42 @@ fn compact48_gap_names_its_wheel_ratio() {
         serde_json::json!(["wheel_diameter_ratio"])
     );
 }
+
+/// `hil gap` runs on rover65's bench-made "floor" data (a wheelbase 4 %
+/// wider, `fixtures/robots/rover65-floor.toml`). Its kinematic model lacks
+/// the nominal robot's coast overshoot, so it finds the net turn error:
+/// Eb about 0.98 (1.04 times the ~5 degree overshoot of a 90 degree turn),
+/// tied with the scale and coast effects that explain the same numbers.
+#[test]
+fn rover65_gap_finds_the_net_turn_error() {
+    let _ = support::firmware_path("robust");
+    let root = hil::paths::workspace_root();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+        .arg("gap")
+        .arg("--real")
+        .arg(root.join("fixtures/real/rover65"))
+        .arg("--model")
+        .arg(hil::paths::robot_config("rover65"))
+        .arg("--json")
+        .output()
+        .expect("hil runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let g: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let singles = g["which"]["singles"].as_array().expect("singles");
+    let eb = singles
+        .iter()
+        .find(|s| s["fit"]["effects"] == serde_json::json!(["wheelbase_ratio"]))
+        .expect("wheelbase_ratio is a candidate");
+    let best_bic = singles
+        .iter()
+        .map(|s| s["fit"]["bic"].as_f64().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        eb["fit"]["bic"].as_f64().unwrap() - best_bic < 1.0,
+        "wheelbase_ratio not among the best: {eb:#}"
+    );
+}

@@ -299,8 +299,9 @@ mod tests {
             ]
         );
         let b = Believed::factory().after(&sent);
-        // 2 m at 0.567 mm per count: 3526.7 counts per wheel.
-        assert!((b.distance_mm(3527, 3527) - 2000.2).abs() < 0.1);
+        // 3527 counts of 0.567232 mm (pi * 65 / 360) on each wheel: 2000.63 mm.
+        assert!((b.distance_mm(3527, 3527) - 2000.63).abs() < 0.01);
+        assert!((b.distance_mm(3526, 3528) - 2000.63).abs() < 0.01);
         // 14.47 thesis RPM = 86.82 wheel RPM = 520.9 counts/s at 360 per turn.
         assert!((b.setpoint_counts_per_s(0) - 520.92).abs() < 0.01);
     }

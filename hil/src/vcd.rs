@@ -10,10 +10,14 @@
 use std::fmt::Write as _;
 
 use crate::bench::{DriveEvent, PinEvent, Sample};
+use crate::board::Board;
+use plant_model::Side;
 
 /// Everything a trace is made of.
 pub struct VcdInput<'a> {
     pub clock_hz: u32,
+    /// The board the run was wired by: which pins the lines are.
+    pub board: &'a Board,
     pub edges: &'a [PinEvent],
     pub drive: &'a [DriveEvent],
     pub uart: &'a [(u64, u8, u8)],
@@ -43,11 +47,28 @@ pub fn render(input: &VcdInput) -> String {
         });
         code
     };
-    let enc: Vec<String> = ["left_A_D2", "left_B_D4", "right_A_D3", "right_B_D5"]
+    // The recorder's lines: left A, left B, right A, right B.
+    let enc: Vec<String> = [Side::Left, Side::Right]
         .iter()
-        .map(|n| id(n, "wire", 1, &mut vars))
+        .flat_map(|&side| {
+            let e = input.board.encoder(side);
+            [("A", e.a), ("B", e.b)].map(|(ch, pin)| (side, ch, pin.arduino))
+        })
+        .map(|(side, ch, pin)| {
+            let side = match side {
+                Side::Left => "left",
+                Side::Right => "right",
+            };
+            id(&format!("{side}_{ch}_D{pin}"), "wire", 1, &mut vars)
+        })
         .collect();
-    let pins: Vec<(u8, String, String)> = [6u8, 7, 8, 9]
+    let bridge: Vec<u8> = input
+        .board
+        .bridge_inputs()
+        .iter()
+        .map(|b| b.pin.arduino)
+        .collect();
+    let pins: Vec<(u8, String, String)> = bridge
         .iter()
         .map(|p| {
             (
@@ -73,11 +94,12 @@ pub fn render(input: &VcdInput) -> String {
         "$timescale {} ps $end",
         1_000_000_000_000u64 / input.clock_hz as u64
     );
+    let b = 4 + 2 * pins.len();
     for (scope, range) in [
         ("encoders", 0..4),
-        ("bridge", 4..12),
-        ("uart", 12..14),
-        ("plant", 14..19),
+        ("bridge", 4..b),
+        ("uart", b..b + 2),
+        ("plant", b + 2..b + 7),
     ] {
         let _ = writeln!(out, "$scope module {scope} $end");
         for v in &vars[range] {
@@ -179,6 +201,7 @@ mod tests {
         }];
         let text = render(&VcdInput {
             clock_hz: 16_000_000,
+            board: &Board::default(),
             edges: &edges,
             drive: &drive,
             uart: &[(200, 1, b'A')],

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
+use hil::board::Board;
 use hil::experiment::{run_test, Test, TestRun};
 use hil::line::{run_line, LineOptions};
 use hil::report::{json_with_pace, Pace, PaceFields};
@@ -69,7 +70,12 @@ impl Run {
             None => run_test(firmware, &robot, test, &opts)?,
         };
         if let Some(path) = &common.trace.vcd {
-            write_vcd(path, &run, common.trace.vcd_pwm)?;
+            write_vcd(
+                path,
+                &run,
+                common.trace.vcd_pwm,
+                &common.target.bench().board,
+            )?;
         }
         let pace = Pace::of(run.robot_time_s, clock.stop());
         if common.print.json.json {
@@ -120,9 +126,10 @@ impl Line {
     }
 }
 
-fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool) -> Result<()> {
+fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool, board: &Board) -> Result<()> {
     let text = hil::vcd::render(&hil::vcd::VcdInput {
         clock_hz: BenchOptions::default().clock.hz(),
+        board,
         edges: &run.edges,
         drive: &run.drive,
         uart: &run.uart,
