@@ -63,23 +63,28 @@ pub enum Error {
     TxFull,
 }
 
-/// On a panic: interrupts off, both motors' PWM inputs disconnected and
-/// driven low (the robot coasts), then halt.
+/// On a panic: interrupts off, every compare output of timers 2-5 (the
+/// ones a motor driver's PWM inputs may be on, whatever the wiring)
+/// disconnected and its pin driven low (the robot coasts), then halt.
 #[cfg(target_arch = "avr")]
 #[panic_handler]
 fn panic(_info: &core::panic::PanicInfo) -> ! {
     avr_device::interrupt::disable();
     // SAFETY: nothing else runs any more (interrupts are off and this never
-    // returns), so taking the peripherals again cannot race. Writing mode 1
-    // with COM bits 0 keeps the PWM mode but disconnects the pins; the PORTH
-    // bits of D6..D9 (PH3..PH6) go low.
+    // returns), so taking the peripherals again cannot race. Clearing the
+    // COM bits keeps each timer's mode but gives its pins back to PORT; the
+    // PORT bits of every OCnx pin of timers 2-5 go low: PB4 (OC2A), PH6
+    // (OC2B), PE3-PE5 (OC3A-C), PH3-PH5 (OC4A-C), PL3-PL5 (OC5A-C).
     unsafe {
-        let tc4 = avr_device::atmega2560::TC4::steal();
-        let tc2 = avr_device::atmega2560::TC2::steal();
-        let porth = avr_device::atmega2560::PORTH::steal();
-        porth.porth().modify(|r, w| w.bits(r.bits() & !0b0111_1000));
-        tc4.tccr4a().write(|w| w.bits(0b01));
-        tc2.tccr2a().write(|w| w.bits(0b01));
+        use avr_device::atmega2560::{PORTB, PORTE, PORTH, PORTL, TC2, TC3, TC4, TC5};
+        TC2::steal().tccr2a().modify(|r, w| w.bits(r.bits() & 0b11));
+        TC3::steal().tccr3a().modify(|r, w| w.bits(r.bits() & 0b11));
+        TC4::steal().tccr4a().modify(|r, w| w.bits(r.bits() & 0b11));
+        TC5::steal().tccr5a().modify(|r, w| w.bits(r.bits() & 0b11));
+        PORTB::steal().portb().modify(|r, w| w.bits(r.bits() & !0b0001_0000));
+        PORTE::steal().porte().modify(|r, w| w.bits(r.bits() & !0b0011_1000));
+        PORTH::steal().porth().modify(|r, w| w.bits(r.bits() & !0b0111_1000));
+        PORTL::steal().portl().modify(|r, w| w.bits(r.bits() & !0b0011_1000));
     }
     loop {}
 }
