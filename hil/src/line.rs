@@ -155,10 +155,7 @@ pub fn run_line(
         for (p, v) in &params {
             bench.send(1, &frame(&Command::SetParam(*p, *v)));
         }
-        bench.send(
-            1,
-            &frame(&Command::StartTest(crate::experiment::Test::Line)),
-        );
+        bench.send(1, &frame(&Command::StartTest(crate::link::ProtoTest::Line)));
     }
     // Generous: a third of the nominal speed, plus braking and waits.
     let limit = opts.length_mm / 50.0 + 5.0;
