@@ -176,6 +176,29 @@ impl RunSet {
             .collect()
     }
 
+    /// The plan's warnings, then each distinct warning of the runs (e.g. a
+    /// parameter the firmware refused) with how many runs gave it.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut seen: Vec<(String, usize)> = Vec::new();
+        for r in &self.runs {
+            let Some(list) = r.detail.get("warnings").and_then(|w| w.as_array()) else {
+                continue;
+            };
+            for w in list.iter().filter_map(|w| w.as_str()) {
+                match seen.iter_mut().find(|(s, _)| s == w) {
+                    Some((_, n)) => *n += 1,
+                    None => seen.push((w.to_string(), 1)),
+                }
+            }
+        }
+        let plan = self.plan.warnings.iter().cloned();
+        let runs = seen
+            .into_iter()
+            .filter(|(w, _)| !self.plan.warnings.contains(w))
+            .map(|(w, n)| format!("{n} of {} runs: {w}", self.runs.len()));
+        plan.chain(runs).collect()
+    }
+
     /// Robot time of all runs, seconds.
     pub fn robot_time_s(&self) -> f64 {
         self.runs.iter().map(|r| r.robot_time_s).sum()
@@ -195,5 +218,61 @@ impl RunSet {
                 }
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::Test;
+    use crate::experiments::plan::Experiment;
+
+    fn run(index: usize, warnings: &[&str]) -> IndexedRun {
+        IndexedRun {
+            spec: RunSpec {
+                index,
+                test: Test::UmbmarkCw,
+                seed: index as u64,
+            },
+            completed: true,
+            finding: None,
+            x_cm: 0.0,
+            y_cm: 0.0,
+            robot_time_s: 1.0,
+            awake_fraction: 0.0,
+            detail: serde_json::json!({ "warnings": warnings }),
+            path_cm: Vec::new(),
+        }
+    }
+
+    /// A run's warning (a refused correction) reaches the report, counted
+    /// once per distinct text; one the plan states already is not repeated.
+    #[test]
+    fn run_warnings_are_counted_once_each() {
+        let plan = Plan {
+            experiment: Experiment::Umbmark,
+            leg_mm: 300.0,
+            runs_per_direction: 2,
+            seed: 0,
+            robot: String::new(),
+            firmware: "robust".into(),
+            firmware_hash: String::new(),
+            params: Vec::new(),
+            warnings: vec!["plan".into()],
+        };
+        let set = RunSet::new(
+            plan,
+            None,
+            vec![
+                run(0, &["refused", "plan"]),
+                run(1, &["refused"]),
+                run(2, &[]),
+                run(3, &["other"]),
+            ],
+        );
+        assert_eq!(
+            set.warnings(),
+            vec!["plan", "2 of 4 runs: refused", "1 of 4 runs: other"]
+        );
     }
 }

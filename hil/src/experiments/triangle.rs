@@ -43,7 +43,7 @@ pub fn triangle_report(
         ..calib::TriangleParams::default()
     };
     let mut result = calib::triangle_correction(&line, &tri, &params);
-    result.warnings.extend(full.plan.warnings.iter().cloned());
+    result.warnings.extend(full.warnings());
     Ok(TriangleReport {
         plan: full.plan.clone(),
         runs: full.rows(["line", "triangle"]),

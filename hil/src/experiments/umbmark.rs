@@ -40,7 +40,7 @@ pub fn report(
         ..UmbmarkParams::default()
     };
     let mut result = calib::umbmark_correction(&runs, &params);
-    result.warnings.extend(full.plan.warnings.iter().cloned());
+    result.warnings.extend(full.warnings());
     Ok(Report {
         plan: full.plan.clone(),
         runs: full.rows([Direction::Cw.as_str(), Direction::Ccw.as_str()]),
