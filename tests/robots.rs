@@ -223,20 +223,15 @@ fn rover65_calibrates() {
     calibrates("rover65");
 }
 
-/// `hil gap` on compact48's bench-made "floor" data (a right wheel 1 %
-/// larger than the left, `fixtures/robots/compact48-floor.toml`), against
-/// compact48's own config: the single effect ranked first is the wheel
-/// diameter ratio.
-#[test]
-fn compact48_gap_names_its_wheel_ratio() {
-    let _ = support::firmware_path("robust");
-    let root = hil::paths::workspace_root();
+/// `hil gap --real fixtures/real/ROBOT --model fixtures/robots/ROBOT.toml
+/// --json`, parsed; the command must succeed.
+fn gap_json(robot: &str) -> serde_json::Value {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
         .arg("gap")
         .arg("--real")
-        .arg(root.join("fixtures/real/compact48"))
+        .arg(hil::paths::workspace_root().join(format!("fixtures/real/{robot}")))
         .arg("--model")
-        .arg(hil::paths::robot_config("compact48"))
+        .arg(hil::paths::robot_config(robot))
         .arg("--json")
         .output()
         .expect("hil runs");
@@ -245,7 +240,16 @@ fn compact48_gap_names_its_wheel_ratio() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let g: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
+/// `hil gap` on compact48's bench-made "floor" data (a right wheel 1 %
+/// larger than the left, `fixtures/robots/compact48-floor.toml`), against
+/// compact48's own config: the single effect ranked first is the wheel
+/// diameter ratio.
+#[test]
+fn compact48_gap_names_its_wheel_ratio() {
+    let g = gap_json("compact48");
     let first = g["which"]["singles"]
         .as_array()
         .expect("singles")
@@ -265,23 +269,7 @@ fn compact48_gap_names_its_wheel_ratio() {
 /// tied with the scale and coast effects that explain the same numbers.
 #[test]
 fn rover65_gap_finds_the_net_turn_error() {
-    let _ = support::firmware_path("robust");
-    let root = hil::paths::workspace_root();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
-        .arg("gap")
-        .arg("--real")
-        .arg(root.join("fixtures/real/rover65"))
-        .arg("--model")
-        .arg(hil::paths::robot_config("rover65"))
-        .arg("--json")
-        .output()
-        .expect("hil runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let g: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let g = gap_json("rover65");
     let singles = g["which"]["singles"].as_array().expect("singles");
     let eb = singles
         .iter()
