@@ -324,3 +324,48 @@ fn faults_json_rows_have_the_table_fields() {
     }
     assert_eq!(rows[0]["pass"], true);
 }
+
+/// `--param NAME=VALUE` reaches the firmware before the run: a distance per
+/// count 20 % larger ends the same line 20 % sooner (by the plant).
+#[test]
+fn param_sets_a_firmware_parameter_for_the_run() {
+    let leg = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            "line",
+            "--leg-mm",
+            "500",
+            "--deterministic",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let out = hil(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["legs"][0]["plant_distance_mm"].as_f64().unwrap()
+    };
+    let mm = 0.166_933_95_f64 * 1.2;
+    let (l, r) = (
+        format!("mm_per_count_left={mm}"),
+        format!("mm_per_count_right={mm}"),
+    );
+    let ratio = leg(&[]) / leg(&["--param", &l, "--param", &r]);
+    assert!((ratio - 1.2).abs() < 0.02, "ratio {ratio}");
+}
+
+/// A `--param` the firmware would refuse is one error line before anything
+/// runs: an unknown name lists the names, a value out of range gives it.
+#[test]
+fn param_errors_are_one_line() {
+    let out = hil(&["run", "line", "--param", "kp=1"]);
+    assert_one_line_error(&out, "kp_left");
+    assert_eq!(out.status.code(), Some(2));
+    let out = hil(&["run", "line", "--param", "stall_duty=300"]);
+    assert_one_line_error(&out, "1 to 255, whole numbers");
+    let out = hil(&["run", "line", "--param", "c_left"]);
+    assert_one_line_error(&out, "NAME=VALUE");
+}

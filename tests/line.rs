@@ -16,6 +16,7 @@ fn line_2m() -> &'static LineRun {
             length_mm: 2000.0,
             bench: BenchOptions::default(),
             tell: Default::default(),
+            params: Vec::new(),
         };
         run_line(
             support::firmware("robust"),
@@ -160,6 +161,7 @@ fn runs_are_deterministic() {
         length_mm: 300.0,
         bench: BenchOptions::default(),
         tell: Default::default(),
+        params: Vec::new(),
     };
     let robot = support::robot("henrytwo-ideal");
     let a = run_line(support::firmware("robust"), &robot, &opts).unwrap();

@@ -16,6 +16,8 @@ pub struct LineOptions {
     pub bench: BenchOptions,
     /// Whether the robot config's geometry is sent before the start.
     pub tell: Tell,
+    /// Parameters to set after the robot's geometry (theirs win).
+    pub params: Vec<(crate::link::Param, f32)>,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -146,8 +148,13 @@ pub fn run_line(
     let (mut bench, done_before, start_cycle) =
         ready_bench(firmware, robot, opts.bench, opts.length_mm)?;
     let vars = *bench.vars();
-    let (params, believed, warning) =
-        crate::firmware_params::plan(bench.firmware(), robot, bench.board(), opts.tell, &[]);
+    let (params, believed, warning) = crate::firmware_params::plan(
+        bench.firmware(),
+        robot,
+        bench.board(),
+        opts.tell,
+        &opts.params,
+    );
     if params.is_empty() {
         bench.send(1, &[CMD_LINE]);
     } else {

@@ -78,6 +78,46 @@ pub struct Target {
     /// (factory) values, and the report warns where they are not the robot's.
     #[arg(long)]
     pub keep_firmware_params: bool,
+    /// A firmware parameter to set over the protocol before each run, after
+    /// the robot's geometry: NAME=VALUE with a name of protocol/README.md
+    /// (e.g. kp_left=1.5); repeat for more. Checked against the firmware's
+    /// range before anything runs.
+    #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
+    pub params: Vec<(hil::link::Param, f32)>,
+}
+
+/// `NAME=VALUE` of `--param`: a protocol parameter's name and a value in its
+/// range.
+pub fn parse_param(s: &str) -> Result<(hil::link::Param, f32), String> {
+    use hil::link::Param;
+    let names = || {
+        Param::ALL
+            .iter()
+            .map(|p| p.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("{s:?}: give NAME=VALUE, NAME one of {}", names()))?;
+    let p = Param::ALL
+        .into_iter()
+        .find(|p| p.name() == name.trim())
+        .ok_or_else(|| format!("{name:?} is no firmware parameter; one of {}", names()))?;
+    let r = p.range();
+    let v: f32 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("{name}: {value:?} is not a number"))?;
+    p.check(v).map_err(|_| {
+        format!(
+            "{name} = {value}: outside what the firmware accepts, {} to {}{}",
+            r.min,
+            r.max,
+            if r.integer { ", whole numbers" } else { "" }
+        )
+    })?;
+    Ok((p, v))
 }
 
 impl Target {
@@ -201,6 +241,7 @@ impl Common {
             bench: self.target.bench(),
             record: self.trace.vcd.is_some(),
             tell: self.target.tell(),
+            params: self.target.params.clone(),
             ..Default::default()
         }
     }

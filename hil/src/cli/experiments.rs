@@ -337,6 +337,10 @@ fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
         &firmware,
         common.target.tell(),
     );
+    // The user's parameters after the robot's: theirs win.
+    let mut plan = plan;
+    plan.params
+        .extend(common.target.params.iter().map(|(p, v)| (p.id(), *v)));
     Ok((robot, firmware, plan))
 }
 

@@ -110,7 +110,8 @@ impl Line {
         let opts = LineOptions {
             length_mm: self.length_mm,
             bench: target.bench(),
-            tell: Default::default(),
+            tell: target.tell(),
+            params: target.params.clone(),
         };
         let clock = self.common.print.wall_clock();
         let mut run = run_line(firmware, &robot, &opts)?;
