@@ -286,11 +286,15 @@ fn scenario_faults_reach_the_run() {
         "--scenario",
         path.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
+    // The run is printed whole, and the exit code says it did not complete.
+    assert_eq!(
+        out.status.code(),
+        Some(3),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("did not complete"), "{stderr}");
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["completed"], false);
     assert_eq!(v["fault_code"], 1, "stall of the left wheel");
@@ -368,4 +372,17 @@ fn param_errors_are_one_line() {
     assert_one_line_error(&out, "1 to 255, whole numbers");
     let out = hil(&["run", "line", "--param", "c_left"]);
     assert_one_line_error(&out, "NAME=VALUE");
+}
+
+/// A leg the firmware would refuse is refused before anything runs, not
+/// run into a table of incomplete runs and a perfect correction.
+#[test]
+fn a_leg_the_firmware_refuses_is_a_usage_error() {
+    for cmd in ["umbmark", "triangle", "calibrate"] {
+        let out = hil(&[cmd, "--leg-mm", "5001"]);
+        assert_one_line_error(&out, "the firmware's legs are 10 to 5000 mm");
+        assert_eq!(out.status.code(), Some(2), "{cmd}");
+    }
+    let out = hil(&["run", "line", "--leg-mm", "9"]);
+    assert_one_line_error(&out, "10 to 5000 mm");
 }

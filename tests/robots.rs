@@ -284,3 +284,33 @@ fn rover65_gap_finds_the_net_turn_error() {
         "wheelbase_ratio not among the best: {eb:#}"
     );
 }
+
+/// An experiment whose runs did not complete prints its report and exits 3,
+/// not 0: rover65 kept on Henrytwo's wiring never moves, and its UMBmark's
+/// "correction" is no result.
+#[test]
+fn an_experiment_with_incomplete_runs_exits_3() {
+    let _ = support::firmware_path("robust");
+    let root = hil::paths::workspace_root();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(["umbmark", "--leg-mm", "300", "--deterministic", "--json"])
+        .arg("--robot")
+        .arg(hil::paths::robot_config("rover65"))
+        .arg("--board")
+        .arg(root.join("fixtures/boards/rover65.toml"))
+        .arg("--keep-firmware-params")
+        .output()
+        .expect("hil runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("10 of 10 runs did not complete"),
+        "{stderr}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the report");
+    assert!(v["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r["completed"] == false));
+}

@@ -251,7 +251,7 @@ impl Common {
 #[derive(clap::Args, Clone, Copy)]
 pub struct Leg {
     /// Leg length in millimetres.
-    #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2000.0, value_parser = parse_leg, allow_negative_numbers = true)]
     pub leg_mm: f64,
 }
 
@@ -305,6 +305,21 @@ pub fn parse_length(s: &str) -> Result<f64, String> {
             "{s} mm is out of range: give a length above 0 and up to 100000 mm"
         ));
     }
+    Ok(v)
+}
+
+/// A leg of the firmware's tests, mm: a length within what the firmware
+/// accepts (`leg_length_mm`), so no run is started that it would refuse.
+pub fn parse_leg(s: &str) -> Result<f64, String> {
+    let v = parse_length(s)?;
+    let p = hil::link::Param::LegLengthMm;
+    let r = p.range();
+    p.check(v as f32).map_err(|_| {
+        format!(
+            "{s} mm is out of range: the firmware's legs are {} to {} mm",
+            r.min, r.max
+        )
+    })?;
     Ok(v)
 }
 

@@ -100,7 +100,7 @@ impl Umbmark {
                 );
             }
         }
-        Ok(())
+        incomplete(&partial)
     }
 }
 
@@ -161,7 +161,7 @@ impl Triangle {
         } else {
             print!("{}", report.render());
         }
-        Ok(())
+        incomplete(&full)
     }
 }
 
@@ -324,6 +324,20 @@ impl Calibrate {
         }
         Ok(())
     }
+}
+
+/// Ok when every run of `set` completed, else the error that says how many
+/// did not (exit code 3): a correction from them is no result.
+fn incomplete(set: &hil::experiments::RunSet) -> Result<()> {
+    let n = set.runs.iter().filter(|r| !r.completed).count();
+    if n == 0 {
+        return Ok(());
+    }
+    Err(super::Incomplete(format!(
+        "{n} of {} runs did not complete: the correction printed is not a result",
+        set.runs.len()
+    ))
+    .into())
 }
 
 /// The robot and firmware `common` names, and the plan of a UMBmark on them.

@@ -97,8 +97,22 @@ impl Command {
     }
 }
 
+/// A command whose runs did not all complete: what it printed is marked so,
+/// and the exit code says it (3).
+#[derive(Debug)]
+pub struct Incomplete(pub String);
+
+impl std::fmt::Display for Incomplete {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Incomplete {}
+
 /// Parse the command line and run it: exit code 0 on success, 1 when the
-/// command fails, 2 for bad arguments; every error is one line on stderr.
+/// command fails, 2 for bad arguments, 3 when it ran but a run did not
+/// complete; every error is one line on stderr.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -108,7 +122,11 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::FAILURE
+            if e.downcast_ref::<Incomplete>().is_some() {
+                ExitCode::from(3)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

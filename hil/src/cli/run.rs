@@ -9,7 +9,7 @@ use hil::experiment::{run_test, Test, TestRun};
 use hil::line::{run_line, LineOptions};
 use hil::report::{json_with_pace, Pace, PaceFields};
 
-use super::args::{parse_length, parse_seconds, Common, Leg};
+use super::args::{parse_leg, parse_seconds, Common, Leg};
 
 #[derive(clap::Args)]
 pub struct Run {
@@ -87,6 +87,14 @@ impl Run {
                 println!("  real-time x    {:.1}", p.rtf());
             }
         }
+        if !run.completed {
+            return Err(super::Incomplete(format!(
+                "the {} run did not complete: {}",
+                run.test.name(),
+                run.finding.as_deref().unwrap_or("no reason found")
+            ))
+            .into());
+        }
         Ok(())
     }
 }
@@ -94,7 +102,7 @@ impl Run {
 #[derive(clap::Args)]
 pub struct Line {
     /// Length of the line in millimetres.
-    #[arg(long, default_value_t = 2000.0, value_parser = parse_length, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2000.0, value_parser = parse_leg, allow_negative_numbers = true)]
     length_mm: f64,
     /// Write the plant trace (10 ms samples) as CSV.
     #[arg(long, value_name = "FILE")]
