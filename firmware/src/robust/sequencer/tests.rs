@@ -1,0 +1,282 @@
+//! The sequencer's host tests: segments, stop rules, braking and faults on
+//! the fake hardware.
+
+use std::vec::Vec;
+
+use henrytwo_protocol::{Command, FaultNotice, TestDoneNotice};
+
+use super::*;
+use crate::robust::fake::{self, Fake};
+use crate::settings::Settings;
+
+/// Another robot: 0.567 mm per count on both wheels, 360 counts per
+/// wheel turn, a 180 mm wheelbase.
+fn other_robot(app: &mut App<Fake>) {
+    app.set_param(Param::MmPerCountLeft, 0.567);
+    app.set_param(Param::MmPerCountRight, 0.567);
+    app.set_param(Param::CountsPerWheelRev, 360.0);
+    app.set_param(Param::WheelbaseMm, 180.0);
+}
+
+/// Drives the running leg edge by edge, both wheels alike, until it is
+/// cut: the count sum at the cut.
+fn drive_leg_to_its_end(app: &mut App<Fake>) -> i32 {
+    for _ in 0..100_000 {
+        if app.drive.left.stage != Stage::Driving {
+            let c = app.drive.encoders.counts;
+            return c.left + c.right;
+        }
+        app.drive.encoders.edge(Side::Left, 1);
+        app.poll();
+        if app.drive.left.stage == Stage::Driving {
+            app.drive.encoders.edge(Side::Right, 1);
+            app.poll();
+        }
+    }
+    panic!("the leg never ended");
+}
+
+#[test]
+fn a_leg_ends_at_the_count_of_the_robots_geometry() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.start_test(Test::Line).unwrap();
+    assert_eq!(drive_leg_to_its_end(&mut app), 23962, "Henrytwo: 4000 mm / 0.16693");
+    let mut app = App::fake();
+    other_robot(&mut app);
+    app.start_test(Test::Line).unwrap();
+    assert_eq!(drive_leg_to_its_end(&mut app), 7055, "4000 mm / 0.567 = 7054.67");
+}
+
+#[test]
+fn another_geometry_turns_by_its_own_count() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    other_robot(&mut app);
+    app.start_segment(Test::UmbmarkCw, 1);
+    // 90 degrees on b = 180 mm: a 141.37 mm arc / 0.567 = 249.3 -> 250.
+    app.drive.encoders.move_by(Side::Left, 249);
+    app.poll();
+    assert_eq!(app.drive.left.stage, Stage::Driving);
+    app.drive.encoders.edge(Side::Left, 1);
+    app.poll();
+    assert_eq!((app.drive.left.stage, bench::cut_left()), (Stage::Coast, 250));
+}
+
+#[test]
+fn the_time_out_counts_at_the_robots_speed() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    other_robot(&mut app);
+    app.start_test(Test::Line).unwrap();
+    // 3527.3 counts per wheel at 14.47 / 1.8518 = 7.81 counts per period:
+    // 451.4 periods, four times that and 2 s.
+    let per_count = crate::pid::thesis_rpm(1, 0.015) * (602.22 / 360.0);
+    let nominal = 2000.0 / 0.567 / (robot::ROBUST_SETPOINT / per_count);
+    assert_eq!(app.segment_limit, (4.0 * nominal) as u32 + 134);
+    assert!((1800..1950).contains(&app.segment_limit), "{}", app.segment_limit);
+}
+
+/// Which input of each wheel is driven: +1 forward, -1 reverse, 0 none.
+fn directions(app: &App<Fake>) -> (i8, i8) {
+    let dir = |(f, r): (u8, u8)| match (f > 0, r > 0) {
+        (true, false) => 1,
+        (false, true) => -1,
+        _ => 0,
+    };
+    (dir(app.drive.motors.left), dir(app.drive.motors.right))
+}
+
+/// A segment's start: its index, `HT_PHASE`, the [`directions`].
+type Start = (u8, u8, (i8, i8));
+
+/// Runs `test` on the fake plant (`per_tick` counts per period) until it
+/// ends; each segment's start.
+fn run(test: Test, leg_mm: f32, per_tick: i32) -> (App<Fake>, Vec<Start>) {
+    let mut app = App::fake();
+    bench::set_leg_length_mm(leg_mm);
+    app.receive(Command::StartTest(test));
+    app.poll();
+    let mut starts = Vec::new();
+    for _ in 0..20_000 {
+        if let Mode::Segment { index, .. } = app.mode {
+            if starts.last().map(|s: &Start| s.0) != Some(index) {
+                starts.push((index, bench::phase_code(), directions(&app)));
+            }
+        }
+        if app.mode == Mode::Idle {
+            break;
+        }
+        app.tick_plant(per_tick);
+    }
+    (app, starts)
+}
+
+const LEG: u8 = Phase::Leg as u8;
+const TURN: u8 = Phase::Turn as u8;
+
+#[test]
+fn umbmark_cw_drives_four_legs_and_four_right_turns_then_reports() {
+    let _bench = fake::lock();
+    let (mut app, starts) = run(Test::UmbmarkCw, 50.0, 13);
+    let expected: Vec<_> = (0..8).map(|i| if i % 2 == 0 { (i, LEG, (1, 1)) } else { (i, TURN, (1, -1)) }).collect();
+    assert_eq!(starts, expected);
+    let done = TestDoneNotice { test: Test::UmbmarkCw as u8, tests_done: 1 };
+    assert!(app.sent().contains(&(NOTIFY_TEST_DONE, 0, done.to_bytes().to_vec())));
+    assert_eq!((bench::done_count(), bench::phase_code(), bench::state_code()), (1, 0, RunState::Idle as u8));
+}
+
+#[test]
+fn ccw_and_triangle_turn_left_and_a_line_is_one_leg() {
+    let _bench = fake::lock();
+    let (_, starts) = run(Test::UmbmarkCcw, 50.0, 13);
+    assert_eq!(starts.len(), 8);
+    assert!(starts.iter().all(|s| s.2 == if s.1 == LEG { (1, 1) } else { (-1, 1) }), "{starts:?}");
+    let (_, starts) = run(Test::Triangle, 50.0, 13);
+    assert_eq!(starts.iter().map(|s| s.1).collect::<Vec<_>>(), [LEG, TURN, LEG, TURN, LEG, TURN]);
+    assert!(starts.iter().all(|s| s.2 == if s.1 == LEG { (1, 1) } else { (-1, 1) }), "{starts:?}");
+    let (_, starts) = run(Test::Line, 50.0, 13);
+    assert_eq!(starts, [(0, LEG, (1, 1))]);
+}
+
+#[test]
+fn a_leg_ends_on_the_edge_that_reaches_the_weighted_target() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.stored.settings.correction = PerWheel { left: 1.02, right: 0.97 };
+    bench::set_leg_length_mm(100.0);
+    app.start_test(Test::Line).unwrap();
+    let m = Settings::DEFAULT.mm_per_count.left;
+    let (wl, wr, target) = (leg_weight(1.02, m, m), leg_weight(0.97, m, m), leg_target(100.0, m));
+    // The right wheel makes two edges for each of the left's three.
+    let mut k = 0;
+    loop {
+        let side = if k % 5 < 3 { Side::Left } else { Side::Right };
+        k += 1;
+        let c = app.drive.encoders.counts;
+        let before = leg_progress(wl, wr, c.left, c.right);
+        app.drive.encoders.edge(side, 1);
+        app.poll();
+        let c = app.drive.encoders.counts;
+        if app.drive.left.stage != Stage::Driving {
+            assert!(before < target && leg_progress(wl, wr, c.left, c.right) >= target);
+            break;
+        }
+        assert!(k < 10_000, "the leg never ended");
+    }
+    let c = app.drive.encoders.counts;
+    assert_eq!((app.drive.motors.left, app.drive.motors.right), ((0, 0), (0, 0)));
+    assert_eq!((app.drive.left.stage, app.drive.right.stage), (Stage::Coast, Stage::Coast));
+    assert_eq!((bench::stop_left(), bench::stop_right()), (c.left, c.right));
+    assert_eq!((bench::cut_mask(), bench::phase_code()), (3, Phase::Braking as u8));
+}
+
+#[test]
+fn a_turn_cuts_each_wheel_at_its_own_target() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.stored.settings.correction = PerWheel { left: 1.0, right: 0.9 };
+    app.mode = Mode::Idle;
+    app.start_segment(Test::UmbmarkCw, 1);
+    let s = app.stored.settings;
+    let m = s.mm_per_count.left;
+    let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0, m);
+    let nr = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 0.9, m);
+    assert!(nr > nl);
+    // Left forward, right backward (clockwise); the left gets there first.
+    app.drive.encoders.move_by(Side::Left, nl - 1);
+    app.drive.encoders.move_by(Side::Right, -(nl - 1));
+    app.poll();
+    assert_eq!((app.drive.left.stage, bench::cut_mask()), (Stage::Driving, 0));
+    app.drive.encoders.edge(Side::Left, 1);
+    app.poll();
+    assert_eq!((app.drive.left.stage, app.drive.right.stage), (Stage::Coast, Stage::Driving));
+    assert_eq!((app.drive.motors.left.0, bench::cut_left(), bench::cut_mask()), (0, nl, 1));
+    assert!(app.drive.motors.right.1 > 0);
+    app.drive.encoders.move_by(Side::Right, -(nr - nl));
+    app.poll();
+    assert_eq!(app.drive.right.stage, Stage::Driving, "one count short");
+    app.drive.encoders.edge(Side::Right, -1);
+    app.poll();
+    assert_eq!(app.drive.right.stage, Stage::Coast);
+    assert_eq!((app.drive.motors.right.1, bench::cut_right(), bench::cut_mask()), (0, -nr, 3));
+    assert_eq!(bench::phase_code(), Phase::Braking as u8);
+}
+
+#[test]
+fn a_cut_wheel_coasts_gets_its_counter_pulse_then_both_waits_pass() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    bench::set_leg_length_mm(10.0);
+    app.start_test(Test::UmbmarkCw).unwrap();
+    while app.drive.left.stage == Stage::Driving {
+        app.drive.encoders.edge(Side::Left, 1);
+        app.drive.encoders.edge(Side::Right, 1);
+        app.poll();
+    }
+    let off = ((0, 0), (0, 0));
+    let motors = |app: &App<Fake>| (app.drive.motors.left, app.drive.motors.right);
+    app.wait(BRAKE_COAST - 1);
+    assert_eq!(motors(&app), off);
+    app.wait(1);
+    assert_eq!(motors(&app), ((0, 255), (0, 255)), "the counter-pulse is on the reverse inputs");
+    app.wait(BRAKE_PULSE - 1);
+    assert_eq!(motors(&app), ((0, 255), (0, 255)));
+    app.wait(1);
+    assert_eq!(motors(&app), off);
+    assert!(matches!(app.mode, Mode::Wait { index: 0, stop_general: false, .. }));
+    app.wait(INERTIA_WAIT);
+    assert!(matches!(app.mode, Mode::Wait { index: 0, stop_general: true, .. }));
+    app.wait(STOP_WAIT - 1);
+    assert!(matches!(app.mode, Mode::Wait { .. }));
+    app.wait(1);
+    assert!(matches!(app.mode, Mode::Segment { index: 1, .. }));
+    assert_eq!(directions(&app), (1, -1));
+}
+
+#[test]
+fn a_segment_that_overruns_its_time_is_a_fault() {
+    let _bench = fake::lock();
+    // Two counts per period: slow, but enough progress for the stall
+    // watchdog.
+    let (mut app, _) = run(Test::Line, 2000.0, 2);
+    // Four times the nominal time of the leg (in periods), and 2 s.
+    let counts = 2000.0 / Settings::DEFAULT.mm_per_count.left;
+    let nominal = counts / (robot::ROBUST_SETPOINT / crate::pid::thesis_rpm(1, robot::SAMPLE_PERIOD_S));
+    assert_eq!(app.segment_limit, (4.0 * nominal) as u32 + 134);
+    let faults: Vec<_> = app.sent().into_iter().filter(|s| s.0 == NOTIFY_FAULT).collect();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    let notice = FaultNotice::decode(&faults[0].2).unwrap();
+    assert_eq!(notice.fault, Fault::SegmentTimeout as u8);
+    assert_eq!(app.segment_ticks, app.segment_limit + 1);
+    assert_eq!((app.drive.motors.left, app.drive.motors.right), ((0, 0), (0, 0)));
+    assert_eq!((bench::phase_code(), bench::fault()), (Phase::Fault as u8, Fault::SegmentTimeout as u8));
+    let line = std::format!("fault {} in test 4 segment 0:", Fault::SegmentTimeout as u8);
+    assert!(app.debug.text().contains(&line), "{}", app.debug.text());
+}
+
+#[test]
+fn a_still_wheel_is_stopped_as_stalled() {
+    let _bench = fake::lock();
+    let (mut app, _) = run(Test::Line, 50.0, 0);
+    let faults: Vec<_> = app.sent().into_iter().filter(|s| s.0 == NOTIFY_FAULT).collect();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    assert_eq!(FaultNotice::decode(&faults[0].2).unwrap().fault, Fault::StallLeft as u8);
+    assert_eq!((app.drive.motors.left, app.drive.motors.right), ((0, 0), (0, 0)));
+    assert_eq!(app.mode, Mode::Idle);
+    assert!(app.segment_ticks < 40, "stopped after {} ticks", app.segment_ticks);
+}
+
+#[test]
+fn each_tick_reads_the_battery_and_shows_its_colour() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.tick_plant(0);
+    assert_eq!(app.adc.started, 1);
+    assert_eq!(app.leds.shown, None, "no conversion was running before the first tick");
+    app.adc.value = 900;
+    app.tick_plant(0);
+    assert_eq!((app.leds.shown, bench::battery_adc()), (Some(battery::Colour::Red), 900));
+    app.tick_plant(0);
+    assert_eq!(app.leds.writes, 1, "an unchanged colour is not written again");
+}
