@@ -257,15 +257,7 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
         opts.tell,
         &opts.params,
     );
-    if opts.framed || !params.is_empty() {
-        use crate::link::{frame, Command};
-        for (p, v) in &params {
-            bench.send(1, &frame(&Command::SetParam(*p, *v)));
-        }
-        bench.send(1, &frame(&Command::StartTest(test)));
-    } else {
-        bench.send(1, &[test.command_byte()]);
-    }
+    crate::firmware_params::start_test(bench, &params, opts.framed, test);
     Told {
         believed,
         warning,

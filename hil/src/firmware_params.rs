@@ -163,6 +163,36 @@ pub fn plan(
     (send, believed, warning)
 }
 
+/// The host's start of `test`: the parameters as SET_PARAM frames, then a
+/// framed START_TEST, when there is anything to set or `framed` asks for it;
+/// else the test's single selector byte (what the thesis build takes).
+pub fn start_test(
+    bench: &mut crate::bench::Bench,
+    params: &[(Param, f32)],
+    framed: bool,
+    test: henrytwo_protocol::Test,
+) {
+    use crate::link::{frame, Command};
+    let uart = bench.board().command_uart.usart;
+    if framed || !params.is_empty() {
+        send(bench, params);
+        bench.send(uart, &frame(&Command::StartTest(test)));
+    } else {
+        bench.send(uart, &[test.command_byte()]);
+    }
+}
+
+/// `params` as SET_PARAM frames on the board's command link.
+fn send(bench: &mut crate::bench::Bench, params: &[(Param, f32)]) {
+    let uart = bench.board().command_uart.usart;
+    for (p, v) in params {
+        bench.send(
+            uart,
+            &crate::link::frame(&crate::link::Command::SetParam(*p, *v)),
+        );
+    }
+}
+
 /// Tells an idle, booted firmware on `bench` the robot's geometry (as
 /// [`plan`] with [`Tell::Robot`]) and runs until it has answered every
 /// SET_PARAM: for a session whose host is someone else (the station's

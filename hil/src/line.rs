@@ -155,15 +155,7 @@ pub fn run_line(
         opts.tell,
         &opts.params,
     );
-    if params.is_empty() {
-        bench.send(1, &[CMD_LINE]);
-    } else {
-        use crate::link::{frame, Command};
-        for (p, v) in &params {
-            bench.send(1, &frame(&Command::SetParam(*p, *v)));
-        }
-        bench.send(1, &frame(&Command::StartTest(crate::link::ProtoTest::Line)));
-    }
+    crate::firmware_params::start_test(&mut bench, &params, false, crate::link::ProtoTest::Line);
     // Generous: a third of the nominal speed, plus braking and waits.
     let limit = opts.length_mm / 50.0 + 5.0;
     let completed = bench.run_until(limit, |b| {
