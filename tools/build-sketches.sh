@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-sketches=(firmware/arduino/henrytwo-thesis)
+sketches=(firmware/arduino/henrytwo-thesis fixtures/arduino/square-demo)
 fqbn=arduino:avr:mega:cpu=atmega2560
 out=firmware/target/arduino
 
