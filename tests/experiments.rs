@@ -301,7 +301,7 @@ fn lazy_channel_b_is_invisible_to_the_firmware() {
             .iter()
             .map(|m| {
                 format!(
-                    "{:?} {} {} {}",
+                    "{:?} {} {:?} {:?}",
                     m.motion, m.at.cycle, m.at.left_count, m.at.right_count
                 )
             })

@@ -52,7 +52,7 @@ fn get(b: &mut Bench, p: Param) -> f32 {
 
 /// Both firmware counts.
 fn counts(b: &Bench) -> (i32, i32) {
-    let v = *b.vars();
+    let v = *b.vars().expect("the robust build has the bench interface");
     (b.read_i32(v.left_count), b.read_i32(v.right_count))
 }
 
@@ -68,7 +68,7 @@ fn a_line_ends_at_the_counts_and_runs_at_the_speed_of_the_geometry_it_is_told() 
     for (p, v) in GEOMETRY {
         set(&mut b, p, v);
     }
-    let v = *b.vars();
+    let v = *b.vars().expect("the robust build has the bench interface");
     b.write_f32(v.leg_length_mm, LEG_MM);
     let done = b.read_u16(v.done_count);
     let start = counts(&b);

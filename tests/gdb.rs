@@ -95,7 +95,10 @@ fn debug_session(
     let server = GdbServer::bind(0).unwrap();
     let addr = server.local_addr().unwrap();
     assert!(addr.ip().is_loopback());
-    let counts_addr = bench.vars().left_count as u32;
+    let counts_addr = bench
+        .vars()
+        .expect("the robust build has the bench interface")
+        .left_count as u32;
     let client = std::thread::spawn(move || {
         let mut c = Client(TcpStream::connect(addr).unwrap());
         assert!(c.ask("qSupported:swbreak+").contains("PacketSize"));

@@ -87,8 +87,8 @@ fn stops_at_most_two_edges_past_the_stop_rule() {
         .iter()
         .find(|c| c.at.cycle > run.start_cycle)
         .expect("a motor cut-off after the command");
-    assert_eq!(cut.at.left_count, left);
-    assert_eq!(cut.at.right_count, right);
+    assert_eq!(cut.at.left_count, Some(left));
+    assert_eq!(cut.at.right_count, Some(right));
 }
 
 /// The wheel set-points the firmware runs with, read over the protocol

@@ -69,7 +69,7 @@ fn edges_raised_from_the_plan_change_nothing() {
             bench.true_waveforms();
         }
         bench.start_recording();
-        let vars = *bench.vars();
+        let vars = *bench.vars().expect("our builds have the bench interface");
         bench.send(1, &[Test::UmbmarkCw.command_byte()]);
         let done = bench
             .run_until(40.0, |b| {

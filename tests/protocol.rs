@@ -40,7 +40,11 @@ fn param(b: &mut Bench, p: Param) -> f32 {
 /// The state the robot must keep through bad input: parameters, tests done,
 /// and where it stands.
 fn state(b: &mut Bench) -> (f32, f32, u16, f64, f64) {
-    let done = b.read_u16(b.vars().done_count);
+    let done = b.read_u16(
+        b.vars()
+            .expect("the robust build has the bench interface")
+            .done_count,
+    );
     let pose = b.core().robot().pose();
     let (x, y) = (pose.x().0, pose.y().0);
     (
@@ -79,7 +83,10 @@ fn every_command_and_parameter_round_trips() {
     // A framed start runs the test with the parameters set: a 750 mm line.
     let r = exchange(&mut b, &frame(&Command::StartTest(ProtoTest::Line)));
     assert!(r[0].ok, "{r:?}");
-    let done = b.vars().done_count;
+    let done = b
+        .vars()
+        .expect("the robust build has the bench interface")
+        .done_count;
     assert!(b.run_until(30.0, |b| b.read_u16(done) == 1).unwrap());
     let x = b.core().robot().pose().x().0;
     assert!((x - 750.0).abs() < 60.0, "drove to x = {x} mm");

@@ -25,6 +25,7 @@ fn report() -> &'static TimingReport {
             params: Vec::new(),
             hang_after_s: None,
             tell: Default::default(),
+            description: None,
         };
         let (run, obs) = run_test_observed(
             fw.clone(),

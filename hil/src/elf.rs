@@ -30,7 +30,7 @@ pub enum ElfError {
     NotAvr { path: PathBuf, machine: u16 },
     #[error("{path} has no loadable flash segment")]
     Empty { path: PathBuf },
-    #[error("the firmware has no symbol {name:?}: is this the Henrytwo firmware, built with its bench interface?")]
+    #[error("the firmware has no symbol {name:?}")]
     MissingSymbol { name: String },
     #[error("symbol {name:?} has {actual} bytes, the bench expects {expected}")]
     SymbolSize {
@@ -199,6 +199,27 @@ impl Firmware {
             });
         }
         Ok(s.addr as u16)
+    }
+
+    /// The ELF name of the function called `name`: that symbol, or a C++
+    /// function of that plain name without arguments (`PID` is `_Z3PIDv`),
+    /// or, failing that, the only C++ overload of that name.
+    pub fn function_named(&self, name: &str) -> Option<&str> {
+        let is_function = |n: &str| self.functions.values().any(|(f, _)| f == n);
+        if is_function(name) {
+            return self.symbols.get_key_value(name).map(|(k, _)| k.as_str());
+        }
+        let prefix = format!("_Z{}{name}", name.len());
+        let mut overloads = self
+            .functions
+            .values()
+            .map(|(f, _)| f.as_str())
+            .filter(|f| f.starts_with(&prefix));
+        let all: Vec<&str> = overloads.by_ref().collect();
+        all.iter()
+            .find(|f| f.len() == prefix.len() + 1 && f.ends_with('v'))
+            .copied()
+            .or_else(|| (all.len() == 1).then(|| all[0]))
     }
 
     /// The function containing flash byte address `pc`, with the offset into it.

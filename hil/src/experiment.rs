@@ -13,6 +13,7 @@ use crate::bench::{
     Action, Bench, BenchError, BenchOptions, DriveEvent, LedEvent, Motion, MotionEvent, Observer,
     PinEvent, Sample, ScheduledFault, Snapshot,
 };
+use crate::description::Description;
 use crate::elf::Firmware;
 use crate::firmware_params::{Believed, Tell};
 use crate::line::ready_bench;
@@ -42,6 +43,9 @@ pub struct TestOptions {
     /// Stop the run as hung after this much robot time without progress
     /// (see [`crate::hang`]); None: only `limit_s` ends an unfinished run.
     pub hang_after_s: Option<f64>,
+    /// How a firmware without the bench interface is run (see
+    /// [`crate::description`]); None: the firmware's `HT_` interface.
+    pub description: Option<std::sync::Arc<Description>>,
 }
 
 impl Default for TestOptions {
@@ -56,6 +60,7 @@ impl Default for TestOptions {
             params: Vec::new(),
             tell: Tell::Robot,
             hang_after_s: None,
+            description: None,
         }
     }
 }
@@ -70,9 +75,10 @@ pub struct Leg {
     pub plant_arc_mm: f64,
     /// Heading change during the leg (curvature), degrees.
     pub plant_heading_change_deg: f64,
-    /// Firmware counts over the leg, at the motors' cut-off.
-    pub firmware_count_left: i32,
-    pub firmware_count_right: i32,
+    /// Firmware counts over the leg, at the motors' cut-off (None: a
+    /// firmware whose counters the bench does not know).
+    pub firmware_count_left: Option<i32>,
+    pub firmware_count_right: Option<i32>,
     /// Net A edges the plant made over the same span: what a perfect
     /// decoder would have counted.
     pub plant_edges_left: i64,
@@ -128,6 +134,8 @@ pub struct TestRun {
     pub awake_fraction: f64,
     #[serde(skip)]
     pub trace: Vec<Sample>,
+    /// What the motors did, from the start on, without stale levels (see
+    /// `debounced`).
     #[serde(skip)]
     pub motions: Vec<MotionEvent>,
     /// Fault actions applied: (cycle, action).
@@ -177,10 +185,13 @@ pub fn run_test_observed(
     opts: &TestOptions,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
+    if let Some(d) = &opts.description {
+        return crate::description::run_described(firmware, robot, test, opts, d, observer);
+    }
     let name = firmware.name();
     let (mut bench, done_before, start_cycle) =
         ready_bench(firmware, robot, opts.bench, opts.leg_mm)?;
-    let vars = *bench.vars();
+    let vars = *bench.vars()?;
     bench.set_observer(observer);
     let told = start(&mut bench, robot, test, opts);
     let limit = limit_s(test, opts);
@@ -266,7 +277,7 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
 }
 
 /// Robot time allowed from the start command to the end of the test.
-fn limit_s(test: Test, opts: &TestOptions) -> f64 {
+pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
     let (legs, turns, _) = test.shape();
     // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
     // braking and waits per segment: generous, so a slow robot is not a hang.
@@ -289,7 +300,7 @@ pub fn run_test_debugged(
     use crate::gdb::{Flow, SessionEnd};
     let name = firmware.name();
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
-    let vars = *bench.vars();
+    let vars = *bench.vars()?;
     let limit = limit_s(test, opts);
     // (HT_DONE_COUNT before the start, the start's cycle), once started.
     let mut started: Option<(u16, u64)> = None;
@@ -343,7 +354,7 @@ pub fn run_test_debugged(
     Ok(Some(run))
 }
 
-fn analyse(
+pub(crate) fn analyse(
     bench: &Bench,
     test: Test,
     firmware: String,
@@ -362,6 +373,8 @@ fn analyse(
     let end = bench_now(bench);
     let clock = bench.clock();
     let pulse_cycles = clock.cycles_in(plant_model::Seconds(PULSE_MAX_S));
+    let stale = core.stale_level_cycles();
+    let motions = debounced(&motions, stale);
     let segments = segments(&motions, pulse_cycles);
     let mut legs = Vec::new();
     let mut turns = Vec::new();
@@ -380,8 +393,8 @@ fn analyse(
                 plant_arc_mm: ((rest.left_mm - start.left_mm) + (rest.right_mm - start.right_mm))
                     / 2.0,
                 plant_heading_change_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
-                firmware_count_left: stop.left_count - start.left_count,
-                firmware_count_right: stop.right_count - start.right_count,
+                firmware_count_left: diff(stop.left_count, start.left_count),
+                firmware_count_right: diff(stop.right_count, start.right_count),
                 plant_edges_left: stop.left_edges - start.left_edges,
                 plant_edges_right: stop.right_edges - start.right_edges,
                 start_cycle: start.cycle,
@@ -396,14 +409,20 @@ fn analyse(
                 let cutoff = |side: Side| {
                     core.cutoffs()
                         .iter()
-                        .find(|c| c.side == side && c.at.cycle >= start.cycle && c.at.cycle < until)
+                        .find(|c| {
+                            c.side == side
+                                && c.at.cycle >= start.cycle
+                                && c.at.cycle < until
+                                && c.lasted(stale)
+                        })
                         .map(|c| c.at)
                 };
                 let left = cutoff(Side::Left);
                 let right = cutoff(Side::Right);
                 turns.push(Turn {
-                    count_left_at_cutoff: left.map(|c| c.left_count - start.left_count),
-                    count_right_at_cutoff: right.map(|c| c.right_count - start.right_count),
+                    count_left_at_cutoff: left.and_then(|c| diff(c.left_count, start.left_count)),
+                    count_right_at_cutoff: right
+                        .and_then(|c| diff(c.right_count, start.right_count)),
                     plant_angle_deg: (rest.theta_rad - start.theta_rad).to_degrees(),
                     plant_left_mm: rest.left_mm - start.left_mm,
                     plant_right_mm: rest.right_mm - start.right_mm,
@@ -460,6 +479,27 @@ fn analyse(
     }
 }
 
+/// A counter's change between two snapshots, when the bench reads it.
+fn diff(to: Option<i32>, from: Option<i32>) -> Option<i32> {
+    Some(to? - from?)
+}
+
+/// `motions` without the changes that lasted less than `stale` cycles
+/// (a stale level while the firmware writes a bridge's inputs one after the
+/// other is no cut-off), and with repeats merged.
+fn debounced(motions: &[MotionEvent], stale: u64) -> Vec<MotionEvent> {
+    let mut out: Vec<MotionEvent> = Vec::with_capacity(motions.len());
+    for (i, m) in motions.iter().enumerate() {
+        let lasted = motions
+            .get(i + 1)
+            .is_none_or(|next| next.at.cycle - m.at.cycle >= stale);
+        if lasted && out.last().is_none_or(|l| l.motion != m.motion) {
+            out.push(*m);
+        }
+    }
+    out
+}
+
 /// Driven phases shorter than this are braking pulses, not legs or turns
 /// (the thesis brakes with 5 ms of full reverse).
 const PULSE_MAX_S: f64 = 0.03;
@@ -484,9 +524,16 @@ fn segments(motions: &[MotionEvent], pulse_cycles: u64) -> Vec<Segment> {
             i += 1;
             continue;
         }
-        // A turn goes on through phases where one motor is already cut.
+        // A turn goes on through phases where one motor is already cut; a
+        // leg through a control period or two where one wheel's drive is
+        // zero (the thesis' PID clamps a negative output to 0) and back.
         let mut j = i + 1;
-        while j < motions.len() && motions[j].motion == Motion::OneWheel {
+        while j < motions.len()
+            && (motions[j].motion == Motion::OneWheel
+                || (motions[j].motion == motions[i].motion
+                    && motions[j - 1].motion == Motion::OneWheel
+                    && motions[i].motion == Motion::Forward))
+        {
             j += 1;
         }
         let long = motions
@@ -503,14 +550,14 @@ fn segments(motions: &[MotionEvent], pulse_cycles: u64) -> Vec<Segment> {
 fn bench_now(bench: &Bench) -> Snapshot {
     let core = bench.core();
     let pose = core.robot().pose();
-    let vars = bench.vars();
+    let counts = bench.counts();
     Snapshot {
         cycle: bench.cycle(),
         x_mm: pose.x().0,
         y_mm: pose.y().0,
         theta_rad: pose.theta().0,
-        left_count: bench.read_i32(vars.left_count),
-        right_count: bench.read_i32(vars.right_count),
+        left_count: counts.map(|c| c[0]),
+        right_count: counts.map(|c| c[1]),
         left_edges: core.robot().a_edges(plant_model::Side::Left),
         right_edges: core.robot().a_edges(plant_model::Side::Right),
         left_mm: core.robot().distance_travelled(plant_model::Side::Left).0,

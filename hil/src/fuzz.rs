@@ -122,7 +122,7 @@ fn state(b: &mut Bench) -> Result<Vec<u8>, BenchError> {
         .into_iter()
         .flat_map(|r| r.data)
         .collect();
-    out.extend(b.read_u16(b.vars().done_count).to_le_bytes());
+    out.extend(b.read_u16(b.vars()?.done_count).to_le_bytes());
     Ok(out)
 }
 

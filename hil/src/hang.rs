@@ -18,6 +18,11 @@
 //! and prints speeds forever with a blocked wheel, and that is exactly the
 //! hang to find. UART output alone is not progress either, for the same reason.
 //!
+//! A firmware without the bench interface (run from a test description,
+//! [`crate::description`]) has no state to say it is busy: the watch is on
+//! only while its test should run, and a change of what the motors are
+//! driven to do counts as progress beside the wheels' motion.
+//!
 //! The firmware's own longest still phase is the thesis' braking and waits
 //! between segments: 2.025 s of delays after a cut-off (the wheels coast for
 //! part of it). A limit above that (the bench's default is 3 s) never calls a
@@ -47,6 +52,9 @@ pub struct Progress {
     pub segment: u8,
     pub done: u16,
     pub fault: u8,
+    /// Changes of what the motors are driven to do, for a firmware without
+    /// the bench interface (0 for one with it: its state says more).
+    pub outputs: usize,
     /// The brown-out detector holds the MCU in reset.
     pub held_in_reset: bool,
 }
@@ -61,6 +69,7 @@ struct Signature {
     segment: u8,
     done: u16,
     fault: u8,
+    outputs: usize,
 }
 
 /// Watches a run for progress (see the module docs).
@@ -97,6 +106,7 @@ impl HangWatch {
             segment: p.segment,
             done: p.done,
             fault: p.fault,
+            outputs: p.outputs,
         };
         // A MCU held in reset by the brown-out detector runs nothing: it is
         // not hung.

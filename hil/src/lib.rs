@@ -13,6 +13,7 @@
 pub mod bench;
 pub mod board;
 pub mod calibrate;
+pub mod description;
 pub mod elf;
 pub mod experiment;
 pub mod experiments;

@@ -132,7 +132,7 @@ pub fn ready_bench(
 ) -> Result<(Bench, u16, u64), BenchError> {
     let mut bench = Bench::new(firmware, robot, options)?;
     wait_ready(&mut bench)?;
-    let vars = *bench.vars();
+    let vars = *bench.vars()?;
     bench.write_f32(vars.leg_length_mm, leg_mm as f32);
     let done_before = bench.read_u16(vars.done_count);
     let start_cycle = bench.cycle();
@@ -147,7 +147,7 @@ pub fn run_line(
     let name = firmware.name();
     let (mut bench, done_before, start_cycle) =
         ready_bench(firmware, robot, opts.bench, opts.length_mm)?;
-    let vars = *bench.vars();
+    let vars = *bench.vars()?;
     let (params, believed, warning) = crate::firmware_params::plan(
         bench.firmware(),
         robot,
@@ -176,10 +176,12 @@ pub fn run_line(
     // byte at 9600 baud).
     bench.run_for(0.1)?;
     let core = bench.core();
+    // The first cut-off that lasted (a stale level is none).
+    let stale = core.stale_level_cycles();
     let cutoff = core
         .cutoffs()
         .iter()
-        .find(|c| c.at.cycle > start_cycle)
+        .find(|c| c.at.cycle > start_cycle && c.lasted(stale))
         .map(|c| c.at);
     let clock = bench.clock();
     let stop_left = bench.read_i32(vars.stop_left);

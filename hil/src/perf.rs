@@ -102,7 +102,7 @@ pub fn bench_run(
     let wall = Instant::now();
     let (mut bench, before, command_cycle) =
         ready_bench(fw.clone(), robot, BenchOptions::default(), leg_mm)?;
-    let vars = *bench.vars();
+    let vars = *bench.vars()?;
     if record {
         bench.start_recording();
     }

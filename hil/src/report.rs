@@ -114,15 +114,17 @@ pub fn render_run(run: &TestRun) -> String {
         let _ = writeln!(s, "  warning: {w}");
     }
     let mut turns = run.turns.iter().enumerate().peekable();
+    // A firmware whose counters the bench does not know: no counts.
+    let count = |v: Option<i32>| v.map_or("     -".to_string(), |v| format!("{v:6}"));
     for (i, leg) in run.legs.iter().enumerate() {
         let _ = writeln!(
             s,
-            "  leg  {}   {:8.1} mm, heading {:+6.2} deg, counts L {:6} R {:6}",
+            "  leg  {}   {:8.1} mm, heading {:+6.2} deg, counts L {} R {}",
             i + 1,
             leg.plant_distance_mm,
             leg.plant_heading_change_deg,
-            leg.firmware_count_left,
-            leg.firmware_count_right
+            count(leg.firmware_count_left),
+            count(leg.firmware_count_right)
         );
         while let Some((k, t)) = turns.next_if(|(_, t)| {
             t.start_cycle < run.legs.get(i + 1).map_or(u64::MAX, |l| l.start_cycle)

@@ -21,7 +21,6 @@ use super::requests::Requests;
 use super::uart::HostUart;
 use super::{BenchOptions, NEVER};
 use crate::board::Board;
-use crate::fwvars::FwVars;
 use crate::inject::Injection;
 use crate::sim::{Core, Handler, Irq};
 use crate::time::Clock;
@@ -40,7 +39,8 @@ pub struct BenchCore {
     pub(super) robot: Robot,
     /// The cycle the plant has been advanced to.
     pub(super) plant_cycle: u64,
-    pub(super) vars: FwVars,
+    /// The firmware's wheel counters (32-bit variables), when known.
+    counts: Option<[u16; 2]>,
     /// The injection points (`crate::inject`): encoder lines, bridge, link.
     pub(super) inject: Injection,
     pub(super) bridge: Bridge,
@@ -65,7 +65,7 @@ impl BenchCore {
         robot: &RobotConfig,
         options: &BenchOptions,
         wiring: &Board,
-        vars: FwVars,
+        counts: Option<[u16; 2]>,
     ) -> Result<Self, plant_model::Error> {
         let clock = options.clock;
         let step_cycles = clock.cycles_in(Seconds(options.plant_step_s)).max(1);
@@ -74,7 +74,7 @@ impl BenchCore {
             clock,
             robot: Robot::new(robot, options.seed)?,
             plant_cycle: 0,
-            vars,
+            counts,
             inject: Injection::new(options.seed ^ 0x5eed_f417),
             bridge: Bridge::new(*wiring, clock),
             edges: Encoders::new(wiring),
@@ -317,9 +317,15 @@ impl BenchCore {
                 continue;
             };
             changed[i] = true;
-            if (old_f > 0.0 && fwd == 0.0) || (old_r > 0.0 && rev == 0.0) {
+            let cut_forward = old_f > 0.0 && fwd == 0.0;
+            if cut_forward || (old_r > 0.0 && rev == 0.0) {
                 let at = self.snapshot(core, cycle);
-                self.recorder.cutoff(side, at);
+                self.recorder.cutoff(side, cut_forward, at);
+            }
+            for (forward, was, now) in [(true, old_f, fwd), (false, old_r, rev)] {
+                if was == 0.0 && now > 0.0 {
+                    self.recorder.drive_on(side, forward, cycle);
+                }
             }
             self.robot.set_bridge(
                 side,
@@ -470,7 +476,33 @@ impl BenchCore {
 impl BenchCore {
     /// The plant and the firmware's counters now (`cycle` is the current one).
     pub fn snapshot(&self, core: &Core, cycle: u64) -> Snapshot {
-        Snapshot::take(&self.robot, &self.vars, core, cycle)
+        Snapshot::take(&self.robot, self.counts, core, cycle)
+    }
+
+    /// The longest a level on the bridge inputs may last and still be a
+    /// stale one, not a cut-off: one period of the slowest PWM seen on them
+    /// (a firmware writing the inputs one after the other leaves a level
+    /// for a few instructions; a real stop lasts at least a period), and at
+    /// least 64 us for drivers switched by plain pin writes.
+    pub fn stale_level_cycles(&self) -> u64 {
+        let hz = self.clock.hz() as f64;
+        self.bridge
+            .pin_stats()
+            .iter()
+            .filter(|p| p.hz > 0.0)
+            .map(|p| (hz / p.hz).ceil() as u64)
+            .max()
+            .unwrap_or(0)
+            .max(self.clock.cycles_in(Seconds(64e-6)))
+    }
+
+    /// Where the firmware keeps its wheel counters, when known.
+    pub fn count_variables(&self) -> Option<[u16; 2]> {
+        self.counts
+    }
+
+    pub(super) fn set_count_variables(&mut self, counts: [u16; 2]) {
+        self.counts = Some(counts);
     }
 
     /// Trace samples, one per `BenchOptions::trace_interval_s`.

@@ -15,6 +15,13 @@ pub enum BenchError {
     Elf(#[from] ElfError),
     #[error(transparent)]
     Sim(#[from] SimError),
+    /// A bench-interface path (the robust or thesis build's own tests) on
+    /// a firmware without that interface.
+    #[error("{0}; a firmware that knows nothing of the bench runs with a test description (--tests FILE; docs/test-description.md)")]
+    NoInterface(String),
+    /// A test description that does not fit the firmware or the run.
+    #[error("{0}")]
+    Description(String),
     #[error(transparent)]
     Plant(#[from] plant_model::Error),
     #[error("{error} ({at})")]
@@ -100,5 +107,11 @@ impl PendingError {
                 at: at(cycle, pc),
             },
         }
+    }
+}
+
+impl From<crate::description::DescriptionError> for BenchError {
+    fn from(e: crate::description::DescriptionError) -> Self {
+        BenchError::Description(e.to_string())
     }
 }

@@ -104,7 +104,10 @@ impl Default for BenchOptions {
 pub struct Bench {
     avr: Avr<BenchCore>,
     firmware: Firmware,
-    vars: FwVars,
+    /// The bench interface of the firmware, when it has one (our builds);
+    /// a firmware that knows nothing of the bench runs without it (see
+    /// [`crate::description`]).
+    vars: Result<FwVars, String>,
     clock: Clock,
     sleep_cycles: u64,
     /// Awake cycles per flash word, when profiling.
@@ -122,8 +125,15 @@ impl Bench {
         robot: &RobotConfig,
         options: BenchOptions,
     ) -> Result<Self, BenchError> {
-        let vars = FwVars::resolve(&firmware)?;
-        let avr = setup::build(&firmware, robot, &options, vars)?;
+        // Only a missing symbol means "no interface": a variable of the
+        // wrong size is an error of the build.
+        let vars = match FwVars::resolve(&firmware) {
+            Ok(v) => Ok(v),
+            Err(e @ crate::elf::ElfError::MissingSymbol { .. }) => Err(e.to_string()),
+            Err(e) => return Err(e.into()),
+        };
+        let counts = vars.as_ref().ok().map(|v| [v.left_count, v.right_count]);
+        let avr = setup::build(&firmware, robot, &options, counts)?;
         Ok(Self {
             avr,
             firmware,
@@ -158,8 +168,31 @@ impl Bench {
         self.avr.handler()
     }
 
-    pub fn vars(&self) -> &FwVars {
-        &self.vars
+    /// The firmware's bench interface (`HT_` variables); an error naming
+    /// the first missing symbol for a firmware without it.
+    pub fn vars(&self) -> Result<&FwVars, BenchError> {
+        self.vars
+            .as_ref()
+            .map_err(|missing| BenchError::NoInterface(missing.clone()))
+    }
+
+    /// Whether the firmware has the bench interface (see [`Bench::vars`]).
+    pub fn knows_the_bench(&self) -> bool {
+        self.vars.is_ok()
+    }
+
+    /// Read the firmware's wheel counters from these 32-bit variables (for
+    /// a firmware without the bench interface whose description names its
+    /// counters): what cut-off snapshots record.
+    pub fn set_count_variables(&mut self, counts: [u16; 2]) {
+        self.avr.handler_mut().set_count_variables(counts);
+    }
+
+    /// The firmware's wheel counters now, when the bench knows where they are.
+    pub fn counts(&self) -> Option<[i32; 2]> {
+        self.core()
+            .count_variables()
+            .map(|[l, r]| [self.read_i32(l), self.read_i32(r)])
     }
 
     pub fn firmware(&self) -> &Firmware {
@@ -189,15 +222,20 @@ impl Bench {
     fn progress(&self) -> Progress {
         let read = |a: Option<u16>| a.map_or(0, |a| self.read_u8(a));
         let core = self.core();
+        let v = self.vars.as_ref().ok();
         Progress {
             cycle: self.cycle(),
             left_edges: core.robot().a_edges(Side::Left),
             right_edges: core.robot().a_edges(Side::Right),
-            state: self.read_u8(self.vars.state),
-            phase: read(self.vars.phase),
-            segment: read(self.vars.segment),
-            done: self.read_u16(self.vars.done_count),
-            fault: read(self.vars.fault),
+            // Without the interface the firmware is busy while the watch
+            // is on (the caller arms it for the test only), and what it
+            // drives is its progress.
+            state: v.map_or(RunState::Driving as u8, |v| self.read_u8(v.state)),
+            phase: read(v.and_then(|v| v.phase)),
+            segment: read(v.and_then(|v| v.segment)),
+            done: v.map_or(0, |v| self.read_u16(v.done_count)),
+            fault: read(v.and_then(|v| v.fault)),
+            outputs: if v.is_none() { core.motions().len() } else { 0 },
             held_in_reset: core.held_in_reset(),
         }
     }
@@ -295,9 +333,10 @@ impl Bench {
         self.avr.write_bytes(addr, &v.to_le_bytes());
     }
 
-    /// The firmware's `HT_STATE` (None: a byte no firmware sends).
+    /// The firmware's `HT_STATE` (None: a byte no firmware sends, or a
+    /// firmware without the bench interface).
     pub fn run_state(&self) -> Option<RunState> {
-        RunState::from_u8(self.read_u8(self.vars.state))
+        RunState::from_u8(self.read_u8(self.vars.as_ref().ok()?.state))
     }
 
     /// The firmware is idle: ready for a command (`HT_STATE` = 1).
@@ -309,6 +348,8 @@ impl Bench {
     /// firmware sends).
     pub fn phase(&self) -> Option<Phase> {
         self.vars
+            .as_ref()
+            .ok()?
             .phase
             .and_then(|a| Phase::from_u8(self.read_u8(a)))
     }
@@ -344,6 +385,15 @@ impl Bench {
         self.avr.with_core(|core, c| core.after_reset(c));
         let next = self.avr.handler().next_event();
         self.avr.schedule(next);
+    }
+
+    /// Hold `pin` at a level from now on, as a button or a jumper would
+    /// (the pin's own PORT/DDR settings decide what the firmware reads, as
+    /// on silicon with an external driver).
+    pub fn drive_pin(&mut self, pin: crate::board::Pin, high: bool) -> Result<(), BenchError> {
+        let irq = self.avr.port_pin(pin.port, pin.bit)?;
+        self.avr.with_core(|_, c| c.raise(irq, u32::from(high)));
+        Ok(())
     }
 
     /// Bytes the firmware sent on USART `n` so far.

@@ -6,7 +6,6 @@
 use plant_model::{Robot, Side};
 
 use crate::board::{LedWiring, Pin};
-use crate::fwvars::FwVars;
 use crate::sim::Core;
 
 /// One trace sample of the plant.
@@ -89,9 +88,10 @@ pub struct Snapshot {
     pub x_mm: f64,
     pub y_mm: f64,
     pub theta_rad: f64,
-    /// The firmware's counters, read from SRAM at that cycle.
-    pub left_count: i32,
-    pub right_count: i32,
+    /// The firmware's counters, read from SRAM at that cycle (None: the
+    /// bench does not know where a firmware without its interface keeps them).
+    pub left_count: Option<i32>,
+    pub right_count: Option<i32>,
     /// Net A edges the plant produced.
     pub left_edges: i64,
     pub right_edges: i64,
@@ -106,6 +106,22 @@ pub struct Cutoff {
     pub side: Side,
     #[serde(flatten)]
     pub at: Snapshot,
+    /// The drive cut was the forward one (else the reverse).
+    #[serde(skip)]
+    pub forward: bool,
+    /// When the same drive of the same motor came back, if it did.
+    #[serde(skip)]
+    pub resumed_cycle: Option<u64>,
+}
+
+impl Cutoff {
+    /// A real cut-off, not a stale level: the drive stayed off for at least
+    /// `debounce` cycles (firmware that writes a bridge's two inputs one
+    /// after the other leaves the motor undriven for a few instructions).
+    pub fn lasted(&self, debounce: u64) -> bool {
+        self.resumed_cycle
+            .is_none_or(|back| back - self.at.cycle >= debounce)
+    }
 }
 
 /// What the two motors do together, from the H-bridge inputs.
@@ -183,8 +199,23 @@ impl Recorder {
         self.drive_log.push(e);
     }
 
-    pub(super) fn cutoff(&mut self, side: Side, at: Snapshot) {
-        self.cutoffs.push(Cutoff { side, at });
+    pub(super) fn cutoff(&mut self, side: Side, forward: bool, at: Snapshot) {
+        self.cutoffs.push(Cutoff {
+            side,
+            at,
+            forward,
+            resumed_cycle: None,
+        });
+    }
+
+    /// `side`'s forward (or reverse) drive is on at `cycle`: its last
+    /// cut-off of that drive, if still open, ends here.
+    pub(super) fn drive_on(&mut self, side: Side, forward: bool, cycle: u64) {
+        if let Some(c) = self.cutoffs.iter_mut().rev().find(|c| c.side == side) {
+            if c.forward == forward && c.resumed_cycle.is_none() && cycle > c.at.cycle {
+                c.resumed_cycle = Some(cycle);
+            }
+        }
     }
 
     /// The motion last recorded.
@@ -237,15 +268,20 @@ fn read_i32(core: &Core, addr: u16) -> i32 {
 
 impl Snapshot {
     /// The plant and the firmware's counters now (`cycle` is the current one).
-    pub(super) fn take(robot: &Robot, vars: &FwVars, core: &Core, cycle: u64) -> Snapshot {
+    pub(super) fn take(
+        robot: &Robot,
+        counts: Option<[u16; 2]>,
+        core: &Core,
+        cycle: u64,
+    ) -> Snapshot {
         let pose = robot.pose();
         Snapshot {
             cycle,
             x_mm: pose.x().0,
             y_mm: pose.y().0,
             theta_rad: pose.theta().0,
-            left_count: read_i32(core, vars.left_count),
-            right_count: read_i32(core, vars.right_count),
+            left_count: counts.map(|c| read_i32(core, c[0])),
+            right_count: counts.map(|c| read_i32(core, c[1])),
             left_edges: robot.a_edges(Side::Left),
             right_edges: robot.a_edges(Side::Right),
             left_mm: robot.distance_travelled(Side::Left).0,

@@ -9,7 +9,6 @@ use super::registers::{ACSR, CHECKED_TIMERS};
 use super::{BenchError, BenchOptions};
 use crate::board::Board;
 use crate::elf::Firmware;
-use crate::fwvars::FwVars;
 use crate::sim::{Avr, IoClaim, Irq, SimError};
 
 /// The MCU running `firmware`, its pins wired to `robot`'s parts as
@@ -18,10 +17,10 @@ pub(super) fn build(
     firmware: &Firmware,
     robot: &RobotConfig,
     options: &BenchOptions,
-    vars: FwVars,
+    counts: Option<[u16; 2]>,
 ) -> Result<Avr<BenchCore>, BenchError> {
     let wiring: &Board = &options.board;
-    let core = BenchCore::new(robot, options, wiring, vars)?;
+    let core = BenchCore::new(robot, options, wiring, counts)?;
     let mut avr = Avr::new("atmega2560", options.clock.hz(), core)?;
     for (addr, bytes) in &firmware.segments {
         avr.load_flash(*addr, bytes)?;

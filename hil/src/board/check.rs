@@ -139,7 +139,7 @@ struct Checker<'a> {
 }
 
 /// A pin's Arduino name, `"D<n>"` or `"A<n>"`, as its number.
-fn arduino_number(name: &str) -> Option<u8> {
+pub(super) fn arduino_number(name: &str) -> Option<u8> {
     let digits = |s: &str| -> Option<u8> {
         (!s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) && s.len() <= 2)
             .then(|| s.parse().ok())

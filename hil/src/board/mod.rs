@@ -28,6 +28,11 @@ use plant_model::Side;
 pub use self::check::{BoardError, Problem, ProblemKind};
 pub use self::mega2560::PwmSource;
 
+/// An Arduino Mega pin by its name, `"D<n>"` (D0-D69) or `"A<n>"` (A0-A15).
+pub fn pin_named(name: &str) -> Option<Pin> {
+    check::arduino_number(name).and_then(mega2560::pin)
+}
+
 /// An MCU pin: IO port letter and bit, with its Arduino Mega number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Pin {

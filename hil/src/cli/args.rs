@@ -61,6 +61,12 @@ pub struct Target {
     /// Firmware ELF to run instead of the build in firmware/target.
     #[arg(long, value_name = "FILE")]
     pub elf: Option<PathBuf>,
+    /// Test description (TOML, docs/test-description.md) of a firmware
+    /// that knows nothing of the bench (an Arduino sketch, your own C or
+    /// Rust): how it is ready, how each test starts and ends, its variable
+    /// names. Runs its `elf` unless --elf is given. Checked before anything runs.
+    #[arg(long = "tests", value_name = "FILE", value_parser = parse_description)]
+    pub description: Option<std::sync::Arc<hil::description::Description>>,
     /// Robot config TOML (default: fixtures/robots/henrytwo.toml, the best
     /// estimate of the thesis robot).
     #[arg(long, value_name = "FILE")]
@@ -84,6 +90,13 @@ pub struct Target {
     /// range before anything runs.
     #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
     pub params: Vec<(hil::link::Param, f32)>,
+}
+
+/// `--tests FILE`: a test description, read and checked.
+pub fn parse_description(s: &str) -> Result<std::sync::Arc<hil::description::Description>, String> {
+    hil::description::Description::load(s)
+        .map(std::sync::Arc::new)
+        .map_err(|e| e.to_string())
 }
 
 /// `NAME=VALUE` of `--param`: a protocol parameter's name and a value in its
@@ -144,9 +157,11 @@ impl Target {
         RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
     }
 
-    /// The ELF of `--elf`, else of the `--firmware` build.
+    /// The ELF of `--elf`, else the one the test description names, else
+    /// of the `--firmware` build.
     pub fn firmware(&self) -> Result<Firmware> {
-        let path = match &self.elf {
+        let described = self.description.as_ref().and_then(|d| d.elf.clone());
+        let path = match self.elf.as_ref().or(described.as_ref()) {
             Some(path) => path.clone(),
             None => {
                 let build = self.firmware.to_possible_value().context("no such build")?;
@@ -234,7 +249,7 @@ pub struct Common {
 }
 
 impl Common {
-    /// A test run as these options ask for it.
+    /// A test run as these options ask for it, with legs of `leg_mm`.
     pub fn test_options(&self, leg_mm: f64) -> TestOptions {
         TestOptions {
             leg_mm,
@@ -242,17 +257,29 @@ impl Common {
             record: self.trace.vcd.is_some(),
             tell: self.target.tell(),
             params: self.target.params.clone(),
+            description: self.target.description.clone(),
             ..Default::default()
+        }
+    }
+
+    /// The leg length `leg` asks for, as the test description allows it.
+    pub fn leg_mm(&self, leg: Leg) -> Result<f64> {
+        match &self.target.description {
+            Some(d) => Ok(d.leg_mm(leg.leg_mm, DEFAULT_LEG_MM)?),
+            None => Ok(leg.leg_mm.unwrap_or(DEFAULT_LEG_MM)),
         }
     }
 }
 
+/// The leg of the thesis' tests: 2 m.
+pub const DEFAULT_LEG_MM: f64 = 2000.0;
+
 /// The leg of a test: the side of the square or triangle, the line's length.
 #[derive(clap::Args, Clone, Copy)]
 pub struct Leg {
-    /// Leg length in millimetres.
-    #[arg(long, default_value_t = 2000.0, value_parser = parse_leg, allow_negative_numbers = true)]
-    pub leg_mm: f64,
+    /// Leg length in millimetres [default: 2000, or a described firmware's own].
+    #[arg(long, value_parser = parse_leg, allow_negative_numbers = true)]
+    pub leg_mm: Option<f64>,
 }
 
 /// How the error model is solved.

@@ -48,7 +48,7 @@ impl Bench {
             thesis: thesis.as_ref(),
             robot: &robot,
             test: self.test,
-            leg_mm: self.leg.leg_mm,
+            leg_mm: self.common.leg_mm(self.leg)?,
             repeats: self.repeats as usize,
             raw_with_pwm_timers: !self.without_simavr_pwm,
             progress: &|what: &str| spinner.set_message(what.to_string()),

@@ -283,7 +283,7 @@ impl Calibrate {
                 .push((hil::link::Param::WheelbaseMm.id(), wheelbase_mm as f32));
         }
         let total = 2 * plan.runs_per_direction;
-        let bar = progress_bar((self.rounds + 1) * total, self.leg.leg_mm);
+        let bar = progress_bar((self.rounds + 1) * total, plan.leg_mm);
         let results = hil::umbmark::calibrate(
             &firmware,
             &robot,
@@ -344,13 +344,22 @@ fn incomplete(set: &hil::experiments::RunSet) -> Result<()> {
 fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
     let (robot, firmware) = common.target.load()?;
     let plan = Plan::new(
-        leg.leg_mm,
+        common.leg_mm(leg)?,
         common.target.seed,
         &robot,
         &common.target.bench().board,
         &firmware,
         common.target.tell(),
     );
+    if let Some(d) = &common.target.description {
+        if !common.target.params.is_empty() {
+            anyhow::bail!(
+                "{}: the firmware it describes has no protocol to set parameters with; drop --param",
+                d.path
+            );
+        }
+        return Ok((robot, firmware, plan.described(d.clone())));
+    }
     // The user's parameters after the robot's: theirs win.
     let mut plan = plan;
     plan.params

@@ -38,6 +38,7 @@ impl Faults {
             seed: self.common.target.seed,
             board: self.common.target.bench().board,
             hang_after_s: self.hang_after,
+            description: self.common.target.description.clone(),
         };
         let library = match &self.scenario {
             Some(path) => vec![hil::faults::from_scenario(

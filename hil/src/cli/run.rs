@@ -43,7 +43,7 @@ impl Run {
             common,
         } = self;
         let (robot, firmware) = common.target.load()?;
-        let mut opts = common.test_options(leg.leg_mm);
+        let mut opts = common.test_options(common.leg_mm(leg)?);
         opts.hang_after_s = hang_after;
         if let Some(path) = &scenario {
             let s = hil::scenario::Scenario::load(path)?;

@@ -42,7 +42,7 @@ impl Timing {
         let clock = BenchOptions::default().clock;
         let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
         let probe = TimingProbe::new(&firmware, &function, period)?;
-        let opts = common.test_options(leg.leg_mm);
+        let opts = common.test_options(common.leg_mm(leg)?);
         let (run, observer) =
             run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
         let probe = observer

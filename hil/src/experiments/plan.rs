@@ -64,6 +64,10 @@ pub struct Plan {
     /// E.g. a firmware whose geometry is not the robot's.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// How a firmware without the bench interface is run (see
+    /// [`crate::description`]); the firmware's hash pins the rest.
+    #[serde(skip)]
+    pub description: Option<std::sync::Arc<crate::description::Description>>,
 }
 
 /// One run of a plan: its index, direction and seed.
@@ -119,7 +123,20 @@ impl Plan {
             firmware_hash: firmware.content_hash(),
             params: params.iter().map(|(p, v)| (p.id(), *v)).collect(),
             warnings: warning.into_iter().collect(),
+            description: None,
         }
+    }
+
+    /// The plan for a firmware without the bench interface, run as `d`
+    /// describes: nothing is sent to it but each test's start.
+    pub fn described(mut self, d: std::sync::Arc<crate::description::Description>) -> Self {
+        self.params.clear();
+        self.warnings.clear();
+        if let Some(name) = &d.name {
+            self.firmware = name.clone();
+        }
+        self.description = Some(d);
+        self
     }
 
     /// The plan's parameters, decoded.

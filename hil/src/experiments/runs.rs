@@ -98,6 +98,7 @@ pub fn execute(
                 // The plan holds the robot's geometry already.
                 params: plan.firmware_params(),
                 hang_after_s: None,
+                description: plan.description.clone(),
                 tell: crate::firmware_params::Tell::Keep,
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
@@ -259,6 +260,7 @@ mod tests {
             firmware_hash: String::new(),
             params: Vec::new(),
             warnings: vec!["plan".into()],
+            description: None,
         };
         let set = RunSet::new(
             plan,

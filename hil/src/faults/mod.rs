@@ -77,9 +77,11 @@ pub fn library() -> Vec<FaultCase> {
 }
 
 /// How `hil faults` runs the library.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct FaultOptions {
     pub seed: u64,
+    /// How a firmware without the bench interface is run.
+    pub description: Option<std::sync::Arc<crate::description::Description>>,
     /// The board the robot is wired by.
     pub board: crate::board::Board,
     /// Robot time without progress after which a busy firmware is hung
@@ -91,6 +93,7 @@ impl Default for FaultOptions {
     fn default() -> Self {
         Self {
             seed: 0,
+            description: None,
             board: Default::default(),
             hang_after_s: crate::hang::DEFAULT_HANG_AFTER_S,
         }
@@ -203,18 +206,19 @@ impl Observed {
             end_y_cm: run.final_pose.y_mm / 10.0,
             end_distance_cm: run.final_pose.x_mm.hypot(run.final_pose.y_mm) / 10.0,
             robot_time_s: run.robot_time_s,
-            first_leg_counts: leg
-                .map(|l| (l.firmware_count_left + l.firmware_count_right) as f64 / 2.0),
+            first_leg_counts: leg.and_then(|l| {
+                Some((l.firmware_count_left? + l.firmware_count_right?) as f64 / 2.0)
+            }),
             first_leg_plant_mm: leg.map(|l| l.plant_distance_mm),
             first_leg_arc_mm: leg.map(|l| l.plant_arc_mm),
             first_leg_heading_deg: leg.map(|l| l.plant_heading_change_deg),
             first_leg_drive_s: leg
                 .map(|l| (l.cutoff_cycle - l.start_cycle) as f64 / clock_hz as f64),
-            first_leg_count_error: leg.map(|l| {
-                (
-                    l.firmware_count_left as i64 - l.plant_edges_left,
-                    l.firmware_count_right as i64 - l.plant_edges_right,
-                )
+            first_leg_count_error: leg.and_then(|l| {
+                Some((
+                    l.firmware_count_left? as i64 - l.plant_edges_left,
+                    l.firmware_count_right? as i64 - l.plant_edges_right,
+                ))
             }),
             fault_at_s: fault_cycle.map(|c| c as f64 / clock_hz as f64),
             bluetooth_reply_bytes: run.bluetooth_out.len(),
@@ -313,6 +317,7 @@ fn run_case(
         params: Vec::new(),
         hang_after_s: Some(options.hang_after_s),
         tell: Default::default(),
+        description: options.description.clone(),
     };
     let run = run_test(fw.clone(), robot, case.test, &opts)?;
     Ok(Observed::from_run(

@@ -1,0 +1,132 @@
+//! The description file: what it accepts, and one line for each thing it
+//! refuses.
+
+use super::*;
+
+const GOOD: &str = r#"
+[firmware]
+name = "sketch"
+[ready]
+after_s = 0.5
+[leg]
+mm = 400
+[end]
+idle_s = 2.5
+[symbols]
+left_count = "leftCount"
+right_count = "rightCount"
+control = "PID"
+[tests.umbmark-cw]
+uart = 1
+bytes = [2]
+[tests.line]
+pin = "D30"
+level = "low"
+[tests.triangle]
+uart = 0
+text = "t"
+"#;
+
+fn parse(text: &str) -> Result<Description, String> {
+    Description::from_toml_str(text, "d.toml").map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_full_description_reads_as_written() {
+    let d = parse(GOOD).unwrap();
+    assert_eq!(d.name.as_deref(), Some("sketch"));
+    assert_eq!(d.ready.after_s, 0.5);
+    assert_eq!(d.leg, Leg::Fixed(400.0));
+    assert_eq!(d.end.idle_s, 2.5);
+    assert_eq!(
+        d.tests[&Test::UmbmarkCw],
+        Start::Uart {
+            usart: 1,
+            bytes: vec![2]
+        }
+    );
+    assert_eq!(
+        d.tests[&Test::Line],
+        Start::Pin {
+            pin: crate::board::pin_named("D30").unwrap(),
+            high: false
+        }
+    );
+    assert_eq!(
+        d.tests[&Test::Triangle],
+        Start::Uart {
+            usart: 0,
+            bytes: b"t".to_vec()
+        }
+    );
+    assert!(d.start(Test::UmbmarkCcw).is_err());
+}
+
+/// Each bad field is one line naming the file, the field and what is allowed.
+#[rstest::rstest]
+#[case(
+    "uart = 1\nbytes = [2]",
+    "uart = 7\nbytes = [2]",
+    "tests.umbmark-cw.uart = 7: the ATmega2560 has USART 0-3"
+)]
+#[case(
+    "uart = 1\nbytes = [2]",
+    "uart = 1\nbytes = []",
+    "tests.umbmark-cw.bytes = []: give 1 to 64 bytes"
+)]
+#[case(
+    "uart = 1\nbytes = [2]",
+    "uart = 1",
+    "tests.umbmark-cw.uart = 1: give what is sent"
+)]
+#[case(
+    "pin = \"D30\"\nlevel = \"low\"",
+    "pin = \"D99\"\nlevel = \"low\"",
+    "tests.line.pin = \"D99\": give \"D0\"-\"D69\""
+)]
+#[case(
+    "pin = \"D30\"\nlevel = \"low\"",
+    "pin = \"D30\"\nlevel = \"up\"",
+    "tests.line.level = Some(\"up\"): give \"low\" or \"high\""
+)]
+#[case("mm = 400", "mm = 5001", "leg.mm = 5001: give 10 to 5000 mm")]
+#[case("mm = 400", "mm = nan", "leg.mm = NaN: give 10 to 5000 mm")]
+#[case(
+    "mm = 400",
+    "mm = 400\nvariable = \"D\"",
+    "leg = ...: give the firmware's own leg"
+)]
+#[case("idle_s = 2.5", "idle_s = 0", "end.idle_s = 0: give 0.05 to 60 s")]
+#[case(
+    "after_s = 0.5",
+    "after_s = 1e300",
+    "ready.after_s = 1e300: give 0 to 60 s"
+)]
+#[case(
+    "[tests.line]",
+    "[tests.spiral]",
+    "tests.spiral = ...: no such test; one of umbmark-cw"
+)]
+#[case("[symbols]", "[symbols]\nleft = \"x\"", "unknown field `left`")]
+fn a_bad_field_is_one_line_naming_it(#[case] from: &str, #[case] to: &str, #[case] says: &str) {
+    assert!(GOOD.contains(from), "{from}");
+    let e = parse(&GOOD.replacen(from, to, 1)).unwrap_err();
+    assert!(e.starts_with("d.toml: "), "{e}");
+    assert!(e.contains(says), "{e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+}
+
+#[test]
+fn a_fixed_leg_refuses_another_length_and_a_variable_takes_any() {
+    let d = parse(GOOD).unwrap();
+    assert_eq!(d.leg_mm(None, 2000.0).unwrap(), 400.0);
+    assert_eq!(d.leg_mm(Some(400.0), 2000.0).unwrap(), 400.0);
+    let e = d.leg_mm(Some(300.0), 2000.0).unwrap_err().to_string();
+    assert!(
+        e.contains("legs are 400 mm and it cannot be told 300 mm"),
+        "{e}"
+    );
+    let v = parse(&GOOD.replace("mm = 400", "variable = \"Distancia\"")).unwrap();
+    assert_eq!(v.leg_mm(Some(300.0), 2000.0).unwrap(), 300.0);
+    assert_eq!(v.leg_mm(None, 2000.0).unwrap(), 2000.0);
+}
