@@ -160,13 +160,9 @@ fn thesis_shape(test: Test) -> (usize, usize, f64) {
 /// The thesis build: each selector byte runs its own test to the end, with
 /// that test's legs, number of turns and turn direction (mirrored, see
 /// [`thesis_shape`]), each turn within 10 degrees of its angle and each leg
-/// its length.
-///
-/// A known open bug: after some turns the bench sees the next leg in two
-/// pieces at a stale PWM level, a short one (~16 mm) and the rest. Today: UMBmark
-/// CW leg 3, CCW legs 2 and 4, triangle leg 2. A piece is joined to the leg
-/// it is part of (no turn between them) before the legs are counted; at most
-/// one such split per leg, and the two pieces together are the leg's length.
+/// its length, in one piece: the period after a turn in which the PID holds
+/// one wheel at zero and the stale levels of its pin writes are no cut-off
+/// (they used to split a leg into a ~16 mm piece and the rest).
 #[test]
 fn thesis_build_runs_each_selector_byte() {
     for test in Test::ALL {
@@ -174,27 +170,9 @@ fn thesis_build_runs_each_selector_byte() {
         let name = test.name();
         assert!(r.completed, "{name}: {:?}", r.finding);
         let (legs, turns, sign) = thesis_shape(test);
-        // Join a leg to the previous one when no turn started between them.
-        let mut joined: Vec<(f64, usize)> = Vec::new();
-        let mut prev_start = None;
+        assert_eq!(r.legs.len(), legs, "{name}: legs {:?}", r.legs);
         for l in &r.legs {
-            let turn_between = prev_start.is_none_or(|p| {
-                r.turns
-                    .iter()
-                    .any(|t| t.start_cycle > p && t.start_cycle < l.start_cycle)
-            });
-            match joined.last_mut() {
-                Some((mm, pieces)) if !turn_between => {
-                    *mm += l.plant_distance_mm;
-                    *pieces += 1;
-                }
-                _ => joined.push((l.plant_distance_mm, 1)),
-            }
-            prev_start = Some(l.start_cycle);
-        }
-        assert_eq!(joined.len(), legs, "{name}: legs {:?}", r.legs);
-        for (mm, pieces) in &joined {
-            assert!(*pieces <= 2, "{name}: a leg in {pieces} pieces");
+            let mm = l.plant_distance_mm;
             assert!((mm - LEG_MM).abs() < 30.0, "{name}: a leg of {mm} mm");
         }
         assert_eq!(r.turns.len(), turns, "{name}: turns");

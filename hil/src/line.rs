@@ -115,6 +115,8 @@ pub struct LineRun {
 
 /// Wait for the firmware to report idle after reset.
 pub fn wait_ready(bench: &mut Bench) -> Result<(), BenchError> {
+    // A firmware without the interface never says it is idle: say so now.
+    bench.vars()?;
     bench.run_expect(
         "the firmware did not report idle (HT_STATE = 1) after reset",
         2.0,

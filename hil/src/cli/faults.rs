@@ -59,8 +59,9 @@ impl Faults {
         let selected = self.select(library)?;
         let (robot, robust) = self.common.target.load()?;
         let thesis_path = hil::paths::firmware_elf("thesis");
-        let thesis = thesis_path
-            .exists()
+        // The thesis build beside the firmware under test, for comparison;
+        // not beside a described one (the description is of that firmware).
+        let thesis = (thesis_path.exists() && self.common.target.description.is_none())
             .then(|| Firmware::load(&thesis_path))
             .transpose()?;
         let rows = selected

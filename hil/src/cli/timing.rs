@@ -19,9 +19,10 @@ pub struct Timing {
     /// Budgets (TOML; default: fixtures/timing-budgets.toml).
     #[arg(long, value_name = "FILE")]
     budgets: Option<PathBuf>,
-    /// The control function to time.
-    #[arg(long, default_value = "ht_control_tick")]
-    function: String,
+    /// The control function to time [default: the test description's
+    /// `symbols.control`, else the bench's builds' ht_control_tick].
+    #[arg(long)]
+    function: Option<String>,
     #[command(flatten)]
     common: Common,
 }
@@ -36,6 +37,15 @@ impl Timing {
             common,
         } = self;
         let (robot, firmware) = common.target.load()?;
+        let described = common
+            .target
+            .description
+            .as_ref()
+            .and_then(|d| d.control_function(&firmware))
+            .transpose()?;
+        let function = function
+            .or(described)
+            .unwrap_or_else(|| "ht_control_tick".into());
         let budgets_path = budgets
             .unwrap_or_else(|| hil::paths::workspace_root().join("fixtures/timing-budgets.toml"));
         let budgets = Budgets::load(&budgets_path)?;

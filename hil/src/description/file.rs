@@ -306,11 +306,28 @@ pub(super) fn parse(text: &str, path: &str, dir: &Path) -> Result<Description, D
     Ok(Description {
         path: path.to_string(),
         name: doc.firmware.name,
-        elf: doc.firmware.elf.map(|p| dir.join(p)),
+        elf: doc.firmware.elf.map(|p| lexically_normal(&dir.join(p))),
         ready,
         leg: leg_mm,
         end,
         symbols: doc.symbols,
         tests,
     })
+}
+
+/// `path` without `.` and `dir/..` pairs (the ELF named relative to the
+/// description reads as the path a person would give).
+fn lexically_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out: Vec<Component> = Vec::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    out.iter().collect()
 }

@@ -1,0 +1,283 @@
+//! Firmware that knows nothing of the bench, run black-box from a test
+//! description: the thesis' Annex A sketch and a sketch of our own, built
+//! by tools/setup.sh with Debian's Arduino core, unmodified.
+
+mod support;
+
+use std::process::Command;
+use std::sync::Arc;
+
+use hil::bench::BenchOptions;
+use hil::description::Description;
+use hil::elf::Firmware;
+use hil::experiment::{run_test, Test, TestOptions, TestRun};
+
+const THESIS_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
+const DEMO_TESTS: &str = "fixtures/arduino/square-demo/tests.toml";
+
+/// A description of the repository, and the ELF it names (built by set-up).
+fn described(file: &str) -> (Arc<Description>, Firmware) {
+    let d = Description::load(hil::paths::workspace_root().join(file)).expect("description loads");
+    let elf = d.elf.clone().expect("the description names its ELF");
+    let fw = Firmware::load(&elf).unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"));
+    (Arc::new(d), fw)
+}
+
+fn run_described(file: &str, test: Test, seed: u64, record: bool) -> TestRun {
+    let (d, fw) = described(file);
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
+        bench: BenchOptions {
+            seed,
+            ..Default::default()
+        },
+        record,
+        description: Some(d),
+        ..Default::default()
+    };
+    run_test(fw, &support::robot("henrytwo"), test, &opts).expect("the bench runs the sketch")
+}
+
+/// The Rust port of the same listing, on the same robot, legs of the
+/// sketch's printed 400 mm.
+fn run_port(test: Test, seed: u64, record: bool) -> TestRun {
+    let opts = TestOptions {
+        leg_mm: 400.0,
+        bench: BenchOptions {
+            seed,
+            ..Default::default()
+        },
+        record,
+        ..Default::default()
+    };
+    run_test(
+        support::firmware("thesis"),
+        &support::robot("henrytwo"),
+        test,
+        &opts,
+    )
+    .expect("the bench runs the port")
+}
+
+/// The thesis' turns are mirrored (its CW spins left, see firmware/README.md).
+fn thesis_turn_sign(test: Test) -> f64 {
+    match test {
+        Test::UmbmarkCw => 1.0,
+        _ => -1.0,
+    }
+}
+
+/// Each selector byte runs its test to the end, black-box: the test's legs
+/// (each its printed 400 mm) and turns (each its angle, in the thesis'
+/// mirrored direction), each leg in one piece although `analogWrite`
+/// leaves stale levels between a bridge's two pins.
+#[test]
+fn the_thesis_sketch_completes_every_test_in_its_shape() {
+    for test in Test::ALL {
+        let r = run_described(THESIS_TESTS, test, 0, false);
+        let name = test.name();
+        assert!(r.completed, "{name}: {:?}", r.finding);
+        let (legs, turns, angle) = test.shape();
+        assert_eq!(r.legs.len(), legs, "{name}: legs {:?}", r.legs);
+        assert_eq!(r.turns.len(), turns, "{name}: turns {:?}", r.turns);
+        for l in &r.legs {
+            assert!((l.plant_distance_mm - 400.0).abs() < 15.0, "{name}: {l:?}");
+            assert!(l.firmware_count_left.is_some(), "{name}: counts mapped");
+        }
+        for t in &r.turns {
+            let a = t.plant_angle_deg;
+            assert_eq!(a.signum(), thesis_turn_sign(test), "{name}: {a} deg");
+            assert!((a.abs() - angle.abs()).abs() < 10.0, "{name}: {a} deg");
+        }
+    }
+}
+
+fn drive_s(r: &TestRun) -> Vec<f64> {
+    r.legs
+        .iter()
+        .map(|l| (l.cutoff_cycle - l.start_cycle) as f64 / 16e6)
+        .collect()
+}
+
+fn turn_s(r: &TestRun) -> Vec<f64> {
+    r.turns
+        .iter()
+        .map(|t| {
+            let end = t.cutoff_left_cycle.max(t.cutoff_right_cycle).unwrap();
+            (end - t.start_cycle) as f64 / 16e6
+        })
+        .collect()
+}
+
+fn mean_sd(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
+    (m, var.sqrt())
+}
+
+/// The sketch against the Rust port of the same listing, both UMBmark
+/// directions over three seeds: leg and turn durations, counts at each
+/// cut-off, and the end points, whose means may differ by no more than the
+/// seeds' noise allows (three standard errors of the difference) and, seed
+/// by seed, by less than 2 cm.
+#[test]
+fn the_thesis_sketch_drives_as_the_rust_port() {
+    for test in [Test::UmbmarkCw, Test::UmbmarkCcw] {
+        let name = test.name();
+        let (mut sk_end, mut rs_end) = (Vec::new(), Vec::new());
+        for seed in 0..3 {
+            let sk = run_described(THESIS_TESTS, test, seed, false);
+            let rs = run_port(test, seed, false);
+            assert!(sk.completed && rs.completed, "{name} seed {seed}");
+            for (a, b) in drive_s(&sk).iter().zip(drive_s(&rs)) {
+                assert!((a / b - 1.0).abs() < 0.01, "{name}: legs {a} s vs {b} s");
+            }
+            for (a, b) in turn_s(&sk).iter().zip(turn_s(&rs)) {
+                assert!((a / b - 1.0).abs() < 0.05, "{name}: turns {a} s vs {b} s");
+            }
+            for (a, b) in sk.legs.iter().zip(&rs.legs) {
+                for (x, y) in [
+                    (a.firmware_count_left, b.firmware_count_left),
+                    (a.firmware_count_right, b.firmware_count_right),
+                ] {
+                    // The leg ends at a PID period (15 ms, about 13 counts at
+                    // 145 mm/s): within three of them.
+                    let (x, y) = (x.unwrap(), y.unwrap());
+                    assert!((x - y).abs() <= 40, "{name}: leg counts {x} vs {y}");
+                }
+            }
+            for (a, b) in sk.turns.iter().zip(&rs.turns) {
+                for (x, y) in [
+                    (a.count_left_at_cutoff, b.count_left_at_cutoff),
+                    (a.count_right_at_cutoff, b.count_right_at_cutoff),
+                ] {
+                    let (x, y) = (x.unwrap(), y.unwrap());
+                    assert!((x - y).abs() <= 10, "{name}: turn counts {x} vs {y}");
+                }
+            }
+            assert!(
+                (sk.x_cm - rs.x_cm).hypot(sk.y_cm - rs.y_cm) < 2.0,
+                "{name} seed {seed}: ends ({}, {}) vs ({}, {}) cm",
+                sk.x_cm,
+                sk.y_cm,
+                rs.x_cm,
+                rs.y_cm
+            );
+            sk_end.push([sk.x_cm, sk.y_cm]);
+            rs_end.push([rs.x_cm, rs.y_cm]);
+        }
+        for axis in 0..2 {
+            let (ms, ss) = mean_sd(&sk_end.iter().map(|e| e[axis]).collect::<Vec<_>>());
+            let (mr, sr) = mean_sd(&rs_end.iter().map(|e| e[axis]).collect::<Vec<_>>());
+            let se = ((ss * ss + sr * sr) / 3.0).sqrt();
+            assert!(
+                (ms - mr).abs() <= 3.0 * se,
+                "{name} axis {axis}: mean end {ms:.2} vs {mr:.2} cm, standard error {se:.2}"
+            );
+        }
+    }
+}
+
+/// The period of the sketch's PID, from outside: the left wheel's duty
+/// changes once per control period (`Muestreo`, 15 ms, and the loop's
+/// prints), as the port's do.
+#[test]
+fn the_thesis_sketch_controls_every_15_ms() {
+    let period = |r: &TestRun| {
+        let start = r.legs[0].start_cycle;
+        let end = r.legs[0].cutoff_cycle;
+        // A control step may change a duty in more than one write (OCR,
+        // then the buffered value at TOP): changes within 1 ms are one step.
+        let mut changes: Vec<u64> = Vec::new();
+        for d in r
+            .drive
+            .iter()
+            .filter(|d| d.pin == 9 && d.cycle > start + 16_000_000 && d.cycle < end)
+        {
+            if changes.last().is_none_or(|&c| d.cycle - c > 16_000) {
+                changes.push(d.cycle);
+            }
+        }
+        let mut gaps: Vec<u64> = changes.windows(2).map(|w| w[1] - w[0]).collect();
+        gaps.sort_unstable();
+        assert!(gaps.len() > 20, "{} duty changes", changes.len());
+        gaps[gaps.len() / 2] as f64 / 16e3
+    };
+    let sk = period(&run_described(THESIS_TESTS, Test::Line, 0, true));
+    let rs = period(&run_port(Test::Line, 0, true));
+    // At least Muestreo apart (the PID runs once 15 ms have passed, so its
+    // period is 15 ms plus part of the loop's printing: about 16.5 ms).
+    for (who, ms) in [("sketch", sk), ("port", rs)] {
+        assert!(
+            (15.0..17.0).contains(&ms),
+            "{who}: median control period {ms} ms"
+        );
+    }
+    assert!(
+        (sk - rs).abs() < 0.2,
+        "median control period {sk} vs {rs} ms"
+    );
+}
+
+/// A plain sketch of our own (millis, analogWrite, attachInterrupt,
+/// Serial): its 4 legs of 3000 counts and 4 spins of 612 counts per wheel,
+/// as it drives them, ended by its "done" line.
+#[test]
+fn a_generic_sketch_is_reported_as_it_drives() {
+    let r = run_described(DEMO_TESTS, Test::UmbmarkCcw, 0, false);
+    assert!(r.completed, "{:?}", r.finding);
+    assert_eq!(r.legs.len(), 4, "{:?}", r.legs);
+    assert_eq!(r.turns.len(), 4, "{:?}", r.turns);
+    for l in &r.legs {
+        let mean = (l.firmware_count_left.unwrap() + l.firmware_count_right.unwrap()) / 2;
+        assert!((3000..3010).contains(&mean), "leg counts {l:?}");
+    }
+    for t in &r.turns {
+        assert!(t.count_left_at_cutoff.unwrap() <= -612, "{t:?}");
+        assert!(t.count_right_at_cutoff.unwrap() >= 612, "{t:?}");
+        assert!((t.plant_angle_deg - 90.0).abs() < 8.0, "{t:?}");
+    }
+}
+
+/// Without its interface or a description the bench says what to give; a
+/// fixed leg refuses another length; a bad description is one line; all
+/// before anything runs, with exit code 2 or 1 as the README's table says.
+#[test]
+fn the_cli_says_what_a_black_box_run_needs() {
+    let root = hil::paths::workspace_root();
+    let (_, fw) = described(THESIS_TESTS);
+    let hil = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+            .current_dir(&root)
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let elf = fw.path.display().to_string();
+    let (code, err) = hil(&["run", "line", "--elf", &elf]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("no symbol \"HT_") && err.contains("--tests FILE"),
+        "{err}"
+    );
+    let (code, err) = hil(&["run", "line", "--tests", THESIS_TESTS, "--leg-mm", "300"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("legs are 400 mm"), "{err}");
+    let bad = std::env::temp_dir().join(format!("hil-bad-tests-{}.toml", std::process::id()));
+    let text = std::fs::read_to_string(root.join(THESIS_TESTS))
+        .unwrap()
+        .replace("uart = 1\nbytes = [4]", "uart = 9\nbytes = [4]");
+    std::fs::write(&bad, text).unwrap();
+    let (code, err) = hil(&["run", "line", "--tests", bad.to_str().unwrap()]);
+    let _ = std::fs::remove_file(&bad);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("tests.line.uart = 9: the ATmega2560 has USART 0-3"),
+        "{err}"
+    );
+}
