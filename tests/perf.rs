@@ -6,7 +6,7 @@
 mod support;
 
 use hil::experiment::Test;
-use hil::perf::{bench_run, raw_replay};
+use hil::perf::{bench_run, bench_run_described, raw_replay};
 
 #[test]
 fn a_raw_replay_ends_in_the_bench_runs_firmware_state() {
@@ -26,6 +26,26 @@ fn a_raw_replay_ends_in_the_bench_runs_firmware_state() {
         );
         assert_eq!(replay.measured.robot_s, rec.measured.robot_s);
     }
+}
+
+/// The thesis sketch, run black-box from its description: the replay of
+/// its bench run (one selector byte, no bench variables) ends in the same
+/// SRAM, so `hil bench`'s black-box ratio compares the same instructions.
+#[test]
+fn a_black_box_runs_replay_ends_in_the_bench_runs_firmware_state() {
+    let root = hil::paths::workspace_root();
+    let d = hil::description::Description::load(
+        root.join("firmware/arduino/henrytwo-thesis/tests.toml"),
+    )
+    .unwrap();
+    let fw = hil::elf::Firmware::load(d.elf.as_ref().unwrap())
+        .unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"));
+    let rec = bench_run_described(&fw, &support::robot("henrytwo"), Test::Line, &d, true).unwrap();
+    assert!(rec.completed, "the sketch's line did not end on the bench");
+    assert!(rec.edges.len() > 100, "{} edges recorded", rec.edges.len());
+    let replay = raw_replay(&fw, &rec, false).unwrap();
+    assert!(replay.faithful, "the sketch's replay diverged");
+    assert_eq!(replay.measured.robot_s, rec.measured.robot_s);
 }
 
 #[test]

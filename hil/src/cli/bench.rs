@@ -10,6 +10,9 @@ use hil::experiment::Test;
 
 use super::args::{Common, Json, Leg, SideArg};
 
+/// The thesis sketch's test description, timed beside the builds.
+const SKETCH_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
+
 #[derive(clap::Args)]
 pub struct Bench {
     /// The test to time.
@@ -21,6 +24,10 @@ pub struct Bench {
     /// a square of legs of at most 500 mm).
     #[arg(long)]
     without_thesis: bool,
+    /// Skip the thesis sketch (Annex A built with the Arduino core), run
+    /// black-box from its test description.
+    #[arg(long)]
+    without_sketch: bool,
     /// Skip raw simavr with its own PWM timers (slow, and not what the
     /// bench is compared with).
     #[arg(long)]
@@ -41,11 +48,23 @@ impl Bench {
         } else {
             None
         };
+        let sketch_tests = hil::paths::workspace_root().join(SKETCH_TESTS);
+        let sketch = match self.without_sketch {
+            true => None,
+            false => {
+                let d = hil::description::Description::load(&sketch_tests)?;
+                match d.elf.clone().filter(|p| p.exists()) {
+                    Some(elf) => Some((Firmware::load(&elf)?, d)),
+                    None => None,
+                }
+            }
+        };
         let spinner = indicatif::ProgressBar::new_spinner();
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
         let report = hil::perf::measure(&hil::perf::BenchPlan {
             robust: &firmware,
             thesis: thesis.as_ref(),
+            sketch: sketch.as_ref().map(|(f, d)| (f, d)),
             robot: &robot,
             test: self.test,
             leg_mm: self.common.leg_mm(self.leg)?,

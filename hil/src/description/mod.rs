@@ -29,7 +29,7 @@ mod file;
 mod run;
 
 pub use file::DescriptionError;
-pub(crate) use run::run_described;
+pub(crate) use run::{ended, run_described, wait_ready, Mark};
 
 /// A checked test description (see the module docs).
 #[derive(Debug, Clone, PartialEq)]

@@ -20,13 +20,13 @@ fn contains(hay: &[u8], needle: &[u8]) -> bool {
 
 /// Where the outputs stood at the start: what the end looks past.
 #[derive(Clone, Copy)]
-struct Mark {
+pub(crate) struct Mark {
     motions: usize,
     uart: [usize; 4],
 }
 
 impl Mark {
-    fn now(b: &Bench) -> Self {
+    pub(crate) fn now(b: &Bench) -> Self {
         Mark {
             motions: b.core().motions().len(),
             uart: [0, 1, 2, 3].map(|n| b.uart_output(n).len()),
@@ -35,7 +35,7 @@ impl Mark {
 }
 
 /// The test has ended by `end`'s rule (see [`End`]).
-fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool {
+pub(crate) fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool {
     if let Some(t) = &end.text {
         let out = b.uart_output(t.usart);
         return contains(&out[mark.uart[t.usart as usize].min(out.len())..], &t.text);
@@ -47,6 +47,27 @@ fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool {
     motions.iter().any(|m| driven(m.motion))
         && !driven(last.motion)
         && b.cycle() - last.at.cycle >= idle_cycles
+}
+
+/// Run a freshly reset `bench` until the firmware is ready, as `d` says.
+pub(crate) fn wait_ready(bench: &mut Bench, d: &Description) -> Result<(), BenchError> {
+    match &d.ready.text {
+        Some(t) => {
+            let text = t.clone();
+            bench.run_expect(
+                &format!(
+                    "{}: the firmware did not send {:?} on USART {} after reset (ready.text)",
+                    d.path,
+                    String::from_utf8_lossy(&text.text),
+                    text.usart
+                ),
+                d.ready.after_s,
+                |b| contains(b.uart_output(text.usart), &text.text),
+            )?;
+        }
+        None => bench.run_for(d.ready.after_s)?,
+    }
+    Ok(())
 }
 
 /// Run `test` of the firmware `d` describes, from a fresh reset.
@@ -71,22 +92,7 @@ pub(crate) fn run_described(
     if let Some(c) = resolved.counts {
         bench.set_count_variables(c);
     }
-    match &d.ready.text {
-        Some(t) => {
-            let text = t.clone();
-            bench.run_expect(
-                &format!(
-                    "{}: the firmware did not send {:?} on USART {} after reset (ready.text)",
-                    d.path,
-                    String::from_utf8_lossy(&text.text),
-                    text.usart
-                ),
-                d.ready.after_s,
-                |b| contains(b.uart_output(text.usart), &text.text),
-            )?;
-        }
-        None => bench.run_for(d.ready.after_s)?,
-    }
+    wait_ready(&mut bench, d)?;
     if let Some(addr) = resolved.leg {
         bench.write_f32(addr, opts.leg_mm as f32);
     }

@@ -15,18 +15,25 @@
 //! The bench's overhead is its wall time over the last one's. Wall time is
 //! read from the host clock around whole runs, never inside a simulation.
 
-use std::time::Instant;
+//!
+//! | file | part |
+//! |---|---|
+//! | `record.rs` | a bench run recorded for replay ([`Recorded`]) |
+//! | `replay.rs` | the raw simavr replay ([`raw_replay`]) |
 
 use plant_model::RobotConfig;
 use serde::Serialize;
 
-use crate::bench::{AnalogEvent, AnalogInput, BenchError, BenchOptions, PinEvent};
-use crate::board::HENRYTWO;
+use crate::bench::BenchError;
+use crate::description::Description;
 use crate::elf::Firmware;
 use crate::experiment::Test;
-use crate::line::ready_bench;
-use crate::pwm::PwmTimer;
-use crate::sim::{Avr, Core, Handler, IoClaim, Irq};
+
+mod record;
+mod replay;
+
+pub use record::{bench_run, bench_run_described, Recorded};
+pub use replay::{raw_replay, Replayed};
 
 /// One measured run.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -46,252 +53,6 @@ impl Measured {
     }
 }
 
-/// A replay, with whether it ended where the bench run did.
-pub struct Replayed {
-    pub measured: Measured,
-    /// The firmware's counters at the end equal the bench run's: the replay
-    /// executed the same program path, so the wall times compare.
-    pub faithful: bool,
-}
-
-/// A bench run recorded for replay.
-pub struct Recorded {
-    pub measured: Measured,
-    pub awake_fraction: f64,
-    pub callbacks: u64,
-    /// Callbacks that raised planned edges from the plan alone.
-    pub lean_edge_callbacks: u64,
-    /// Reads of a lazy B answered from the last A edge.
-    pub quiet_b_reads: u64,
-    /// Reads of a lazy B in all.
-    pub b_reads: u64,
-    pub command_cycle: u64,
-    pub command: u8,
-    /// RAM the bench wrote before the command (the leg length), written by
-    /// the replay at the command's cycle too.
-    pub pokes: Vec<(u16, u8)>,
-    pub end_cycle: u64,
-    pub edges: Vec<PinEvent>,
-    pub analog: Vec<AnalogEvent>,
-    pub completed: bool,
-    /// SRAM at the end, which a faithful replay must reach.
-    pub fingerprint: Vec<u8>,
-}
-
-/// The ATmega2560's internal SRAM (data space addresses).
-const SRAM: std::ops::Range<u16> = 0x0200..0x2200;
-
-/// The state a replay must end in: all of SRAM, variables and stack alike
-/// (the IO registers differ with simavr's own PWM timers, which is the point
-/// of that replay).
-fn fingerprint(read: impl Fn(u16) -> u8) -> Vec<u8> {
-    SRAM.map(read).collect()
-}
-
-/// Run `test` on the bench; with `record`, recording the inputs a replay
-/// needs (which costs the bench time and memory no scenario spends: the
-/// timed runs do not record).
-#[inline(never)] // profiled by name: see the README's speed section
-pub fn bench_run(
-    fw: &Firmware,
-    robot: &RobotConfig,
-    test: Test,
-    leg_mm: f64,
-    record: bool,
-) -> Result<Recorded, BenchError> {
-    let wall = Instant::now();
-    let (mut bench, before, command_cycle) =
-        ready_bench(fw.clone(), robot, BenchOptions::default(), leg_mm)?;
-    let vars = *bench.vars()?;
-    if record {
-        bench.start_recording();
-    }
-    bench.send(1, &[test.command_byte()]);
-    let (legs, turns, _) = test.shape();
-    let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0;
-    let completed = bench.run_until(limit, |b| {
-        b.read_u16(vars.done_count) != before && b.is_idle()
-    })?;
-    let wall_s = wall.elapsed().as_secs_f64();
-    let end_cycle = bench.cycle();
-    let fingerprint = fingerprint(|a| bench.read_u8(a));
-    let core = bench.core();
-    Ok(Recorded {
-        measured: Measured::new(bench.robot_time_s(), wall_s),
-        awake_fraction: bench.awake_fraction(),
-        callbacks: core.callbacks(),
-        lean_edge_callbacks: core.lean_edge_callbacks(),
-        quiet_b_reads: core.quiet_b_reads(),
-        b_reads: core.quiet_b_reads() + core.b_reads_evaluated(),
-        command_cycle,
-        command: test.command_byte(),
-        pokes: (vars.leg_length_mm..)
-            .zip((leg_mm as f32).to_le_bytes())
-            .collect(),
-        end_cycle,
-        edges: core.recording().unwrap_or_default().to_vec(),
-        analog: core.analog_log().to_vec(),
-        completed,
-        fingerprint,
-    })
-}
-
-/// Replays recorded inputs (encoder lines, analog inputs, the command
-/// byte); nothing else.
-struct Replay {
-    edges: Vec<PinEvent>,
-    next: usize,
-    analog: Vec<AnalogEvent>,
-    next_analog: usize,
-    pins: [Option<Irq>; 4],
-    adc0: Option<Irq>,
-    uart: Option<Irq>,
-    command: Option<(u64, u8)>,
-    pokes: Vec<(u16, u8)>,
-}
-
-impl Replay {
-    fn apply_analog(&mut self, core: &mut Core, when: u64) {
-        while let Some(a) = self
-            .analog
-            .get(self.next_analog)
-            .filter(|a| a.cycle <= when)
-        {
-            match a.input {
-                AnalogInput::Adc0 => {
-                    if let Some(irq) = self.adc0 {
-                        core.raise(irq, a.mv);
-                    }
-                }
-                AnalogInput::Supply => core.set_supply_mv(a.mv),
-            }
-            self.next_analog += 1;
-        }
-    }
-
-    /// The cycle of the next input to replay (`u64::MAX`: none).
-    fn next_input(&self) -> u64 {
-        let edge = self.edges.get(self.next).map_or(u64::MAX, |e| e.cycle);
-        let analog = self
-            .analog
-            .get(self.next_analog)
-            .map_or(u64::MAX, |a| a.cycle);
-        let cmd = self.command.map_or(u64::MAX, |c| c.0);
-        edge.min(analog).min(cmd)
-    }
-}
-
-impl Handler for Replay {
-    fn io_write(&mut self, core: &mut Core, addr: u16, value: u8) {
-        // Timers 2 and 4 taken off simavr: their registers are only stored.
-        core.set_data(addr, value);
-    }
-
-    fn io_read(&mut self, core: &mut Core, addr: u16) -> u8 {
-        core.data(addr)
-    }
-
-    fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
-        self.apply_analog(core, when);
-        if let Some((at, byte)) = self.command {
-            if at <= when {
-                for &(addr, byte) in &self.pokes {
-                    core.set_data(addr, byte);
-                }
-                if let Some(irq) = self.uart {
-                    core.raise(irq, byte as u32);
-                }
-                self.command = None;
-            }
-        }
-        while self.next < self.edges.len() && self.edges[self.next].cycle <= when {
-            let e = self.edges[self.next];
-            if let Some(irq) = self.pins[e.line as usize] {
-                core.raise(irq, e.level as u32);
-            }
-            self.next += 1;
-        }
-        match self.next_input() {
-            u64::MAX => 0,
-            n => n,
-        }
-    }
-
-    fn irq(&mut self, _core: &mut Core, _tag: u32, _value: u32) {}
-}
-
-/// Replay a recorded run in bare simavr; `simavr_pwm_timers`: leave timers
-/// 2 and 4 to simavr (as shipped) or take them off (as the bench does).
-#[inline(never)] // profiled by name: see the README's speed section
-pub fn raw_replay(
-    fw: &Firmware,
-    rec: &Recorded,
-    simavr_pwm_timers: bool,
-) -> Result<Replayed, BenchError> {
-    let wall = Instant::now();
-    let clock = BenchOptions::default().clock;
-    let handler = Replay {
-        edges: Vec::new(),
-        next: 0,
-        analog: Vec::new(),
-        next_analog: 0,
-        pins: [None; 4],
-        adc0: None,
-        uart: None,
-        command: Some((rec.command_cycle, rec.command)),
-        pokes: rec.pokes.clone(),
-    };
-    let mut avr = Avr::new("atmega2560", clock.hz(), handler)?;
-    for (addr, bytes) in &fw.segments {
-        avr.load_flash(*addr, bytes)?;
-    }
-    if !simavr_pwm_timers {
-        for t in [PwmTimer::timer2(), PwmTimer::timer4()] {
-            for a in t.write_addresses() {
-                avr.claim_io_write(a, IoClaim::Replace)?;
-            }
-        }
-    }
-    let w = HENRYTWO;
-    let pins = [
-        avr.port_pin(w.left_encoder.a.port, w.left_encoder.a.bit)?,
-        avr.port_pin(w.left_encoder.b.port, w.left_encoder.b.bit)?,
-        avr.port_pin(w.right_encoder.a.port, w.right_encoder.a.bit)?,
-        avr.port_pin(w.right_encoder.b.port, w.right_encoder.b.bit)?,
-    ];
-    let (uart_in, _) = avr.uart(w.command_uart.usart)?;
-    let _ = avr.uart(w.debug_uart.usart)?;
-    let adc0 = avr.adc_input(0)?;
-    {
-        let h = avr.handler_mut();
-        h.pins = pins.map(Some);
-        h.uart = Some(uart_in);
-        h.adc0 = Some(adc0);
-    }
-    // The bench raised the lines' levels at cycle 0, and the robot rests
-    // until the command: the recording's first levels are those since boot.
-    let start = rec.edges.first().map_or(0, |e| e.cycle);
-    let (initial, rest): (Vec<PinEvent>, Vec<PinEvent>) =
-        rec.edges.iter().partition(|e| e.cycle == start);
-    let analog = rec.analog.clone();
-    avr.with_core(|h, core| {
-        for e in initial {
-            if let Some(irq) = h.pins[e.line as usize] {
-                core.raise(irq, e.level as u32);
-            }
-        }
-        h.edges = rest;
-        h.analog = analog;
-        h.apply_analog(core, 0);
-    });
-    let first = avr.handler().next_input();
-    avr.schedule(first);
-    avr.run_to(rec.end_cycle);
-    let measured = Measured::new(clock.seconds(avr.cycle()).0, wall.elapsed().as_secs_f64());
-    let faithful = fingerprint(|a| avr.data(a)) == rec.fingerprint;
-    Ok(Replayed { measured, faithful })
-}
-
 /// What `hil bench` runs.
 pub struct BenchPlan<'a> {
     pub robust: &'a Firmware,
@@ -304,6 +65,9 @@ pub struct BenchPlan<'a> {
     /// counts (the least disturbed by the rest of the machine). The thesis
     /// build's long runs are timed once.
     pub repeats: usize,
+    /// A firmware without the bench interface and its description (the
+    /// thesis sketch), when it is to be timed too.
+    pub sketch: Option<(&'a Firmware, &'a Description)>,
     /// Also time raw simavr with its own PWM timers (slow).
     pub raw_with_pwm_timers: bool,
     /// Told what is being timed, before each run.
@@ -383,18 +147,30 @@ fn wall_ratio(a: Measured, b: Measured) -> f64 {
     a.wall_s / b.wall_s.max(1e-9)
 }
 
-/// Time one build on squares of `leg_mm`: a recorded bench run for the
+/// How a build is run: by its bench interface with legs of `leg_mm`, or
+/// black-box from its test description.
+#[derive(Clone, Copy)]
+enum How<'a> {
+    Interface { leg_mm: f64 },
+    Described(&'a Description),
+}
+
+/// Time one build as `how` says: a recorded bench run for the
 /// replays (not timed), then the plan's `repeats` times over: an unrecorded
 /// bench run and the replays.
 fn measure_build(
     fw: &Firmware,
     plan: &BenchPlan,
-    leg_mm: f64,
+    how: How,
     raw_with_pwm_timers: bool,
 ) -> Result<BuildSpeed, PerfError> {
     let name = fw.name();
+    let bench_run = |fw: &Firmware, robot, test, record| match how {
+        How::Interface { leg_mm } => bench_run(fw, robot, test, leg_mm, record),
+        How::Described(d) => bench_run_described(fw, robot, test, d, record),
+    };
     (plan.progress)(&format!("{name}: recording the bench run's inputs"));
-    let rec = bench_run(fw, plan.robot, plan.test, leg_mm, true)?;
+    let rec = bench_run(fw, plan.robot, plan.test, true)?;
     let mut bench: Option<Measured> = None;
     let mut raw_np: Option<Measured> = None;
     let mut raw: Option<Measured> = None;
@@ -402,7 +178,7 @@ fn measure_build(
     let repeats = plan.repeats.max(1);
     for i in 0..repeats {
         (plan.progress)(&format!("{name}: timing, round {} of {repeats}", i + 1));
-        let run = bench_run(fw, plan.robot, plan.test, leg_mm, false)?;
+        let run = bench_run(fw, plan.robot, plan.test, false)?;
         if run.end_cycle != rec.end_cycle || run.fingerprint != rec.fingerprint {
             return Err(PerfError::RecordingChangedTheRun {
                 build: fw.name().to_string(),
@@ -444,7 +220,14 @@ fn measure_build(
 /// Run the plan: the robust build (bench, raw simavr with and without its
 /// PWM timers), then the thesis build (bench, raw without PWM timers).
 pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
-    let robust = measure_build(plan.robust, plan, plan.leg_mm, plan.raw_with_pwm_timers)?;
+    let robust = measure_build(
+        plan.robust,
+        plan,
+        How::Interface {
+            leg_mm: plan.leg_mm,
+        },
+        plan.raw_with_pwm_timers,
+    )?;
     // The thesis build is slow (busy loops): its square is smaller, so that
     // its runs too can be timed more than once (a busy loop's speed does not
     // depend on the leg).
@@ -452,9 +235,16 @@ pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
         Some(fw) => Some(measure_build(
             fw,
             plan,
-            plan.leg_mm.min(THESIS_LEG_MM),
+            How::Interface {
+                leg_mm: plan.leg_mm.min(THESIS_LEG_MM),
+            },
             false,
         )?),
+        None => None,
+    };
+    // The thesis sketch, black-box: its own 400 mm legs.
+    let sketch = match plan.sketch {
+        Some((fw, d)) => Some(measure_build(fw, plan, How::Described(d), false)?),
         None => None,
     };
     Ok(BenchReport {
@@ -469,9 +259,11 @@ pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
         callbacks_per_robot_s: robust.callbacks_per_robot_s,
         robot_s: robust.bench.robot_s,
         thesis_robot_s: thesis.as_ref().map(|t| t.bench.robot_s),
+        sketch_overhead_ratio: sketch.as_ref().map(|t| t.overhead_ratio),
         repeats: plan.repeats.max(1),
         robust,
         thesis,
+        sketch,
     })
 }
 
@@ -492,6 +284,8 @@ pub struct BenchReport {
     pub overhead_ratio: f64,
     /// The same for the thesis build.
     pub thesis_overhead_ratio: Option<f64>,
+    /// The same for the thesis sketch run black-box.
+    pub sketch_overhead_ratio: Option<f64>,
     pub awake_fraction: f64,
     /// Callbacks from simavr into the bench per robot second.
     pub callbacks_per_robot_s: f64,
@@ -502,6 +296,7 @@ pub struct BenchReport {
     pub repeats: usize,
     pub robust: BuildSpeed,
     pub thesis: Option<BuildSpeed>,
+    pub sketch: Option<BuildSpeed>,
 }
 
 impl BenchReport {
@@ -540,12 +335,23 @@ impl BenchReport {
                 &t.raw_without_pwm_timers,
             );
         }
+        if let Some(t) = &self.sketch {
+            row(&mut s, "bench, thesis sketch black-box + plant", &t.bench);
+            row(
+                &mut s,
+                "raw simavr without its PWM timers, sketch",
+                &t.raw_without_pwm_timers,
+            );
+        }
         let _ = writeln!(
             s,
-            "  bench overhead over raw simavr (no PWM timers): {:.2}x robust{}",
+            "  bench overhead over raw simavr (no PWM timers): {:.2}x robust{}{}",
             self.overhead_ratio,
             self.thesis_overhead_ratio
                 .map(|t| format!(", {t:.2}x thesis"))
+                .unwrap_or_default(),
+            self.sketch_overhead_ratio
+                .map(|t| format!(", {t:.2}x sketch (black-box)"))
                 .unwrap_or_default()
         );
         if self.repeats > 1 {
@@ -583,61 +389,4 @@ impl BenchReport {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn speed(overhead_ratio: f64, round_ratios: Vec<f64>) -> BuildSpeed {
-        let m = Measured::new(10.0, 0.1);
-        BuildSpeed {
-            bench: m,
-            raw_without_pwm_timers: m,
-            raw: None,
-            overhead_ratio,
-            round_ratios,
-            awake_fraction: 0.02,
-            callbacks_per_robot_s: 1800.0,
-            lean_edge_fraction: 0.75,
-            quiet_b_read_fraction: 0.73,
-            completed: true,
-        }
-    }
-
-    fn report(robust: BuildSpeed, thesis: Option<BuildSpeed>, repeats: usize) -> BenchReport {
-        BenchReport {
-            test: "umbmark-cw".into(),
-            rtf_robust_umbmark: 250.0,
-            rtf_thesis: thesis.as_ref().map(|_| 5.6),
-            rtf_raw_simavr: None,
-            rtf_raw_simavr_without_pwm_timers: 318.0,
-            overhead_ratio: robust.overhead_ratio,
-            thesis_overhead_ratio: thesis.as_ref().map(|t| t.overhead_ratio),
-            awake_fraction: 0.02,
-            callbacks_per_robot_s: 1800.0,
-            robot_s: 74.3,
-            thesis_robot_s: thesis.as_ref().map(|_| 32.8),
-            repeats,
-            robust,
-            thesis,
-        }
-    }
-
-    #[test]
-    fn the_report_shows_the_rounds_spread_and_warns_when_it_is_wide() {
-        let steady = report(speed(1.26, vec![1.27, 1.26, 1.29]), None, 3);
-        let text = steady.render();
-        assert!(text.contains("1.26x to 1.29x robust"), "{text}");
-        assert!(!text.contains("busy"), "{text}");
-        // One round of the thesis build timed while the machine was loaded.
-        let loaded = report(
-            speed(1.26, vec![1.27, 1.26]),
-            Some(speed(1.04, vec![1.05, 1.31])),
-            2,
-        );
-        let text = loaded.render();
-        assert!(text.contains("1.05x to 1.31x thesis"), "{text}");
-        assert!(text.contains("the machine was busy"), "{text}");
-        // One round: no spread to show.
-        let once = report(speed(1.26, vec![1.26]), None, 1);
-        assert!(!once.render().contains("round by round"));
-    }
-}
+mod tests;
