@@ -51,6 +51,10 @@ impl Run {
             opts.framed = s.framed;
         }
         let clock = common.print.wall_clock();
+        if gdb.is_some() && common.target.description.is_some() {
+            // The debugger's host plays the bench interface's start and end.
+            anyhow::bail!("--gdb runs a firmware with the bench interface; a firmware run from a test description (--tests) cannot be debugged yet");
+        }
         let run = match gdb {
             Some(port) => {
                 let server = hil::gdb::GdbServer::bind(port)?;
