@@ -240,6 +240,47 @@ fn a_generic_sketch_is_reported_as_it_drives() {
     }
 }
 
+/// A hang found without any firmware variable: both wheels blocked in the
+/// first turn, the sketch waits for counts that never come (its own time-out
+/// is 15 s); no wheel motion and no change of the drive for the hang time
+/// is a hang, reported in the sketch's loop.
+#[test]
+fn a_black_box_hang_is_found_without_firmware_variables() {
+    use hil::bench::{Action, ScheduledFault, Trigger};
+    let (d, fw) = described(DEMO_TESTS);
+    let stall = |side| {
+        ScheduledFault::new(
+            Trigger::TurnStart { n: 1 },
+            Action::Motor {
+                side,
+                fault: plant_model::MotorFault::Stall,
+            },
+        )
+    };
+    let opts = TestOptions {
+        leg_mm: 501.0,
+        faults: vec![
+            stall(plant_model::Side::Left),
+            stall(plant_model::Side::Right),
+        ],
+        hang_after_s: Some(3.0),
+        description: Some(d),
+        ..Default::default()
+    };
+    let r = run_test(fw, &support::robot("henrytwo"), Test::UmbmarkCcw, &opts).unwrap();
+    assert!(!r.completed);
+    let hang = r.hang.as_ref().expect("the run is reported hung");
+    assert!((3.0..3.1).contains(&hang.still_s), "{hang:?}");
+    assert!(
+        r.finding.as_deref().unwrap().starts_with("hung"),
+        "{:?}",
+        r.finding
+    );
+    assert_eq!(r.legs.len(), 1);
+    // Found 3 s after the turn began, well before the sketch's 15 s time-out.
+    assert!(r.robot_time_s < 30.0, "{}", r.robot_time_s);
+}
+
 /// Without its interface or a description the bench says what to give; a
 /// fixed leg refuses another length; a bad description is one line; all
 /// before anything runs, with exit code 2 or 1 as the README's table says.
