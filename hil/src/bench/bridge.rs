@@ -381,3 +381,6 @@ impl Bridge {
         out
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -17,18 +17,21 @@
 //! or asynchronous clock, a reserved mode) is refused at either moment.
 //!
 //! On simavr's timers a clocked configuration is accepted when it is
-//! verified (normal, CTC and fast PWM, clock selects of the CPU clock, no
-//! compare output on a pin the board uses: `tests/timer_modes.rs` holds
-//! simavr's interrupt periods to the datasheet's), or when nothing can
-//! observe it: no interrupt of the timer enabled, its counter and flags
-//! not read, no compare output on a pin the board uses (a pin the board
-//! does not wire to the robot cannot matter to the plant). So the grace
-//! never refuses there: an unobserved state is accepted however long it
-//! lasts. simavr gets phase-correct PWM wrong (it counts to 256): observed,
-//! it is refused.
+//! verified, or when nothing can observe it: no interrupt of the timer
+//! enabled, its counter and flags not read, no compare output on a pin the
+//! board uses (a pin the board does not wire to the robot cannot matter to
+//! the plant). So the grace never refuses there: an unobserved state is
+//! accepted however long it lasts. Verified (`tests/timer_modes.rs` holds
+//! simavr's interrupt periods to the datasheet's, on every timer and
+//! prescaler): normal, CTC with TOP = OCRnA, fast PWM with a fixed TOP or
+//! TOP = ICRn, from the CPU clock, with no compare output on a board pin
+//! (simavr's output waveforms are not verified). simavr gets the others
+//! wrong (phase correct counts to 256, fast PWM with TOP = OCRnA overflows
+//! every step, CTC with TOP = ICRn never sets the capture flag): observed,
+//! they are refused.
 
 use crate::board::{Board, PwmSource};
-use crate::pwm::{Kind, Mode};
+use crate::pwm::{Kind, Mode, Top};
 use crate::sim::Core;
 
 use super::error::PendingError;
@@ -184,8 +187,16 @@ impl SimavrTimers {
         } else {
             r.n == 2 || cs <= 5
         };
+        // What tests/timer_modes.rs holds to the datasheet: simavr gets
+        // the dual slope modes, fast PWM with TOP = OCRnA and CTC with TOP
+        // = ICRn wrong.
         let verified_mode = internal_clock
-            && mode.is_some_and(|m| matches!(m.kind, Kind::Normal | Kind::Ctc | Kind::Fast));
+            && mode.is_some_and(|m| match m.kind {
+                Kind::Normal => true,
+                Kind::Ctc => m.top == Top::Ocra,
+                Kind::Fast => m.top != Top::Ocra,
+                Kind::PhaseCorrect | Kind::PhaseFrequencyCorrect => false,
+            });
         let com_on_board: Vec<char> = (0..3)
             .filter(|&i| t.on_board[i] && (tccra >> (6 - 2 * i)) & 0b11 != 0)
             .map(|i| ['A', 'B', 'C'][i])
@@ -215,3 +226,6 @@ impl SimavrTimers {
         })
     }
 }
+
+#[cfg(test)]
+mod tests;
