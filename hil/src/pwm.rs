@@ -20,7 +20,7 @@
 //!   where the datasheet says so, else disconnected), their extreme OCR
 //!   values, and OCR double buffering (updated at TOP in phase correct, at
 //!   BOTTOM in fast PWM and phase and frequency correct, at once in normal
-//!   and CTC) ([`waveform`], [`timer`]);
+//!   and CTC) ([`waveform`], `timer.rs`);
 //! - the counter as a pure function of the cycle: TCNT reads (through TEMP
 //!   on the 16-bit timers), TCNT writes while the timer is stopped, ICRn
 //!   writes (through TEMP, in the modes that take TOP from it);

@@ -19,7 +19,7 @@ pub enum BenchError {
     Plant(#[from] plant_model::Error),
     #[error("{error} ({at})")]
     Pwm { error: PwmError, at: Location },
-    #[error("timer {timer}: TCCR{timer}A/B select mode {wgm} ({mode}) with clock select {cs}, and the firmware {observed} ({at}); on the timers simavr runs the bench accepts, once observed, only normal, CTC and fast PWM from the CPU clock with no compare output on a pin the board uses (verified against the datasheet), and any mode while nothing observes it")]
+    #[error("timer {timer}: TCCR{timer}A/B select mode {wgm} ({mode}) with clock select {cs}, and the firmware {observed} ({at}); on the timers simavr runs the bench accepts, once observed, only normal, CTC with TOP OCRnA and fast PWM with a fixed TOP or TOP ICRn, from the CPU clock, with no compare output on a pin the board uses (verified against the datasheet), and any mode while nothing observes it")]
     UnverifiedTimer {
         timer: u8,
         wgm: u8,

@@ -39,9 +39,9 @@ use super::registers::{TimerRegs, CHECKED_TIMERS};
 use super::NEVER;
 
 /// How long an unverified configuration may stay in force unobserved:
-/// longer than any of Arduino's intermediate states (2-6 cycles), shorter
-/// than any timer step that could matter (the fastest prescaled step of a
-/// visible waveform is one cycle, but nothing sees it unobserved).
+/// longer than any of Arduino's intermediate states (2-6 cycles: one to
+/// three read-modify-write instructions), shorter than any setup that
+/// means to keep a configuration (it then lasts for good).
 pub const GRACE_CYCLES: u64 = 16;
 
 /// An unverified configuration remembered until it is judged.
