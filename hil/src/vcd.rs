@@ -130,8 +130,8 @@ pub fn render(input: &VcdInput) -> String {
             format!("{}{}", u8::from(e.level), enc[e.line as usize]),
         ));
     }
-    // Duty per pin, and the waveform from the phase-correct model when asked:
-    // high for 2*OCR of every 510 cycles, centred on BOTTOM.
+    // Duty per pin, and the waveform from the timer model when asked (mode
+    // 1 at clock/1: high for 2*OCR of every 510 cycles, centred on BOTTOM).
     for (pin, duty_id, wave_id) in &pins {
         let events: Vec<&DriveEvent> = input.drive.iter().filter(|e| e.pin == *pin).collect();
         for (i, e) in events.iter().enumerate() {
@@ -141,12 +141,12 @@ pub fn render(input: &VcdInput) -> String {
                 changes.push((e.cycle, format!("0{wave_id}")));
             } else if e.duty >= 1.0 || !input.pwm_edges {
                 changes.push((e.cycle, format!("1{wave_id}")));
-            } else if let Some((wave, ocr, com)) = e.wave {
+            } else if let Some(wave) = e.wave {
                 changes.push((
                     e.cycle,
-                    format!("{}{wave_id}", u8::from(wave.level(ocr, com, e.cycle))),
+                    format!("{}{wave_id}", u8::from(wave.level(e.cycle))),
                 ));
-                for (c, level) in wave.edges(ocr, com, e.cycle, until) {
+                for (c, level) in wave.edges(e.cycle, until) {
                     changes.push((c, format!("{}{wave_id}", u8::from(level))));
                 }
             }

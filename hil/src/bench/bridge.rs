@@ -9,9 +9,10 @@ use plant_model::Side;
 
 use super::driver;
 use super::recorder::{DriveEvent, Motion, Recorder};
+use super::timers::Grace;
 use super::NEVER;
 use crate::board::{Board, BridgeInput, PwmSource};
-use crate::pwm::{PinDrive, PwmError, PwmTimer};
+use crate::pwm::{Action, PinDrive, PwmError, PwmTimer};
 use crate::time::Clock;
 
 /// Per-pin PWM statistics.
@@ -45,8 +46,12 @@ pub(super) struct Bridge {
     inputs: Vec<BridgeInput>,
     /// The timers the board's PWM inputs are on, in timer order.
     timers: Vec<PwmTimer>,
-    /// Cycle of each timer's next TOP with a buffered update waiting.
+    /// Cycle of each timer's next update (a buffered OCR value at TOP or
+    /// BOTTOM, a set or clear output's match; see
+    /// `PwmTimer::pending_update_at`).
     pending_top: Vec<u64>,
+    /// Each timer's unverified configuration, until judged (see `timers.rs`).
+    grace: Vec<Grace<PwmError>>,
     ports: Vec<PortState>,
     /// Each motor's pin 1-3 duties as last seen, by side index.
     seen: [[f64; 3]; 2],
@@ -86,6 +91,7 @@ impl Bridge {
             clock,
             board,
             pending_top: vec![NEVER; timers.len()],
+            grace: vec![Grace::default(); timers.len()],
             timers,
             ports,
             seen: [[0.0; 3]; 2],
@@ -107,6 +113,7 @@ impl Bridge {
     pub(super) fn reset(&mut self) {
         self.timers = timers_of(&self.board);
         self.pending_top.fill(NEVER);
+        self.grace.fill(Grace::default());
         for p in &mut self.ports {
             p.value = 0;
             p.ddr = 0;
@@ -116,11 +123,6 @@ impl Bridge {
     /// The timers this bridge emulates, in timer order.
     pub(super) fn timers(&self) -> &[PwmTimer] {
         &self.timers
-    }
-
-    /// Whether the bench emulates timer `n` (simavr then never clocks it).
-    pub(super) fn emulates(&self, n: u8) -> bool {
-        self.timers.iter().any(|t| t.id().number() == n)
     }
 
     /// The ports the driver inputs are on, indexed as `set_port` takes them.
@@ -136,19 +138,35 @@ impl Bridge {
         self.ports[k].ddr = value;
     }
 
-    /// The earliest TOP with a buffered update waiting.
+    /// The earliest update waiting, or the end of a grace.
     pub(super) fn next_top(&self) -> u64 {
-        self.pending_top.iter().copied().min().unwrap_or(NEVER)
+        let updates = self.pending_top.iter().copied();
+        let graces = self.grace.iter().map(|g| g.due());
+        updates.chain(graces).min().unwrap_or(NEVER)
     }
 
-    /// Apply timer `which`'s buffered values if its TOP is due at `when`.
-    pub(super) fn apply_top_if_due(&mut self, which: usize, when: u64) -> bool {
-        if self.pending_top[which] > when {
-            return false;
+    /// Apply timer `which`'s update if it is due at `when`: whether it was.
+    pub(super) fn apply_top_if_due(&mut self, which: usize, when: u64) -> Result<bool, PwmError> {
+        let at = self.pending_top[which];
+        if at > when {
+            return Ok(false);
         }
-        self.timers[which].apply_buffered();
-        self.pending_top[which] = NEVER;
-        true
+        self.timers[which].apply_update(at)?;
+        self.pending_top[which] = self.timers[which].pending_update_at(at).unwrap_or(NEVER);
+        Ok(true)
+    }
+
+    /// A configuration still unverified at the end of its grace, with the
+    /// cycle and PC of the write that set it (see `timers.rs`).
+    pub(super) fn expired_grace(&mut self, when: u64) -> Option<(PwmError, u64, u32)> {
+        for (timer, grace) in self.timers.iter().zip(&mut self.grace) {
+            if let Some((error, cycle, pc)) = grace.expired(when) {
+                if timer.unverified(when).is_some() {
+                    return Some((error, cycle, pc));
+                }
+            }
+        }
+        None
     }
 
     /// Make the plant see `side`'s inputs anew at the next refresh.
@@ -170,14 +188,16 @@ impl Bridge {
             .expect("a PWM input's timer is emulated")
     }
 
-    fn drive(&self, input: &BridgeInput) -> PinDrive {
+    fn drive(&self, input: &BridgeInput, cycle: u64) -> PinDrive {
         match input.pwm {
-            Some(source) => self.timer_of(source).drive(source.channel, self.clock.hz()),
+            Some(source) => self
+                .timer_of(source)
+                .drive(source.channel, self.clock.hz(), cycle),
             None => PinDrive::Gpio,
         }
     }
 
-    fn input_duty(&self, input: &BridgeInput) -> f64 {
+    fn input_duty(&self, input: &BridgeInput, cycle: u64) -> f64 {
         let bit = 1u8 << input.pin.bit;
         let port = self
             .ports
@@ -190,14 +210,14 @@ impl Bridge {
             // its board: the driver sees low.
             return 0.0;
         }
-        match self.drive(input) {
+        match self.drive(input, cycle) {
             PinDrive::Gpio => f64::from(port.value & bit != 0),
             PinDrive::Pwm { duty, .. } => duty,
         }
     }
 
-    fn input_hz(&self, input: &BridgeInput) -> Option<f64> {
-        match self.drive(input) {
+    fn input_hz(&self, input: &BridgeInput, cycle: u64) -> Option<f64> {
+        match self.drive(input, cycle) {
             PinDrive::Pwm { hz, duty } if hz > 0.0 && duty > 0.0 && duty < 1.0 => Some(hz),
             _ => None,
         }
@@ -223,7 +243,11 @@ impl Bridge {
     /// statistics first integrate what was held up to `cycle`).
     pub(super) fn update_input_duties(&mut self, cycle: u64) {
         self.integrate_pin_stats(cycle);
-        let duties = self.inputs.iter().map(|i| self.input_duty(i)).collect();
+        let duties = self
+            .inputs
+            .iter()
+            .map(|i| self.input_duty(i, cycle))
+            .collect();
         self.input_duties = duties;
     }
 
@@ -249,7 +273,7 @@ impl Bridge {
         let i = side.index();
         let inputs = [Some(m.pin1), Some(m.pin2), m.pin3];
         let now = inputs.map(|input| match input {
-            Some(input) if !disconnected => self.input_duty(&input),
+            Some(input) if !disconnected => self.input_duty(&input, cycle),
             _ => 0.0,
         });
         let old = self.seen[i];
@@ -262,14 +286,14 @@ impl Bridge {
                 let wave = input
                     .pwm
                     .and_then(|s| self.timer_of(s).waveform(s.channel))
-                    .filter(|(_, _, com)| *com != crate::pwm::Com::Disconnected);
+                    .filter(|w| w.action != Action::Disconnected);
                 log.drive(DriveEvent {
                     cycle,
                     pin: input.pin.arduino,
                     duty: new,
                     wave,
                 });
-                if let Some(hz) = self.input_hz(&input) {
+                if let Some(hz) = self.input_hz(&input, cycle) {
                     let k = self.pin_slot(input.pin.arduino);
                     self.pins[k].hz = hz;
                 }
@@ -292,14 +316,17 @@ impl Bridge {
         Motion::classify(sign(self.duty[0]), sign(self.duty[1]))
     }
 
-    /// A write to a register of an emulated timer, at `cycle` (the caller
-    /// brought the plant there first): whether the outputs changed (then
-    /// the caller refreshes the bridge).
+    /// A write to a register of an emulated timer, at `cycle` by the
+    /// instruction at `pc` (the caller brought the plant there first):
+    /// whether the outputs changed (then the caller refreshes the bridge).
+    /// An unverified configuration is refused at once when a compare
+    /// output shows it, else remembered for its grace (see `timers.rs`).
     pub(super) fn write_register(
         &mut self,
         addr: u16,
         value: u8,
         cycle: u64,
+        pc: u32,
     ) -> Result<bool, PwmError> {
         let which = self
             .timers
@@ -314,21 +341,31 @@ impl Bridge {
         }
         if effect.outputs_changed && self.pending_top[which] == NEVER {
             // A timer that just started applies buffered values at its
-            // first TOP.
+            // first update point.
             self.pending_top[which] = self.timers[which].pending_update_at(cycle).unwrap_or(NEVER);
+        } else if effect.outputs_changed {
+            // A set or clear output's first match may come before.
+            let next = self.timers[which].pending_update_at(cycle).unwrap_or(NEVER);
+            self.pending_top[which] = self.pending_top[which].min(next);
         }
+        let timer = &self.timers[which];
+        let problem = timer.unverified(cycle);
+        if let Some(e) = problem.clone().filter(|_| timer.connected()) {
+            return Err(e.observed("connected a compare output"));
+        }
+        self.grace[which].note(problem, cycle, pc);
         Ok(effect.outputs_changed)
     }
 
-    /// A read of a register of an emulated timer: none is verified, so the
-    /// run ends with this error naming it.
-    pub(super) fn refused_read(&self, addr: u16) -> PwmError {
-        let timer = self
+    /// A read of a register of an emulated timer at `cycle`: the counter's
+    /// value, or the refusal naming it.
+    pub(super) fn read_register(&mut self, addr: u16, cycle: u64) -> Result<u8, PwmError> {
+        let which = self
             .timers
             .iter()
-            .find(|t| t.read_addresses().contains(&addr))
-            .unwrap_or(&self.timers[0]);
-        timer.read(addr)
+            .position(|t| t.read_addresses().contains(&addr))
+            .expect("the bench claims only its timers' registers");
+        self.timers[which].read(addr, cycle)
     }
 
     /// Mean active duty per driver input, finalised, in Arduino pin order.
@@ -344,3 +381,6 @@ impl Bridge {
         out
     }
 }
+
+#[cfg(test)]
+mod tests;

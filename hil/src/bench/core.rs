@@ -16,8 +16,9 @@ use super::power::{Brownout, Power};
 use super::recorder::{
     AnalogEvent, Cutoff, DriveEvent, LedEvent, MotionEvent, PinEvent, Recorder, Sample, Snapshot,
 };
-use super::registers::{ACSR, ACSR_ACIC, ACSR_ACIE, CHECKED_TIMERS};
+use super::registers::{ACSR, ACSR_ACIC, ACSR_ACIE};
 use super::requests::Requests;
+use super::timers::{Look, SimavrTimers};
 use super::uart::HostUart;
 use super::{BenchOptions, NEVER};
 use crate::board::Board;
@@ -50,6 +51,8 @@ pub struct BenchCore {
     pub(super) faults: FaultSchedule,
     pub(super) recorder: Recorder,
     pub(super) requests: Requests,
+    /// The timers simavr runs, as the bench judges them (see `timers.rs`).
+    pub(super) simavr_timers: SimavrTimers,
     /// The periodic plant step: its next cycle, its length, and every how
     /// many steps a trace sample is taken.
     next_step: u64,
@@ -87,6 +90,7 @@ impl BenchCore {
             faults: FaultSchedule::default(),
             recorder: Recorder::new(wiring.battery_leds),
             requests: Requests::default(),
+            simavr_timers: SimavrTimers::new(wiring, &wiring.pwm_timers()),
             next_step: step_cycles,
             step_cycles,
             trace_every,
@@ -189,27 +193,25 @@ impl BenchCore {
         }
     }
 
-    fn check_simavr_timer(&mut self, core: &Core, timer: u8, a: u16, b: u16) {
-        let tccra = core.data(a);
-        let tccrb = core.data(b);
-        let cs = tccrb & 0b111;
-        if cs == 0 {
-            return; // not clocked: any mode is harmless
+    /// A look at a timer simavr runs (see `timers.rs`): the run ends if it
+    /// shows an unverified configuration.
+    fn check_simavr_timer(&mut self, core: &Core, look: Look) {
+        if let Some(e) = self.simavr_timers.judge(core, look) {
+            self.requests.fail(e);
         }
-        let wgm = ((tccrb >> 3) & 0b11) << 2 | (tccra & 0b11);
-        // The modes the firmware uses: CTC on timers 1 and 3 (the robust
-        // build's tick and delays; tests/timing.rs holds the tick to its
-        // 15 ms), and Arduino's timer 0 (fast PWM, /64, overflow interrupt
-        // every 1024 us: millis and micros).
-        let verified = matches!((timer, wgm, cs), (1, 4, 1..=5) | (3, 4, 1..=5) | (0, 3, 3));
-        if !verified {
-            self.requests.fail(PendingError::Timer {
-                timer,
-                wgm,
-                cs,
-                cycle: core.cycle(),
-                pc: core.pc(),
-            });
+    }
+
+    /// The bench's timers' updates and graces due at `when`.
+    fn pwm_timers_due(&mut self, core: &mut Core, when: u64) {
+        for which in 0..self.bridge.timers().len() {
+            match self.bridge.apply_top_if_due(which, when) {
+                Ok(true) => self.refresh_bridge(core, when),
+                Ok(false) => {}
+                Err(e) => self.requests.fail(PendingError::Pwm(e, when, core.pc())),
+            }
+        }
+        if let Some((e, cycle, pc)) = self.bridge.expired_grace(when) {
+            self.requests.fail(PendingError::Pwm(e, cycle, pc));
         }
     }
 }
@@ -352,7 +354,7 @@ impl BenchCore {
         // The bench emulates these registers; keep data space readable.
         core.set_data(addr, value);
         self.advance_plant(cycle);
-        match self.bridge.write_register(addr, value, cycle) {
+        match self.bridge.write_register(addr, value, cycle, core.pc()) {
             Ok(outputs_changed) => {
                 if outputs_changed {
                     self.refresh_bridge(core, cycle);
@@ -630,11 +632,8 @@ impl Handler for BenchCore {
             core.schedule(self.next_event());
             return;
         }
-        let checked = CHECKED_TIMERS
-            .iter()
-            .find(|t| (t.1 == addr || t.2 == addr) && !self.bridge.emulates(t.0));
-        if let Some(&(timer, a, b)) = checked {
-            self.check_simavr_timer(core, timer, a, b);
+        if self.simavr_timers.watches(Look::Write(addr)) {
+            self.check_simavr_timer(core, Look::Write(addr));
             return;
         }
         self.write_pwm_register(core, addr, value);
@@ -645,17 +644,25 @@ impl Handler for BenchCore {
     }
 
     fn before_io_read(&mut self, core: &mut Core, addr: u16) {
+        if self.simavr_timers.watches(Look::Read(addr)) {
+            self.check_simavr_timer(core, Look::Read(addr));
+            return;
+        }
         let (robot, inject, rec) = (&self.robot, &mut self.inject, &mut self.recorder);
         self.edges
             .before_pin_read(core, robot, self.clock, inject, rec, addr);
     }
 
     fn io_read(&mut self, core: &mut Core, addr: u16) -> u8 {
-        // No read of an emulated timer is verified: the run ends naming it.
-        let err = self.bridge.refused_read(addr);
-        self.requests
-            .fail(PendingError::Pwm(err, core.cycle(), core.pc()));
-        0
+        // The emulated timers' counters (and flags, refused).
+        match self.bridge.read_register(addr, core.cycle()) {
+            Ok(v) => v,
+            Err(e) => {
+                self.requests
+                    .fail(PendingError::Pwm(e, core.cycle(), core.pc()));
+                0
+            }
+        }
     }
 
     fn timer(&mut self, core: &mut Core, when: u64) -> u64 {
@@ -665,11 +672,7 @@ impl Handler for BenchCore {
         }
         let edge_due = self.edges.due(when);
         self.advance_plant(when);
-        for which in 0..self.bridge.timers().len() {
-            if self.bridge.apply_top_if_due(which, when) {
-                self.refresh_bridge(core, when);
-            }
-        }
+        self.pwm_timers_due(core, when);
         self.apply_due_actions(core, when);
         self.apply_due_glitches(core, when);
         self.send_due_host_bytes(core, when);

@@ -26,11 +26,13 @@ pub enum BenchError {
     Plant(#[from] plant_model::Error),
     #[error("{error} ({at})")]
     Pwm { error: PwmError, at: Location },
-    #[error("timer {timer}: waveform mode {wgm} with clock select {cs} is not verified on this bench ({at}); the bench runs simavr's timers only in modes it has tested (timers 1 and 3: CTC; timer 0: fast PWM at /64)")]
+    #[error("timer {timer}: TCCR{timer}A/B select mode {wgm} ({mode}) with clock select {cs}, and the firmware {observed} ({at}); on the timers simavr runs the bench accepts, once observed, only normal, CTC with TOP OCRnA and fast PWM with a fixed TOP or TOP ICRn, from the CPU clock, with no compare output on a pin the board uses (verified against the datasheet), and any mode while nothing observes it")]
     UnverifiedTimer {
         timer: u8,
         wgm: u8,
         cs: u8,
+        mode: String,
+        observed: String,
         at: Location,
     },
     /// A scheduled action the plant refused (a slip outside [0, 1], a
@@ -64,6 +66,8 @@ pub(super) enum PendingError {
         timer: u8,
         wgm: u8,
         cs: u8,
+        mode: String,
+        observed: String,
         cycle: u64,
         pc: u32,
     },
@@ -88,12 +92,16 @@ impl PendingError {
                 timer,
                 wgm,
                 cs,
+                mode,
+                observed,
                 cycle,
                 pc,
             } => BenchError::UnverifiedTimer {
                 timer,
                 wgm,
                 cs,
+                mode,
+                observed,
                 at: at(cycle, pc),
             },
             PendingError::Refused {

@@ -27,6 +27,7 @@
 //! | `error.rs` | [`BenchError`] |
 //! | `requests.rs` | what a callback leaves for the run loop: an error, a reset |
 //! | `registers.rs` | the MCU registers the bench reads or watches, by address |
+//! | `timers.rs` | when a timer's configuration is judged (the bench's and simavr's timers) |
 
 mod bridge;
 mod core;
@@ -40,6 +41,7 @@ mod registers;
 mod requests;
 mod run;
 mod setup;
+mod timers;
 mod uart;
 
 use henrytwo_protocol::{Phase, RunState};

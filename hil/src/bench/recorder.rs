@@ -75,10 +75,10 @@ pub struct DriveEvent {
     /// Arduino pin number.
     pub pin: u8,
     pub duty: f64,
-    /// When the timer drives the pin: the counter's BOTTOM cycle and
-    /// prescaler, from which the exact waveform follows (see pwm.rs).
+    /// When the timer drives the pin: its counter, compare value and
+    /// output action, from which the exact waveform follows (see pwm.rs).
     #[serde(skip)]
-    pub wave: Option<(crate::pwm::PhaseCorrect, u32, crate::pwm::Com)>,
+    pub wave: Option<crate::pwm::ChannelWave>,
 }
 
 /// The plant and the firmware's counters at one cycle.

@@ -5,7 +5,7 @@
 use plant_model::{RobotConfig, Side};
 
 use super::core::{BenchCore, TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_OUT};
-use super::registers::{ACSR, CHECKED_TIMERS};
+use super::registers::ACSR;
 use super::{BenchError, BenchOptions};
 use crate::board::Board;
 use crate::elf::Firmware;
@@ -26,7 +26,8 @@ pub(super) fn build(
         avr.load_flash(*addr, bytes)?;
     }
     // The timers of the board's PWM pins: emulated by the bench (see
-    // pwm.rs), never clocked by simavr; the others' modes are checked.
+    // pwm.rs), never clocked by simavr; the others' configurations are
+    // judged when something observes them (see timers.rs).
     let timers = avr.handler().bridge.timers().to_vec();
     for timer in &timers {
         for addr in timer.write_addresses() {
@@ -36,11 +37,12 @@ pub(super) fn build(
             avr.claim_io_read(addr)?;
         }
     }
-    for (n, a, b) in CHECKED_TIMERS {
-        if timers.iter().all(|t| t.id().number() != n) {
-            avr.claim_io_write(a, IoClaim::Observe)?;
-            avr.claim_io_write(b, IoClaim::Observe)?;
-        }
+    let simavr_timers = avr.handler().simavr_timers.clone();
+    for addr in simavr_timers.write_addresses() {
+        avr.claim_io_write(addr, IoClaim::Observe)?;
+    }
+    for addr in simavr_timers.read_addresses() {
+        avr.observe_io_read(addr)?;
     }
     // The driver inputs' ports, watched like the PWM registers.
     let ports = avr.handler().bridge.ports();

@@ -1,0 +1,99 @@
+//! The bench's timers judged when a configuration can matter (see
+//! `timers.rs`): Arduino's intermediate states pass, what the bench does
+//! not emulate is refused once it shows or outlives its grace.
+
+use super::*;
+use crate::bench::timers::GRACE_CYCLES;
+use crate::time::Clock;
+
+/// Timer 4 (Henrytwo's D6/D7): TCCR4A, TCCR4B, TIMSK4.
+const TCCR4A: u16 = 0xA0;
+const TCCR4B: u16 = 0xA1;
+const TIMSK4: u16 = 0x72;
+const PC: u32 = 0x1234;
+
+fn bridge() -> Bridge {
+    Bridge::new(Board::default(), Clock::MEGA_16MHZ)
+}
+
+/// Arduino's `init()` for timer 4: CS41, CS40 (clock/64, mode 0 for two
+/// instructions), then WGM40 (mode 1): every state accepted.
+#[test]
+fn arduino_init_passes_through_mode_0() {
+    let mut b = bridge();
+    for (cycle, addr, value) in [(10, TCCR4B, 0x02), (12, TCCR4B, 0x03), (14, TCCR4A, 0x01)] {
+        b.write_register(addr, value, cycle, PC).unwrap();
+    }
+    assert_eq!(b.next_top(), NEVER);
+    assert!(b.expired_grace(1_000_000).is_none());
+}
+
+/// An external clock (CS 6) held past the grace is refused, named by the
+/// write that set it; one left within the grace is not.
+#[test]
+fn an_external_clock_is_refused_past_its_grace() {
+    let mut b = bridge();
+    b.write_register(TCCR4B, 0x06, 100, PC).unwrap();
+    assert_eq!(b.next_top(), 100 + GRACE_CYCLES);
+    assert!(b.expired_grace(100 + GRACE_CYCLES - 1).is_none());
+    let (e, cycle, pc) = b.expired_grace(100 + GRACE_CYCLES).unwrap();
+    assert_eq!((cycle, pc), (100, PC));
+    let text = e.to_string();
+    assert!(
+        text.contains("timer 4") && text.contains("clock select 6"),
+        "{text}"
+    );
+    assert!(text.contains("external clock"), "{text}");
+
+    let mut b = bridge();
+    b.write_register(TCCR4B, 0x06, 100, PC).unwrap();
+    b.write_register(TCCR4B, 0x03, 104, PC).unwrap();
+    assert_eq!(b.next_top(), NEVER);
+    assert!(b.expired_grace(1_000).is_none());
+}
+
+/// Observed at once: an external clock with a compare output connected,
+/// an interrupt enabled.
+#[test]
+fn observed_states_are_refused_at_once() {
+    let mut b = bridge();
+    b.write_register(TCCR4B, 0x06, 100, PC).unwrap();
+    let e = b.write_register(TCCR4A, 0x81, 102, PC).unwrap_err();
+    assert!(e.to_string().contains("connected a compare output"), "{e}");
+
+    let mut b = bridge();
+    let e = b.write_register(TIMSK4, 0x01, 10, PC).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("TIMSK4 = 0x01") && text.contains("interrupts"),
+        "{text}"
+    );
+}
+
+/// Fast PWM with TOP = ICR4 as sketches set it (the mode before ICR4):
+/// emulated, the output follows OCR4A from the BOTTOM after its write.
+#[test]
+fn a_sketchs_fast_pwm_on_icr_runs() {
+    let mut b = bridge();
+    let w = |b: &mut Bridge, addr: u16, v: u8, cycle: u64| b.write_register(addr, v, cycle, PC);
+    w(&mut b, TCCR4A, 0b1000_0010, 0).unwrap(); // COM4A1, WGM41
+    w(&mut b, TCCR4B, 0b0001_1001, 2).unwrap(); // WGM43:2, clock/1: mode 14
+    w(&mut b, 0xA7, 0x02, 4).unwrap(); // ICR4 = 639
+    w(&mut b, 0xA6, 0x7F, 6).unwrap();
+    w(&mut b, 0xA9, 0x01, 8).unwrap(); // OCR4A = 320
+    w(&mut b, 0xA8, 0x40, 10).unwrap();
+    let top = b.next_top();
+    // With ICR4 = 0 the counter stays at BOTTOM; from the ICR4 write (its
+    // low byte at cycle 6) it counts 0..639: OCR4A waits for that BOTTOM.
+    assert_eq!(top, 6 + 640, "OCR4A waits for BOTTOM");
+    assert!(b.apply_top_if_due(0, top).unwrap() || b.apply_top_if_due(1, top).unwrap());
+    let t = b.timers().iter().find(|t| t.id().number() == 4).unwrap();
+    match t.drive('A', 16_000_000, top) {
+        PinDrive::Pwm { duty, hz } => {
+            assert!((duty - 321.0 / 640.0).abs() < 1e-12, "{duty}");
+            assert!((hz - 25_000.0).abs() < 1e-9, "{hz}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(b.expired_grace(NEVER - 1).is_none());
+}
