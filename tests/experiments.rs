@@ -124,8 +124,10 @@ fn robust_umbmark_cw_snapshot() {
         .iter()
         .map(|l| {
             (
-                l.firmware_count_left,
-                l.firmware_count_right,
+                l.firmware_count_left
+                    .expect("the robust build's counters are known"),
+                l.firmware_count_right
+                    .expect("the robust build's counters are known"),
                 l.plant_distance_mm.round(),
             )
         })
