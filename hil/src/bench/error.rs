@@ -117,9 +117,3 @@ impl PendingError {
         }
     }
 }
-
-impl From<crate::description::DescriptionError> for BenchError {
-    fn from(e: crate::description::DescriptionError) -> Self {
-        BenchError::Description(e.to_string())
-    }
-}

@@ -10,7 +10,7 @@ use thiserror::Error;
 
 use super::{Description, End, Ready, Start, Symbols, UartText};
 use crate::board::pin_named;
-use crate::experiment::Test;
+use henrytwo_protocol::Test;
 
 #[derive(Debug, Error)]
 pub enum DescriptionError {

@@ -16,20 +16,20 @@
 //! | file | part |
 //! |---|---|
 //! | `file.rs` | the TOML schema and its checks ([`DescriptionError`]) |
-//! | `run.rs` | a test run from the description |
+//!
+//! A run from a description is the experiment's (`crate::experiment`,
+//! `described.rs`): this module knows the file, not the bench.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::board::Pin;
 use crate::elf::{ElfError, Firmware};
-use crate::experiment::Test;
+use henrytwo_protocol::Test;
 
 mod file;
-mod run;
 
 pub use file::DescriptionError;
-pub(crate) use run::{ended, run_described, wait_ready, Mark};
 
 /// A checked test description (see the module docs).
 #[derive(Debug, Clone, PartialEq)]

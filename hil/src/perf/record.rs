@@ -107,18 +107,18 @@ pub fn bench_run_described(
     if let Some(c) = d.resolve(fw)?.counts {
         bench.set_count_variables(c);
     }
-    crate::description::wait_ready(&mut bench, d)?;
+    crate::experiment::wait_ready(&mut bench, d)?;
     if record {
         bench.start_recording();
     }
     let command_cycle = bench.cycle();
-    let mark = crate::description::Mark::now(&bench);
+    let mark = crate::experiment::Mark::now(&bench);
     bench.send(usart, &[byte]);
     let (legs, turns, _) = test.shape();
     let leg_mm = d.leg_mm(None, 2000.0)?;
     let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0 + d.end.idle_s;
     let idle = bench.clock().cycles_in(plant_model::Seconds(d.end.idle_s));
-    let completed = bench.run_until(limit, |b| crate::description::ended(b, &d.end, idle, mark))?;
+    let completed = bench.run_until(limit, |b| crate::experiment::ended(b, &d.end, idle, mark))?;
     let start = Start {
         cycle: command_cycle,
         usart,

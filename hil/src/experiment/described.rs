@@ -4,10 +4,16 @@
 
 use plant_model::{RobotConfig, Seconds};
 
-use super::{Description, End, Start};
+use super::{analyse, limit_s, Test, TestOptions, TestRun};
 use crate::bench::{Bench, BenchError, Motion, Observer};
+use crate::description::{Description, DescriptionError, End, Start};
 use crate::elf::Firmware;
-use crate::experiment::{analyse, limit_s, Test, TestOptions, TestRun};
+
+impl From<DescriptionError> for BenchError {
+    fn from(e: DescriptionError) -> Self {
+        BenchError::Description(e.to_string())
+    }
+}
 
 /// Whether `m` drives a wheel (a leg, a turn, a pulse).
 fn driven(m: Motion) -> bool {
