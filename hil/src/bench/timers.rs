@@ -197,24 +197,25 @@ impl SimavrTimers {
                 Kind::Fast => m.top != Top::Ocra,
                 Kind::PhaseCorrect | Kind::PhaseFrequencyCorrect => false,
             });
-        let com_on_board: Vec<char> = (0..3)
-            .filter(|&i| t.on_board[i] && (tccra >> (6 - 2 * i)) & 0b11 != 0)
-            .map(|i| ['A', 'B', 'C'][i])
-            .collect();
-        let n = r.n;
-        let observed = match look {
-            Look::Read(a) if a == r.tcnt => Some(format!("read TCNT{n}")),
-            Look::Read(_) => Some(format!("read TIFR{n}")),
-            _ if !com_on_board.is_empty() => Some(format!(
-                "connected OC{n}{} to a pin the board uses",
-                com_on_board.iter().collect::<String>()
-            )),
-            _ if timsk != 0 => Some(format!("enabled its interrupts (TIMSK{n} = 0x{timsk:02X})")),
-            _ => None,
-        }?;
-        if verified_mode && com_on_board.is_empty() {
+        // Cheap tests first: this runs at every read of a watched counter
+        // (Arduino's micros() reads TCNT0 and TIFR0 each call), and only a
+        // refusal needs words.
+        let com_on_board = (0..3).filter(|&i| t.on_board[i] && (tccra >> (6 - 2 * i)) & 0b11 != 0);
+        let connected = com_on_board.clone().next().is_some();
+        let is_observed = matches!(look, Look::Read(_)) || connected || timsk != 0;
+        if !is_observed || (verified_mode && !connected) {
             return None;
         }
+        let n = r.n;
+        let observed = match look {
+            Look::Read(a) if a == r.tcnt => format!("read TCNT{n}"),
+            Look::Read(_) => format!("read TIFR{n}"),
+            _ if connected => format!(
+                "connected OC{n}{} to a pin the board uses",
+                com_on_board.map(|i| ['A', 'B', 'C'][i]).collect::<String>()
+            ),
+            _ => format!("enabled its interrupts (TIMSK{n} = 0x{timsk:02X})"),
+        };
         Some(PendingError::Timer {
             timer: n,
             wgm,
