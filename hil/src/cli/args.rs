@@ -154,7 +154,8 @@ impl Target {
                 hil::paths::robot_config("henrytwo-ideal")
             }
         });
-        RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
+        // The loader's errors name the file.
+        RobotConfig::load(&path).map_err(super::bad_input)
     }
 
     /// The ELF of `--elf`, else the one the test description names, else
@@ -168,7 +169,7 @@ impl Target {
                 hil::paths::firmware_elf(build.get_name())
             }
         };
-        Ok(Firmware::load(&path)?)
+        Firmware::load(&path).map_err(super::bad_input)
     }
 
     /// The robot and the firmware, read in that order.

@@ -43,7 +43,7 @@ impl Faults {
         let library = match &self.scenario {
             Some(path) => vec![hil::faults::from_scenario(
                 path,
-                &hil::scenario::Scenario::load(path)?,
+                &hil::scenario::Scenario::load(path).map_err(super::bad_input)?,
             )],
             None => hil::faults::library(),
         };

@@ -1,0 +1,163 @@
+//! Inputs are checked before anything runs, and options are never silently
+//! ignored (issue 21): a robot config, scenario, ELF or CSV outside what is
+//! physical or possible is refused with one line naming the file, the field
+//! and the allowed range, exit code 2; an option a command does not honour is
+//! refused, not dropped. Each test here fails when its check is taken out.
+
+#[path = "support/mod.rs"]
+mod support;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// `hil ARGS`, killed after `limit` (a check that is missing may hang:
+/// that is a failure, not a stuck test run).
+fn hil_within(args: &[&str], limit: Duration) -> Output {
+    let _ = support::firmware_path("robust");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("hil starts");
+    let start = Instant::now();
+    while child.try_wait().expect("hil runs").is_none() {
+        if start.elapsed() > limit {
+            child.kill().unwrap();
+            let _ = child.wait();
+            panic!("hil {args:?} still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn hil(args: &[&str]) -> Output {
+    hil_within(args, Duration::from_secs(120))
+}
+
+fn fixture(relative: &str) -> String {
+    hil::paths::workspace_root()
+        .join("fixtures")
+        .join(relative)
+        .display()
+        .to_string()
+}
+
+fn ideal() -> String {
+    fixture("robots/henrytwo-ideal.toml")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Refused before anything ran: exit code 2 and one line holding `needle`.
+#[track_caller]
+fn assert_refused(out: &Output, needle: &str) {
+    let err = stderr(out);
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(out.status.code(), Some(2), "exit code; stderr: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(err.contains(needle), "{needle:?} not in: {err}");
+}
+
+/// A fresh temporary folder for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hil-inputs-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+// ---- 1. robot configs -------------------------------------------------------
+
+/// A motor time constant of a picosecond is refused when the robot config is
+/// loaded, naming the file, the key and the range; exit code 2.
+#[test]
+fn an_unphysical_robot_config_is_refused_at_load() {
+    let file = fixture("bad/robot-tau-picosecond.toml");
+    let out = hil(&["run", "line", "--robot", &file]);
+    assert_refused(
+        &out,
+        &format!("{file}: motor.left.tau_s = 1e-12: give 1e-5 to 10 s"),
+    );
+}
+
+// ---- 2. scenario files ------------------------------------------------------
+
+/// A trigger past the 64-bit cycle counter (the bench waited for it forever)
+/// and a duration that wrapped it are refused at load, in `hil run` and
+/// `hil faults`, with the file, the fault and the field.
+#[test]
+fn scenario_times_beyond_a_day_are_refused() {
+    for (file, needle) in [
+        (
+            "bad/scenario-trigger-past-counter.toml",
+            "fault 1: trigger.s = 1.2e12: give 0 to 86400 s",
+        ),
+        (
+            "bad/scenario-duration-1e300.toml",
+            "fault 1: duration_s = 1e300: give more than 0 and at most 86400 s",
+        ),
+    ] {
+        let path = fixture(file);
+        for cmd in [
+            vec!["run", "line", "--scenario", &path],
+            vec!["faults", "--scenario", &path],
+        ] {
+            let out = hil_within(&cmd, Duration::from_secs(60));
+            assert_refused(&out, needle);
+            assert!(stderr(&out).contains(&path), "{}", stderr(&out));
+        }
+    }
+}
+
+/// A fault whose trigger the run never reaches is named in the run's
+/// warnings (JSON and text), and in `hil faults --scenario`; the fault that
+/// fired is not.
+#[test]
+fn a_scenario_fault_that_never_fires_is_a_warning() {
+    let scenario = fixture("scenarios/never-fires.toml");
+    let robot = ideal();
+    let base = [
+        "run",
+        "line",
+        "--leg-mm",
+        "300",
+        "--robot",
+        &robot,
+        "--scenario",
+        &scenario,
+        "--deterministic",
+    ];
+    let out = hil(&[&base[..], &["--json"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        v["warnings"],
+        serde_json::json!(["scenario fault 1 (reset at 3000 s) never fired"]),
+    );
+    let text = hil(&base);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("scenario fault 1 (reset at 3000 s) never fired"),
+        "{text}"
+    );
+
+    let out = hil(&[
+        "faults",
+        "--scenario",
+        &scenario,
+        "--robot",
+        &robot,
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        rows[0]["robust_observed"]["warnings"],
+        serde_json::json!(["scenario fault 1 (reset at 3000 s) never fired"]),
+    );
+}
