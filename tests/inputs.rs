@@ -161,3 +161,77 @@ fn a_scenario_fault_that_never_fires_is_a_warning() {
         serde_json::json!(["scenario fault 1 (reset at 3000 s) never fired"]),
     );
 }
+
+// ---- 3. the ELF's MCU -------------------------------------------------------
+
+/// `int main` built by avr-gcc for `mcu` into `dir`, then `strip` sections
+/// removed (avr-objcopy).
+fn avr_gcc(dir: &Path, mcu: &str, source: &str, strip: &[&str]) -> String {
+    let c = dir.join(format!("{mcu}.c"));
+    std::fs::write(&c, source).unwrap();
+    let elf = dir.join(format!("{mcu}.elf"));
+    let status = Command::new("avr-gcc")
+        .arg(format!("-mmcu={mcu}"))
+        .arg("-Os")
+        .arg(&c)
+        .arg("-o")
+        .arg(&elf)
+        .status()
+        .expect("avr-gcc is installed (tools/setup.sh)");
+    assert!(status.success(), "avr-gcc -mmcu={mcu}");
+    for section in strip {
+        let status = Command::new("avr-objcopy")
+            .args(["--remove-section", section])
+            .arg(&elf)
+            .status()
+            .expect("avr-objcopy is installed");
+        assert!(status.success(), "avr-objcopy");
+    }
+    elf.display().to_string()
+}
+
+const MAIN: &str = "int main(void) { return 0; }\n";
+
+/// An ELF avr-gcc built for another MCU is refused, naming the device (from
+/// its device-info note, or simavr's `.mmcu` section) or, when it names
+/// none, its architecture; an ELF for the atmega2560 is accepted (and then
+/// fails for want of the bench interface, a later check).
+#[test]
+fn an_elf_for_another_mcu_is_refused() {
+    let dir = temp_dir("elf");
+    let robot = ideal();
+    let run = |elf: &str| hil(&["run", "line", "--robot", &robot, "--elf", elf]);
+    let note = ".note.gnu.avr.deviceinfo";
+
+    let elf = avr_gcc(&dir, "atmega328p", MAIN, &[]);
+    assert_refused(
+        &run(&elf),
+        &format!("{elf} is built for atmega328p; the bench emulates the atmega2560"),
+    );
+    // The same family as the 2560 (avr6), another chip.
+    let elf = avr_gcc(&dir, "atmega2561", MAIN, &[]);
+    assert_refused(&run(&elf), "is built for atmega2561");
+    // No device named: the architecture in e_flags says avr5.
+    let dir5 = temp_dir("elf-avr5");
+    let elf = avr_gcc(&dir5, "atmega328p", MAIN, &[note]);
+    assert_refused(&run(&elf), "built for the AVR architecture avr5");
+    // simavr's own tag names the device.
+    let dir_mmcu = temp_dir("elf-mmcu");
+    let mmcu = "__attribute__((section(\".mmcu\"), used)) const unsigned char mmcu[] = \
+                {1, 11, 'a','t','m','e','g','a','3','2','8','p', 0};\n";
+    let elf = avr_gcc(&dir_mmcu, "atmega2560", &format!("{mmcu}{MAIN}"), &[note]);
+    assert_refused(&run(&elf), "is built for atmega328p");
+
+    for strip in [&[][..], &[note][..]] {
+        let dir_ok = temp_dir("elf-2560");
+        let elf = avr_gcc(&dir_ok, "atmega2560", MAIN, strip);
+        let out = run(&elf);
+        let err = stderr(&out);
+        assert!(!err.contains("built for"), "{err}");
+        assert!(err.contains("HT_"), "the next check speaks: {err}");
+        std::fs::remove_dir_all(dir_ok).unwrap();
+    }
+    for d in [dir, dir5, dir_mmcu] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
+}
