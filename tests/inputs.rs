@@ -235,3 +235,135 @@ fn an_elf_for_another_mcu_is_refused() {
         std::fs::remove_dir_all(d).unwrap();
     }
 }
+
+// ---- 4. calibration and CSV inputs ------------------------------------------
+
+/// The thesis' UMBmark table with `line` (1-based) replaced by `with`
+/// (None: deleted), written into `dir`.
+fn umbmark_table(dir: &Path, edits: &[(usize, Option<&str>)]) -> String {
+    let text = std::fs::read_to_string(fixture("thesis-data/umbmark_endpoints.csv")).unwrap();
+    let lines: Vec<String> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| match edits.iter().find(|(n, _)| *n == i + 1) {
+            Some((_, with)) => with.map(str::to_owned),
+            None => Some(l.to_owned()),
+        })
+        .collect();
+    let path = dir.join("umbmark.csv");
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    path.display().to_string()
+}
+
+/// Line 6 of the thesis table is `1,cw,1,-28.6,30.5`.
+const CW1: usize = 6;
+
+/// End points that are not finite, or farther off than the square's side
+/// (25 m on a 2 m square, 1e308), are refused naming the file, line and
+/// column.
+#[test]
+fn csv_end_points_beyond_the_path_are_refused() {
+    let dir = temp_dir("csv");
+    for (row, needle) in [
+        (
+            "1,cw,1,1e308,30.5",
+            "line 6: `x_cm` is 1e308 cm, more than the leg of the test (200 cm)",
+        ),
+        (
+            "1,cw,1,-28.6,2500",
+            "line 6: `y_cm` is 2500 cm, more than the leg of the test (200 cm)",
+        ),
+        (
+            "1,cw,1,NaN,30.5",
+            "line 6: `x_cm` is `NaN`, which is not a finite number",
+        ),
+        (
+            "1,cw,1,-28.6,inf",
+            "line 6: `y_cm` is `inf`, which is not a finite number",
+        ),
+    ] {
+        let file = umbmark_table(&dir, &[(CW1, Some(row))]);
+        let out = hil(&["calibrate", "--from-csv", &file, "--experiment", "1"]);
+        assert_refused(&out, needle);
+        assert!(stderr(&out).contains(&file), "{}", stderr(&out));
+    }
+    // The leg is the one asked for.
+    let file = umbmark_table(&dir, &[(CW1, Some("1,cw,1,-28.6,250"))]);
+    let out = hil(&[
+        "calibrate",
+        "--from-csv",
+        &file,
+        "--side-cm",
+        "300",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A table with another number of runs per group is refused naming the
+/// command line's option, which then reads it.
+#[test]
+fn a_wrong_run_count_names_the_option_that_reads_it() {
+    let dir = temp_dir("runs");
+    let file = umbmark_table(&dir, &[(CW1 + 4, None), (CW1 + 9, None)]);
+    let out = hil(&["calibrate", "--from-csv", &file, "--experiment", "1"]);
+    assert_refused(&out, "has 4 runs, expected 5");
+    assert!(
+        stderr(&out).contains("--runs-per-group 4"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!stderr(&out).contains("CsvOptions"), "{}", stderr(&out));
+    let args = [
+        "calibrate",
+        "--from-csv",
+        &file,
+        "--experiment",
+        "1",
+        "--json",
+    ];
+    let out = hil(&[&args[..], &["--runs-per-group", "4"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A wheelbase of 0, nan or below zero is refused when the command line is
+/// parsed, not printed as a correction of 0 mm or NaN.
+#[test]
+fn a_wheelbase_outside_20_to_2000_mm_is_a_usage_error() {
+    let table = fixture("thesis-data/umbmark_endpoints.csv");
+    for v in ["0", "nan", "-5", "1e9"] {
+        let out = hil(&[
+            "calibrate",
+            "--from-csv",
+            &table,
+            &format!("--wheelbase-mm={v}"),
+        ]);
+        assert_refused(&out, "a wheelbase is 20 to 2000 mm");
+        for cmd in ["umbmark", "triangle"] {
+            let out = hil(&[cmd, &format!("--firmware-wheelbase-mm={v}")]);
+            assert_refused(&out, "a wheelbase is 20 to 2000 mm");
+        }
+    }
+}
+
+/// `hil identify` reads a step response saved with a byte-order mark, as
+/// `hil calibrate` reads its tables.
+#[test]
+fn identify_accepts_a_byte_order_mark() {
+    let dir = temp_dir("bom");
+    let text = std::fs::read_to_string(fixture("thesis-data/motor_step_right.csv")).unwrap();
+    let file = dir.join("step.csv");
+    std::fs::write(&file, format!("\u{feff}{text}")).unwrap();
+    let file = file.display().to_string();
+    let out = hil(&["identify", &file, "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let plain = hil(&[
+        "identify",
+        &fixture("thesis-data/motor_step_right.csv"),
+        "--json",
+    ]);
+    assert_eq!(out.stdout, plain.stdout);
+    std::fs::remove_dir_all(dir).unwrap();
+}

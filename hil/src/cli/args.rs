@@ -309,7 +309,7 @@ impl Solve {
 pub struct Correction {
     /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`;
     /// default: the one the runs told it, the robot's, or the firmware's own).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_wheelbase)]
     pub firmware_wheelbase_mm: Option<f64>,
     #[command(flatten)]
     pub solve: Solve,
@@ -348,6 +348,20 @@ pub fn parse_leg(s: &str) -> Result<f64, String> {
             r.min, r.max
         )
     })?;
+    Ok(v)
+}
+
+/// A wheelbase in millimetres, in the robot config's range (20 to 2000 mm):
+/// 0 or nan would print a correction of 0 mm or NaN.
+pub fn parse_wheelbase(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of millimetres"))?;
+    if !(v.is_finite() && (20.0..=2000.0).contains(&v)) {
+        return Err(format!(
+            "{s} mm is out of range: a wheelbase is 20 to 2000 mm"
+        ));
+    }
     Ok(v)
 }
 

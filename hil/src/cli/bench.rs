@@ -135,7 +135,8 @@ pub struct Identify {
 impl Identify {
     pub fn run(self) -> Result<()> {
         let id = plant_model::identify::identify_csv(&self.csv, self.side.map(Into::into))
-            .with_context(|| format!("identifying {}", self.csv.display()))?;
+            .with_context(|| format!("identifying {}", self.csv.display()))
+            .map_err(super::bad_input)?;
         self.json.emit(&id, || id.render())
     }
 }

@@ -226,8 +226,12 @@ pub struct Calibrate {
     #[arg(long)]
     side_cm: Option<f64>,
     /// The wheelbase the robot's odometry used, mm.
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::parse_wheelbase)]
     wheelbase_mm: Option<f64>,
+    /// With --from-csv: runs per direction (UMBmark) or per test (Triangular
+    /// Path) in the table.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    runs_per_group: u16,
     #[command(flatten)]
     solve: Solve,
     /// Correction rounds on the emulated robot (without --from-csv).
@@ -250,11 +254,13 @@ impl Calibrate {
     /// Corrections from measured end points.
     fn measured(&self, path: &std::path::Path) -> Result<()> {
         let method = match self.method {
-            None => hil::calibrate::detect(path)?,
+            None => hil::calibrate::detect(path).map_err(super::bad_input)?,
             Some(m) => m.into(),
         };
         if let Some(l) = self.side_cm.filter(|l| !(l.is_finite() && *l > 0.0)) {
-            anyhow::bail!("--side-cm {l}: give a positive length in centimetres");
+            return Err(super::bad_input(anyhow::anyhow!(
+                "--side-cm {l}: give a positive length in centimetres"
+            )));
         }
         let opts = hil::calibrate::FromCsv {
             experiment: self.experiment,
@@ -263,9 +269,11 @@ impl Calibrate {
             side_cm: self.side_cm,
             wheelbase_mm: self.wheelbase_mm,
             solution: self.solve.solution(),
+            runs_per_group: self.runs_per_group.into(),
         };
         let result = hil::calibrate::from_csv(path, method, &opts)
-            .with_context(|| format!("{}", path.display()))?;
+            .with_context(|| format!("{}", path.display()))
+            .map_err(super::bad_input)?;
         self.common.print.json.emit(&result, || result.render())
     }
 
