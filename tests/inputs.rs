@@ -367,3 +367,56 @@ fn identify_accepts_a_byte_order_mark() {
     assert_eq!(out.stdout, plain.stdout);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+// ---- 5. options accepted and ignored ----------------------------------------
+
+/// `--vcd` on a command that writes no trace is refused with the command
+/// that does, and no file appears; before, it was dropped without a word.
+#[test]
+fn vcd_is_refused_where_no_trace_is_written() {
+    let dir = temp_dir("vcd");
+    let vcd = dir.join("t.vcd").display().to_string();
+    for cmd in [
+        &["umbmark"][..],
+        &["triangle"],
+        &["line"],
+        &["fuzz", "--frames", "10"],
+        &["faults", "--all"],
+        &["calibrate"],
+        &["bench"],
+        &["serve", "--pty"],
+        &["ui"],
+    ] {
+        let out = hil(&[cmd, &["--vcd", &vcd]].concat());
+        assert_refused(
+            &out,
+            "--vcd traces one run: use hil run TEST ... --vcd FILE",
+        );
+        assert!(
+            stderr(&out).contains(&format!("hil {}", cmd[0])),
+            "{}",
+            stderr(&out)
+        );
+        assert!(!Path::new(&vcd).exists(), "{cmd:?} wrote {vcd}");
+    }
+    // --vcd-pwm alone shapes nothing either.
+    let out = hil(&["run", "line", "--vcd-pwm"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("--vcd"), "{}", stderr(&out));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `hil serve` and `hil ui` print no result: `--json` (and
+/// `--deterministic`) are refused, not ignored.
+#[test]
+fn json_is_refused_where_no_result_is_printed() {
+    for cmd in [&["serve", "--pty"][..], &["ui"]] {
+        for option in ["--json", "--deterministic"] {
+            let out = hil_within(&[cmd, &[option]].concat(), Duration::from_secs(20));
+            assert_refused(
+                &out,
+                &format!("{option}: hil {} prints no result to format", cmd[0]),
+            );
+        }
+    }
+}

@@ -234,7 +234,7 @@ pub struct Trace {
     #[arg(long, value_name = "FILE")]
     pub vcd: Option<PathBuf>,
     /// In the VCD, write the 31 kHz PWM waveforms edge by edge (large).
-    #[arg(long)]
+    #[arg(long, requires = "vcd")]
     pub vcd_pwm: bool,
 }
 
@@ -250,6 +250,36 @@ pub struct Common {
 }
 
 impl Common {
+    /// For a command that writes no trace: `--vcd` refused (exit 2), not
+    /// dropped without a file or a word.
+    pub fn refuse_trace(&self, command: &str) -> Result<()> {
+        if self.trace.vcd.is_some() {
+            return Err(super::bad_input(anyhow::anyhow!(
+                "--vcd traces one run: use hil run TEST ... --vcd FILE (hil {command} writes no trace)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// For a command that prints no result: `--json` (and `--deterministic`,
+    /// which only shapes results) refused, not dropped.
+    pub fn refuse_result_format(&self, command: &str, what: &str) -> Result<()> {
+        let print = self.print;
+        if let Some(option) = [
+            (print.json.json, "--json"),
+            (print.deterministic, "--deterministic"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+        {
+            return Err(super::bad_input(anyhow::anyhow!(
+                "{option}: hil {command} prints no result to format ({what}); the commands that \
+                 run tests take it (hil run, hil umbmark, ...)"
+            )));
+        }
+        Ok(())
+    }
+
     /// A test run as these options ask for it, with legs of `leg_mm`.
     pub fn test_options(&self, leg_mm: f64) -> TestOptions {
         TestOptions {

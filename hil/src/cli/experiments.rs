@@ -42,6 +42,7 @@ impl Umbmark {
             jobs,
             common,
         } = self;
+        common.refuse_trace("umbmark")?;
         let (robot, firmware, plan) = setup(&common, leg)?;
         let specs = match shard {
             Some(s) => plan.shard(s),
@@ -125,6 +126,7 @@ impl Triangle {
             out,
             common,
         } = self;
+        common.refuse_trace("triangle")?;
         let (robot, firmware, plan) = setup(&common, leg)?;
         let plan = plan.triangle();
         let clock = common.print.wall_clock();
@@ -245,6 +247,7 @@ pub struct Calibrate {
 
 impl Calibrate {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("calibrate")?;
         match &self.from_csv {
             Some(path) => self.measured(path),
             None => self.rounds(),

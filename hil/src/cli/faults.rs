@@ -34,6 +34,7 @@ pub struct Faults {
 
 impl Faults {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("faults")?;
         let options = FaultOptions {
             seed: self.common.target.seed,
             board: self.common.target.bench().board,

@@ -173,6 +173,11 @@ fn usage_error(e: &clap::Error) -> ExitCode {
         (ErrorKind::InvalidValue, Some(ContextValue::Strings(values))) => {
             format!(": use {}", values.join(", "))
         }
+        // clap names the missing arguments on the lines below the first.
+        (ErrorKind::MissingRequiredArgument, _) => match e.get(ContextKind::InvalidArg) {
+            Some(ContextValue::Strings(args)) => format!(" {}", args.join(", ")),
+            _ => String::new(),
+        },
         _ => String::new(),
     };
     eprintln!("{first}{valid} (see `hil --help`)");

@@ -117,6 +117,7 @@ pub struct Line {
 
 impl Line {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("line")?;
         let target = &self.common.target;
         let (robot, firmware) = target.load()?;
         let opts = LineOptions {
