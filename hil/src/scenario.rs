@@ -65,7 +65,7 @@ fn one_line(message: &str) -> String {
     message
         .lines()
         .map(str::trim)
-        .filter(|l| !l.is_empty() && l.trim_start_matches(['|', '^', ' ']).len() > 0)
+        .filter(|l| !l.trim_start_matches(['|', '^', ' ']).is_empty())
         .filter(|l| !l.starts_with('|'))
         .collect::<Vec<_>>()
         .join(" ")

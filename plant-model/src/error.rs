@@ -64,17 +64,6 @@ pub enum Error {
         error: Box<Error>,
     },
 
-    /// A length, time, ratio or voltage that must be positive is zero or negative.
-    #[error("robot config `{key}` = {value}: it must be greater than zero ({meaning})")]
-    NotPositive {
-        /// The key, as `section.key`.
-        key: String,
-        /// The value read.
-        value: f64,
-        /// What the key is, to help choose a value.
-        meaning: &'static str,
-    },
-
     /// A duty is outside `[0, 1]`.
     #[error(
         "robot config `{key}` = {value}: a duty must lie in [0, 1] \

@@ -36,7 +36,6 @@ fn optional_keys_take_their_documented_defaults() {
 enum Expect {
     Parse,
     NotFinite,
-    NotPositive,
     DutyOutOfRange,
     DeadBand,
     OutOfRange,
@@ -189,7 +188,6 @@ fn bad_config_is_refused_naming_the_key(
     let matches = match expect {
         Expect::Parse => matches!(err, Error::ParseConfig(_)),
         Expect::NotFinite => matches!(err, Error::NotFinite { .. }),
-        Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
         Expect::DutyOutOfRange => matches!(err, Error::DutyOutOfRange { .. }),
         Expect::DeadBand => matches!(err, Error::DeadBandNotBelowReference { .. }),
         Expect::Unphysical => matches!(err, Error::Unphysical { .. }),
@@ -306,7 +304,6 @@ fn bad_effect_is_refused_naming_the_key(
     let matches = match expect {
         Expect::Parse => matches!(err, Error::ParseConfig(_)),
         Expect::NotFinite => matches!(err, Error::NotFinite { .. }),
-        Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
         Expect::OutOfRange => matches!(err, Error::OutOfRange { .. }),
         Expect::Conflict => matches!(err, Error::Conflict { .. }),
         Expect::Unphysical => matches!(err, Error::Unphysical { .. }),

@@ -225,7 +225,7 @@ impl FaultSchedule {
     }
 
     pub(super) fn take_due_action(&mut self, when: u64) -> Option<Action> {
-        if !self.actions.first().is_some_and(|a| a.0 <= when) {
+        if self.actions.first().is_none_or(|a| a.0 > when) {
             return None;
         }
         let (_, action, origin) = self.actions.remove(0);
