@@ -12,7 +12,9 @@
 //! run counts are checked. Every value is required, with one declared exception: the y value
 //! of *triangle* rows may be empty when [`CsvOptions::triangle_y_optional`] is set (the
 //! thesis' triangle experiment 2 lost its y column in transcription); the reader then says so
-//! in [`TriangleExperiment::notes`]. Errors name the 1-based line number.
+//! in [`TriangleExperiment::notes`]. An end error larger than the test's leg
+//! ([`CsvOptions::max_end_error_cm`]) is refused: no run ends farther off than its whole path.
+//! Errors name the 1-based line number and the column.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -26,21 +28,46 @@ pub const UMBMARK_HEADER: &str = "experiment,direction,run,x_cm,y_cm";
 pub const TRIANGLE_HEADER: &str = "experiment,test,run,x_cm,y_cm";
 
 /// How strictly to read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CsvOptions {
     /// Runs expected in each group (each direction, or the line and the triangle).
     pub runs_per_group: usize,
     /// Accept an empty `y_cm` in `triangle` rows (and only there).
     pub triangle_y_optional: bool,
+    /// The largest `x_cm` or `y_cm` accepted, in either direction: the test's leg (a run
+    /// cannot end farther off than its path is long). Default [`MAX_LEG_CM`].
+    pub max_end_error_cm: f64,
 }
+
+/// The longest leg of a test, cm (100 m: the bench's longest too).
+pub const MAX_LEG_CM: f64 = 10_000.0;
 
 impl Default for CsvOptions {
     fn default() -> Self {
         Self {
             runs_per_group: 5,
             triangle_y_optional: false,
+            max_end_error_cm: MAX_LEG_CM,
         }
     }
+}
+
+/// `value` (already a finite number) unless it is farther than `max_cm` from 0.
+fn check_end_error(line: usize, column: &str, value: f64, max_cm: f64) -> Result<f64, Error> {
+    if value.abs() <= max_cm {
+        return Ok(value);
+    }
+    let shown = if value.abs() >= 1e6 {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    };
+    Err(Error::EndErrorTooLarge {
+        line,
+        column: column.into(),
+        value: shown,
+        max_cm,
+    })
 }
 
 /// One experiment of a Triangular Path table.
@@ -177,7 +204,13 @@ fn parse_table(text: &str, layout: Layout, opts: &CsvOptions) -> Result<Table, E
             }
         };
         let run = parse_positive(line, "run", fields[2])?;
-        let x = parse_number(line, "x_cm", fields[3], "")?;
+        let max = opts.max_end_error_cm;
+        let x = check_end_error(
+            line,
+            "x_cm",
+            parse_number(line, "x_cm", fields[3], "")?,
+            max,
+        )?;
         let y_optional = layout == Layout::Triangle && group == "triangle";
         let y = if fields[4].is_empty() && y_optional && opts.triangle_y_optional {
             None
@@ -188,7 +221,8 @@ fn parse_table(text: &str, layout: Layout, opts: &CsvOptions) -> Result<Table, E
             } else {
                 ""
             };
-            Some(parse_number(line, "y_cm", fields[4], hint)?)
+            let y = parse_number(line, "y_cm", fields[4], hint)?;
+            Some(check_end_error(line, "y_cm", y, max)?)
         };
         if let Some(&first_line) = seen.get(&(experiment, group, run)) {
             return Err(Error::DuplicateRun {

@@ -120,7 +120,7 @@ pub enum Error {
     },
 
     /// A group (direction or test) of the selected experiment has the wrong number of runs.
-    #[error("line {line}: experiment {experiment}, {group} has {found} runs, expected {expected}; add the missing runs, remove the extra ones, or set `CsvOptions::runs_per_group`")]
+    #[error("line {line}: experiment {experiment}, {group} has {found} runs, expected {expected}; add the missing runs or remove the extra ones, or expect {found} runs per group")]
     RunCount {
         /// Last line of that group (the header line if the group is empty).
         line: usize,
@@ -132,6 +132,20 @@ pub enum Error {
         found: usize,
         /// Runs expected.
         expected: usize,
+    },
+
+    /// An end error farther from the target than the test's whole path is long: a value
+    /// in the wrong unit (mm for cm), a lost decimal point, a typo such as `1e308`.
+    #[error("line {line}: `{column}` is {value} cm, more than the leg of the test ({max_cm} cm): an end error cannot be larger than the path; check the unit (centimetres) and the decimal point")]
+    EndErrorTooLarge {
+        /// Line of the row.
+        line: usize,
+        /// Column name.
+        column: String,
+        /// The value read, as written in the message.
+        value: String,
+        /// The largest end error accepted, cm.
+        max_cm: f64,
     },
 
     /// The selected experiment has no rows.

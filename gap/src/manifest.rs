@@ -519,6 +519,7 @@ impl LoadedManifest {
         let opts = CsvOptions {
             runs_per_group: e.runs_per_group,
             triangle_y_optional: true,
+            ..CsvOptions::default()
         };
         let k = e.length_unit.to_cm();
         let conv = |x: f64, y: Option<f64>| {

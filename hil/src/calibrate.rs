@@ -32,6 +32,39 @@ pub struct FromCsv {
     pub wheelbase_mm: Option<f64>,
     /// The error model's solution (ignored in compat mode: the GUI is first order).
     pub solution: calib::Solution,
+    /// Runs per direction (UMBmark) or per test (Triangular Path) in the table.
+    pub runs_per_group: usize,
+}
+
+impl FromCsv {
+    /// How to read the table of a test with legs of `side_cm`: no end error
+    /// may be larger than the leg.
+    fn csv_options(&self, side_cm: f64, triangle_y_optional: bool) -> CsvOptions {
+        CsvOptions {
+            runs_per_group: self.runs_per_group,
+            triangle_y_optional,
+            max_end_error_cm: side_cm,
+        }
+    }
+}
+
+/// A table's error as the command line's user meets it: a wrong run count
+/// says which option expects another.
+fn cli_words(e: calib::Error) -> anyhow::Error {
+    match e {
+        calib::Error::RunCount {
+            line,
+            experiment,
+            group,
+            found,
+            expected,
+        } => anyhow::anyhow!(
+            "line {line}: experiment {experiment}, {group} has {found} runs, expected \
+             {expected}; add the missing runs or remove the extra ones, or give \
+             --runs-per-group {found}"
+        ),
+        e => e.into(),
+    }
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -90,7 +123,6 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
     };
     match method {
         Method::Umbmark => {
-            let runs = read_umbmark_file(path, opts.experiment, &CsvOptions::default())?;
             let mut params = if opts.thesis_compat {
                 calib::thesis::umbmark_params_for_experiment(opts.experiment)
                     .unwrap_or_else(calib::thesis::umbmark_params_as_printed)
@@ -110,6 +142,8 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
             } else if !opts.thesis_compat {
                 params.wheelbase_mm = 130.0;
             }
+            let csv_opts = opts.csv_options(params.side_cm, false);
+            let runs = read_umbmark_file(path, opts.experiment, &csv_opts).map_err(cli_words)?;
             let result = umbmark_correction(&runs, &params);
             let discrepancies = if opts.thesis_compat {
                 Vec::new()
@@ -136,11 +170,6 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
             })
         }
         Method::Triangle => {
-            let csv_opts = CsvOptions {
-                triangle_y_optional: true,
-                ..CsvOptions::default()
-            };
-            let exp = read_triangle_file(path, opts.experiment, &csv_opts)?;
             let mut params = if opts.thesis_compat {
                 calib::thesis::triangle_params_for_experiment(opts.experiment)
                     .unwrap_or_else(calib::thesis::triangle_params_as_printed)
@@ -158,6 +187,8 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
             if let Some(b) = opts.wheelbase_mm {
                 params.wheelbase_mm = b;
             }
+            let csv_opts = opts.csv_options(params.side_cm, true);
+            let exp = read_triangle_file(path, opts.experiment, &csv_opts).map_err(cli_words)?;
             let result = triangle_correction(&exp.line, &exp.triangle, &params);
             let discrepancies = if opts.thesis_compat {
                 Vec::new()

@@ -3,19 +3,29 @@
 //! The bench loads flash itself instead of through simavr's loader: a Rust
 //! ELF carries no `.mmcu` section, and the bench needs the symbol table anyway
 //! (to read the firmware's variables and to name the function a PC is in).
+//!
+//! The bench emulates one MCU, the ATmega2560, so an ELF built for another is
+//! refused before it runs (its registers, pins and vectors are elsewhere: it
+//! would run as nonsense): by its architecture in `e_flags` (the 2560's
+//! family is avr6), by the device the toolchain wrote in the
+//! `.note.gnu.avr.deviceinfo` note, and by simavr's `.mmcu` section. An ELF
+//! that names no device is accepted.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use object::elf::{EM_AVR, PT_LOAD};
+use object::elf::{EF_AVR_ARCH, EF_AVR_ARCH_AVR6, EM_AVR, PT_LOAD};
 use object::read::elf::{ElfFile32, FileHeader, ProgramHeader};
-use object::{Endianness, Object, ObjectSymbol, SymbolKind};
+use object::{Endianness, Object, ObjectSection, ObjectSymbol, SymbolKind};
 use thiserror::Error;
 
 use crate::time::Clock;
 
 /// AVR ELF files put data space at this offset in the address space.
 pub const DATA_OFFSET: u32 = 0x80_0000;
+
+/// The MCU the bench emulates, as avr-gcc's `-mmcu` names it.
+pub const DEVICE: &str = "atmega2560";
 
 #[derive(Debug, Error)]
 pub enum ElfError {
@@ -28,6 +38,14 @@ pub enum ElfError {
     NotElf { path: PathBuf, reason: String },
     #[error("{path} is an ELF for machine {machine}, not for the AVR (machine 83); pass the firmware's ELF")]
     NotAvr { path: PathBuf, machine: u16 },
+    #[error("{path} is built for {device}; the bench emulates the {DEVICE}: rebuild it with -mmcu={DEVICE}")]
+    OtherDevice { path: PathBuf, device: String },
+    #[error("{path} is built for the AVR architecture {arch} (e_flags 0x{flags:x}); the bench emulates the {DEVICE}, an avr6: rebuild it with -mmcu={DEVICE}")]
+    OtherArch {
+        path: PathBuf,
+        arch: String,
+        flags: u32,
+    },
     #[error("{path} has no loadable flash segment")]
     Empty { path: PathBuf },
     #[error("the firmware has no symbol {name:?}")]
@@ -116,6 +134,21 @@ impl Firmware {
             return Err(ElfError::NotAvr {
                 path: path.to_owned(),
                 machine,
+            });
+        }
+        // The device first: its name says more than its family.
+        if let Some(device) = declared_device(&file).filter(|d| !d.eq_ignore_ascii_case(DEVICE)) {
+            return Err(ElfError::OtherDevice {
+                path: path.to_owned(),
+                device,
+            });
+        }
+        let flags = header.e_flags(endian);
+        if flags & EF_AVR_ARCH != EF_AVR_ARCH_AVR6 {
+            return Err(ElfError::OtherArch {
+                path: path.to_owned(),
+                arch: arch_name(flags & EF_AVR_ARCH),
+                flags,
             });
         }
         let mut segments = Vec::new();
@@ -263,9 +296,91 @@ impl Firmware {
     }
 }
 
+/// The device an ELF says it is built for: the name in avr-gcc's
+/// `.note.gnu.avr.deviceinfo` note, else in simavr's `.mmcu` section.
+fn declared_device(file: &ElfFile32<Endianness>) -> Option<String> {
+    let section = |name: &str| file.section_by_name(name).and_then(|s| s.data().ok());
+    section(".note.gnu.avr.deviceinfo")
+        .and_then(note_device)
+        .or_else(|| section(".mmcu").and_then(mmcu_device))
+}
+
+/// The device name of an AVR device-info note (binutils' layout, little
+/// endian): namesz, descsz, type, the name "AVR" padded to 4 bytes, then the
+/// description: flash start and size, RAM start and size, EEPROM start and
+/// size (six words), the offset table's length in bytes (counting itself)
+/// and its offsets, the first of which points into the string table that
+/// follows at the device's name.
+fn note_device(note: &[u8]) -> Option<String> {
+    let word = |b: &[u8], at: usize| -> Option<usize> {
+        Some(u32::from_le_bytes(b.get(at..at + 4)?.try_into().ok()?) as usize)
+    };
+    let namesz = word(note, 0)?;
+    let descsz = word(note, 4)?;
+    let desc_at = 12 + namesz.div_ceil(4) * 4;
+    let desc = note.get(desc_at..desc_at.checked_add(descsz)?)?;
+    let table_len = word(desc, 24)?;
+    let strings = desc.get(24usize.checked_add(table_len)?..)?;
+    let name_at = word(desc, 28)?;
+    c_string(strings.get(name_at..)?)
+}
+
+/// The device name of simavr's `.mmcu` section: records of a tag byte, a
+/// length byte and that many bytes; tag 1 (`AVR_MMCU_TAG_NAME`) is the name.
+fn mmcu_device(mut records: &[u8]) -> Option<String> {
+    const AVR_MMCU_TAG_NAME: u8 = 1;
+    while let [tag, len, rest @ ..] = records {
+        let data = rest.get(..*len as usize)?;
+        if *tag == AVR_MMCU_TAG_NAME {
+            return c_string(data);
+        }
+        records = &rest[*len as usize..];
+    }
+    None
+}
+
+/// The NUL-terminated text at the start of `bytes`, when it is not empty.
+fn c_string(bytes: &[u8]) -> Option<String> {
+    let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+    let name = std::str::from_utf8(&bytes[..end]).ok()?.trim();
+    (!name.is_empty()).then(|| name.to_owned())
+}
+
+/// binutils' name of an `EF_AVR_ARCH_*` number ("avr5", "avrxmega2").
+fn arch_name(arch: u32) -> String {
+    match arch {
+        0 => "none (e_flags names no AVR architecture)".into(),
+        100 => "avrtiny".into(),
+        101..=107 => format!("avrxmega{}", arch - 100),
+        n => format!("avr{n}"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// binutils' note for the atmega2560, as in our Rust builds.
+    const NOTE_2560: &[u8] = b"\x04\0\0\0\x2d\0\0\0\x01\0\0\0AVR\0\
+        \0\0\0\0\0\0\x04\0\0\x02\0\0\0\x20\0\0\0\0\0\0\0\x10\0\0\
+        \x08\0\0\0\x01\0\0\0\0atmega2560\0\0\0\0\0";
+
+    #[test]
+    fn the_device_note_names_the_device() {
+        assert_eq!(note_device(NOTE_2560).as_deref(), Some("atmega2560"));
+        assert_eq!(note_device(&NOTE_2560[..20]), None, "truncated: no name");
+    }
+
+    #[test]
+    fn the_mmcu_section_names_the_device() {
+        let mut s = vec![2, 4, 0, 0x24, 0xf4, 0]; // frequency first
+        s.extend([1, 11]);
+        s.extend(b"atmega328p\0");
+        s.extend([0, 0]);
+        assert_eq!(mmcu_device(&s).as_deref(), Some("atmega328p"));
+        assert_eq!(mmcu_device(&[0, 0]), None);
+        assert_eq!(mmcu_device(&[1, 40, b'a']), None, "truncated");
+    }
 
     #[test]
     fn rejects_non_elf_with_a_reason() {

@@ -22,7 +22,10 @@
 //! Actions are [`crate::bench::Action`]'s, tagged by `action`: `encoder`,
 //! `encoder_glitch`, `link`, `motor_disconnected`, `motor`, `slip_burst`,
 //! `battery_volts`, `reset`, `host_send`. Every value is checked before
-//! anything runs.
+//! anything runs; times (`s`, `duration_s`, `limit_s`) are at most a day of
+//! robot time ([`MAX_ROBOT_TIME_S`]), far beyond any run and far below the
+//! 64-bit cycle counter, so no fault waits forever or wraps round. A fault
+//! whose trigger the run never reaches is named in the run's warnings.
 
 use std::path::{Path, PathBuf};
 
@@ -51,6 +54,46 @@ pub enum ScenarioError {
     },
     #[error("the scenario {path} has no [[fault]]: add at least one")]
     Empty { path: PathBuf },
+    /// A top-level value (`leg_mm`, `limit_s`) out of its range.
+    #[error("the scenario {path}: {message}")]
+    Field { path: PathBuf, message: String },
+}
+
+/// A parser's message on one line: the TOML parser draws the line it quotes
+/// and carets under it on lines of their own (`  |`, `2 | text`, `  ^`).
+fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.trim_start_matches(['|', '^', ' ']).is_empty())
+        .filter(|l| !l.starts_with('|'))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The longest robot time a scenario may name: one day.
+pub const MAX_ROBOT_TIME_S: f64 = 86_400.0;
+
+/// `what = value` when `value` is not a robot time in `low..=MAX_ROBOT_TIME_S`
+/// (`low` itself excluded when `open`).
+fn check_time(what: &str, value: f64, open: bool) -> Result<(), String> {
+    let above = if open { value > 0.0 } else { value >= 0.0 };
+    if value.is_finite() && above && value <= MAX_ROBOT_TIME_S {
+        return Ok(());
+    }
+    let shown = if value.is_finite() && value.abs() >= 1e6 {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    };
+    let range = if open {
+        format!("more than 0 and at most {MAX_ROBOT_TIME_S} s")
+    } else {
+        format!("0 to {MAX_ROBOT_TIME_S} s")
+    };
+    Err(format!(
+        "{what} = {shown}: give {range} of robot time (one day)"
+    ))
 }
 
 /// One fault of a scenario file.
@@ -109,7 +152,7 @@ impl Scenario {
         };
         let s = parsed.map_err(|message| ScenarioError::Parse {
             path: path.to_owned(),
-            message: message.trim().to_string(),
+            message: one_line(&message),
         })?;
         if s.faults.is_empty() {
             return Err(ScenarioError::Empty {
@@ -127,16 +170,16 @@ impl Scenario {
             .leg_mm
             .filter(|v| !(v.is_finite() && *v > 0.0 && *v <= 100_000.0))
         {
-            return Err(ScenarioError::Parse {
+            return Err(ScenarioError::Field {
                 path: path.to_owned(),
                 message: format!("leg_mm = {v}: give a length above 0 and up to 100000 mm"),
             });
         }
-        if let Some(v) = s.limit_s.filter(|v| !(v.is_finite() && *v > 0.0)) {
-            return Err(ScenarioError::Parse {
+        if let Some(v) = s.limit_s {
+            check_time("limit_s", v, true).map_err(|message| ScenarioError::Field {
                 path: path.to_owned(),
-                message: format!("limit_s = {v}: give a positive robot time in seconds"),
-            });
+                message,
+            })?;
         }
         Ok(s)
     }
@@ -166,11 +209,7 @@ impl FaultEntry {
 
     fn validate(&self) -> Result<(), String> {
         match self.trigger {
-            Trigger::Time { s } if !(s.is_finite() && s >= 0.0) => {
-                return Err(format!(
-                    "trigger time {s} s: give a robot time of 0 s or more"
-                ))
-            }
+            Trigger::Time { s } => check_time("trigger.s", s, false)?,
             Trigger::TurnStart { n: 0 }
             | Trigger::LegStart { n: 0 }
             | Trigger::HostByte { n: 0 } => {
@@ -186,31 +225,15 @@ impl FaultEntry {
             }
         }
         if let Some(d) = self.duration_s {
-            if !(d.is_finite() && d > 0.0) {
-                return Err(format!("duration_s = {d}: give a positive time in seconds"));
-            }
+            check_time("duration_s", d, true)?;
             if self.undo.is_none() && healthy(&self.action).is_none() {
                 return Err(format!(
                     "`{}` has no healthy state to return to: drop duration_s, or give `undo`",
-                    action_name(&self.action)
+                    self.action.name()
                 ));
             }
         }
         Ok(())
-    }
-}
-
-fn action_name(a: &Action) -> &'static str {
-    match a {
-        Action::Encoder { .. } => "encoder",
-        Action::Link { .. } => "link",
-        Action::MotorDisconnected { .. } => "motor_disconnected",
-        Action::Reset => "reset",
-        Action::Motor { .. } => "motor",
-        Action::SlipBurst { .. } => "slip_burst",
-        Action::BatteryVolts { .. } => "battery_volts",
-        Action::EncoderGlitch { .. } => "encoder_glitch",
-        Action::HostSend { .. } => "host_send",
     }
 }
 
@@ -280,7 +303,11 @@ fn check_action(a: &Action) -> Result<(), String> {
                 Err(format!(
                     "glitch width_us = {width_us}: give a positive width"
                 ))
-            } else if !(period_us.is_finite() && period_us > width_us) {
+            } else if !(period_us.is_finite() && *period_us <= 1e6) {
+                Err(format!(
+                    "glitch period_us = {period_us}: give at most 1000000 (one pulse a second)"
+                ))
+            } else if period_us <= width_us {
                 Err(format!(
                     "glitch period_us = {period_us}: give more than width_us ({width_us})"
                 ))
@@ -365,7 +392,10 @@ duration_s = 0.0005
         let e = bad(
             "[[fault]]\ntrigger = { at = \"time\", s = -1.0 }\naction = { action = \"reset\" }\n",
         );
-        assert!(e.contains("fault 1") && e.contains("0 s or more"), "{e}");
+        assert!(
+            e.contains("fault 1") && e.contains("trigger.s = -1: give 0 to 86400 s"),
+            "{e}"
+        );
         let e = bad("[[fault]]\ntrigger = { at = \"time\", s = 1.0 }\naction = { action = \"reset\" }\nduration_s = 1.0\n");
         assert!(e.contains("drop duration_s, or give `undo`"), "{e}");
         let e = bad("[[fault]]\ntrigger = { at = \"time\", s = 1.0 }\naction = { action = \"slip_burst\", side = \"left\", slip = 1.5 }\n");

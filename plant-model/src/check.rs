@@ -7,15 +7,105 @@
 
 use crate::Error;
 
-/// `value` must be finite and greater than zero.
-pub(crate) fn check_positive(key: &str, value: f64, meaning: &'static str) -> Result<(), Error> {
-    check_finite(key, value)?;
-    if value > 0.0 {
+/// The physical range of a config number: what a real robot of this kind can have, wide enough
+/// for every robot in `fixtures/robots/` and narrow enough that a typo (a value in the wrong
+/// unit, a dropped decimal point, an exponent) is refused instead of run. The ranges are
+/// documented beside the keys in `fixtures/robots/henrytwo-ideal.toml`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    /// The smallest value allowed.
+    pub low: f64,
+    /// The largest value allowed.
+    pub high: f64,
+    /// The unit the key is written in (empty for a plain number).
+    pub unit: &'static str,
+}
+
+impl Bounds {
+    /// Whether `value` is finite and within the range.
+    pub fn contains(self, value: f64) -> bool {
+        value.is_finite() && (self.low..=self.high).contains(&value)
+    }
+
+    /// "give 1e-5 to 10 s": the range in words, for an error message.
+    pub fn give(self) -> String {
+        let unit = if self.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", self.unit)
+        };
+        format!("give {} to {}{unit}", number(self.low), number(self.high))
+    }
+}
+
+/// A number as a person reads it: plain near 1, in exponent form when very large or small
+/// (so that 1e300 is not three hundred digits).
+pub fn number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Wheel diameters, mm: from a micro robot's 5 mm to a 0.5 m wheel.
+pub const WHEEL_DIAMETER_MM: Bounds = Bounds {
+    low: 5.0,
+    high: 500.0,
+    unit: "mm",
+};
+/// Wheelbase, mm.
+pub const WHEELBASE_MM: Bounds = Bounds {
+    low: 20.0,
+    high: 2000.0,
+    unit: "mm",
+};
+/// Motor turns per wheel turn (1: direct drive).
+pub const GEAR_RATIO: Bounds = Bounds {
+    low: 1.0,
+    high: 1000.0,
+    unit: "",
+};
+/// Channel-A edges per motor turn.
+pub const A_EDGES_PER_MOTOR_REV: Bounds = Bounds {
+    low: 1.0,
+    high: 10_000.0,
+    unit: "",
+};
+/// Battery and fit voltages, V: one cell to a 60 V pack.
+pub const VOLTAGE_V: Bounds = Bounds {
+    low: 1.0,
+    high: 60.0,
+    unit: "V",
+};
+/// A motor's steady speed at its reference duty, thesis RPM (true wheel RPM / 6).
+pub const GAIN_THESIS_RPM: Bounds = Bounds {
+    low: 0.1,
+    high: 2000.0,
+    unit: "thesis RPM",
+};
+/// Mechanical and electrical time constants, s: 10 us (below one control tick of any MCU)
+/// to 10 s.
+pub const TIME_CONSTANT_S: Bounds = Bounds {
+    low: 1e-5,
+    high: 10.0,
+    unit: "s",
+};
+
+/// `value` must be finite and within `bounds` (a physical range).
+pub(crate) fn check_physical(
+    key: &str,
+    value: f64,
+    bounds: Bounds,
+    meaning: &'static str,
+) -> Result<(), Error> {
+    if bounds.contains(value) {
         Ok(())
     } else {
-        Err(Error::NotPositive {
+        Err(Error::Unphysical {
             key: key.to_owned(),
-            value,
+            value: number(value),
+            allowed: bounds.give(),
             meaning,
         })
     }
@@ -23,7 +113,7 @@ pub(crate) fn check_positive(key: &str, value: f64, meaning: &'static str) -> Re
 
 /// `value` must be finite and in `[0, 1]`.
 pub(crate) fn check_duty(key: &str, value: f64) -> Result<(), Error> {
-    check_finite(key, value)?;
+    check_finite(key, value, "give a duty from 0 to 1")?;
     if (0.0..=1.0).contains(&value) {
         Ok(())
     } else {
@@ -42,7 +132,7 @@ pub(crate) fn check_between(
     allowed: &'static str,
     meaning: &'static str,
 ) -> Result<(), Error> {
-    check_finite(key, value)?;
+    check_finite(key, value, allowed)?;
     if (low..=high).contains(&value) {
         Ok(())
     } else {
@@ -53,21 +143,6 @@ pub(crate) fn check_between(
             meaning,
         })
     }
-}
-
-/// `value` must be finite and not negative.
-pub(crate) fn check_non_negative(
-    key: &str,
-    value: f64,
-    meaning: &'static str,
-) -> Result<(), Error> {
-    check_between(
-        key,
-        value,
-        (0.0, f64::MAX),
-        "it must not be negative",
-        meaning,
-    )
 }
 
 /// `value` must be a fraction in `[0, 1)`.
@@ -93,13 +168,14 @@ pub(crate) fn check_ratio(key: &str, value: f64, meaning: &'static str) -> Resul
     )
 }
 
-fn check_finite(key: &str, value: f64) -> Result<(), Error> {
+fn check_finite(key: &str, value: f64, allowed: &str) -> Result<(), Error> {
     if value.is_finite() {
         Ok(())
     } else {
         Err(Error::NotFinite {
             key: key.to_owned(),
             value,
+            allowed: allowed.to_owned(),
         })
     }
 }

@@ -3,7 +3,8 @@
 //! Keys carry their unit in their name (`_mm`, `_s`, `_v`, `_duty` for a fraction of a PWM
 //! period in `[0, 1]`, `_thesis_rpm`). Unknown keys are refused, so a typo cannot silently
 //! leave a parameter at some other value; after parsing every number is checked (finite,
-//! positive where it must be, duties in `[0, 1]`). `fixtures/robots/henrytwo-ideal.toml` lists
+//! within the physical range of its key, duties in `[0, 1]`), so that a battery of 1e6 V or
+//! a time constant of a picosecond is refused with the range instead of run. `fixtures/robots/henrytwo-ideal.toml` lists
 //! every key with where its value comes from and equals [`RobotConfig::default`].
 //!
 //! ```toml
@@ -39,7 +40,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::{check_between, check_positive};
+use crate::check::{
+    check_between, check_physical, A_EDGES_PER_MOTOR_REV, GEAR_RATIO, VOLTAGE_V, WHEELBASE_MM,
+    WHEEL_DIAMETER_MM,
+};
 use crate::effects::Effects;
 use crate::motor::{FirstOrderMotor, MotorModel};
 use crate::side::{PerSide, Side};
@@ -142,48 +146,59 @@ impl RobotConfig {
         Ok(config)
     }
 
-    /// Reads, parses and validates a config file.
+    /// Reads, parses and validates a config file; an error in it names the file
+    /// ([`Error::InFile`]).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| Error::ReadConfig {
             path: path.to_path_buf(),
             source,
         })?;
-        Self::from_toml_str(&text)
+        Self::from_toml_str(&text).map_err(|error| Error::InFile {
+            path: path.to_path_buf(),
+            error: Box::new(error),
+        })
     }
 
-    /// Checks every number: finite, positive where it must be, duties in `[0, 1]`.
+    /// Checks every number: finite, within its physical range (documented beside the keys in
+    /// `fixtures/robots/henrytwo-ideal.toml`), duties in `[0, 1]`.
     pub fn validate(&self) -> Result<(), Error> {
         let g = &self.geometry;
-        check_positive(
+        check_physical(
             "geometry.wheel_diameter_left_mm",
             g.wheel_diameter_left_mm,
-            "left wheel diameter, mm",
+            WHEEL_DIAMETER_MM,
+            "left wheel diameter",
         )?;
-        check_positive(
+        check_physical(
             "geometry.wheel_diameter_right_mm",
             g.wheel_diameter_right_mm,
-            "right wheel diameter, mm",
+            WHEEL_DIAMETER_MM,
+            "right wheel diameter",
         )?;
-        check_positive(
+        check_physical(
             "geometry.wheelbase_mm",
             g.wheelbase_mm,
-            "distance between the wheels' contact points, mm",
+            WHEELBASE_MM,
+            "distance between the wheels' contact points",
         )?;
-        check_positive(
+        check_physical(
             "encoder.gear_ratio",
             self.encoder.gear_ratio,
+            GEAR_RATIO,
             "motor revolutions per wheel revolution",
         )?;
-        check_positive(
+        check_physical(
             "encoder.a_edges_per_motor_rev",
             f64::from(self.encoder.a_edges_per_motor_rev),
+            A_EDGES_PER_MOTOR_REV,
             "channel-A edges per motor revolution",
         )?;
-        check_positive(
+        check_physical(
             "battery.voltage_v",
             self.battery.voltage_v,
-            "battery terminal voltage, V",
+            VOLTAGE_V,
+            "battery terminal voltage",
         )?;
         for side in Side::BOTH {
             self.motor

@@ -25,30 +25,43 @@ pub enum Error {
     /// crate does not know (the message from the TOML parser names it and its line).
     #[error(
         "robot config does not parse (fix the key it names; every key is listed in \
-         fixtures/robots/henrytwo-ideal.toml): {0}"
+         fixtures/robots/henrytwo-ideal.toml): {}",
+        one_line(.0)
     )]
     ParseConfig(#[from] toml::de::Error),
 
     /// A number that must be finite is `nan` or `inf`.
-    #[error(
-        "robot config `{key}` is {value}: write a finite number (nan and inf are not allowed)"
-    )]
+    #[error("robot config `{key}` is {value}: {allowed} (nan and inf are not allowed)")]
     NotFinite {
         /// The key, as `section.key`.
         key: String,
         /// The value read.
         value: f64,
+        /// The allowed range, in words.
+        allowed: String,
     },
 
-    /// A length, time, ratio or voltage that must be positive is zero or negative.
-    #[error("robot config `{key}` = {value}: it must be greater than zero ({meaning})")]
-    NotPositive {
+    /// A number outside the physical range of its key (a battery of 1e6 V, a gear ratio of
+    /// 1e-6, a time constant of a picosecond; nan and inf too).
+    #[error("{key} = {value}: {allowed} ({meaning})")]
+    Unphysical {
         /// The key, as `section.key`.
         key: String,
-        /// The value read.
-        value: f64,
-        /// What the key is, to help choose a value.
+        /// The value read, as written in the message.
+        value: String,
+        /// The range, "give 1e-5 to 10 s".
+        allowed: String,
+        /// What the key is.
         meaning: &'static str,
+    },
+
+    /// A config file that does not validate: the file, then what is wrong in it.
+    #[error("{}: {error}", path.display())]
+    InFile {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong (not a `source`: the message already says it).
+        error: Box<Error>,
     },
 
     /// A duty is outside `[0, 1]`.
@@ -132,4 +145,28 @@ pub enum Error {
         /// The time asked for.
         requested: Seconds,
     },
+}
+
+/// The TOML parser's message on one line: where ("TOML parse error at line 3, column 1"),
+/// the line it quotes, and what is wrong, without the carets it draws below the line.
+fn one_line(e: &toml::de::Error) -> String {
+    let text = e.to_string();
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    let what = e.message().trim().replace('\n', "; ");
+    let Some(first) = lines.first().filter(|f| f.starts_with("TOML parse error")) else {
+        return what;
+    };
+    // The quoted source line is drawn as `24 | voltage_v = "7.4"`.
+    let quoted = lines.iter().find_map(|l| {
+        let (number, rest) = l.split_once(" | ")?;
+        number.trim().parse::<usize>().ok().map(|_| rest.trim())
+    });
+    match quoted {
+        Some(q) => format!("{first} (`{q}`): {what}"),
+        None => format!("{first}: {what}"),
+    }
 }

@@ -89,7 +89,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::bridge::DriveState;
-use crate::check::{check_duty, check_positive};
+use crate::check::{check_duty, check_physical, GAIN_THESIS_RPM, TIME_CONSTANT_S, VOLTAGE_V};
 use crate::units::{RadPerSec, Radians, Seconds, ThesisRpm, Volts};
 use crate::Error;
 
@@ -314,10 +314,11 @@ impl FirstOrderMotor {
 
     fn validate(&self, prefix: &str) -> Result<(), Error> {
         let key = |name: &str| format!("{prefix}.{name}");
-        check_positive(
+        check_physical(
             &key("gain_thesis_rpm"),
             self.gain_thesis_rpm,
-            "steady wheel speed at the reference duty, thesis RPM",
+            GAIN_THESIS_RPM,
+            "steady wheel speed at the reference duty",
         )?;
         check_duty(&key("reference_duty"), self.reference_duty)?;
         check_duty(&key("dead_band_duty"), self.dead_band_duty)?;
@@ -329,17 +330,21 @@ impl FirstOrderMotor {
                 reference: self.reference_duty,
             });
         }
-        check_positive(&key("tau_s"), self.tau_s, "time constant while driven, s")?;
-        if let Some(tau) = self.coast_tau_s {
-            check_positive(&key("coast_tau_s"), tau, "time constant while coasting, s")?;
+        let tau = |name: &str, value: f64, meaning| {
+            check_physical(&key(name), value, TIME_CONSTANT_S, meaning)
+        };
+        tau("tau_s", self.tau_s, "time constant while driven")?;
+        if let Some(t) = self.coast_tau_s {
+            tau("coast_tau_s", t, "time constant while coasting")?;
         }
-        if let Some(tau) = self.brake_tau_s {
-            check_positive(&key("brake_tau_s"), tau, "time constant while braking, s")?;
+        if let Some(t) = self.brake_tau_s {
+            tau("brake_tau_s", t, "time constant while braking")?;
         }
-        check_positive(
+        check_physical(
             &key("fit_voltage_v"),
             self.fit_voltage_v,
-            "battery voltage of the fit, V",
+            VOLTAGE_V,
+            "battery voltage of the fit",
         )?;
         Ok(())
     }

@@ -36,11 +36,11 @@ fn optional_keys_take_their_documented_defaults() {
 enum Expect {
     Parse,
     NotFinite,
-    NotPositive,
     DutyOutOfRange,
     DeadBand,
     OutOfRange,
     Conflict,
+    Unphysical,
 }
 
 #[rstest]
@@ -68,38 +68,38 @@ enum Expect {
 #[case::negative_length(
     "wheelbase_mm = 130.0",
     "wheelbase_mm = -130.0",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "geometry.wheelbase_mm"
 )]
 #[case::zero_diameter(
     "wheel_diameter_right_mm = 32.0",
     "wheel_diameter_right_mm = 0.0",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "geometry.wheel_diameter_right_mm"
 )]
 #[case::nan_length(
     "wheel_diameter_left_mm = 32.0",
     "wheel_diameter_left_mm = nan",
-    Expect::NotFinite,
+    Expect::Unphysical,
     "geometry.wheel_diameter_left_mm"
 )]
-#[case::infinite_tau("tau_s = 0.055", "tau_s = inf", Expect::NotFinite, "motor.left.tau_s")]
+#[case::infinite_tau("tau_s = 0.055", "tau_s = inf", Expect::Unphysical, "motor.left.tau_s")]
 #[case::negative_tau(
     "tau_s = 0.0685",
     "tau_s = -0.0685",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "motor.right.tau_s"
 )]
 #[case::zero_edges(
     "a_edges_per_motor_rev = 6",
     "a_edges_per_motor_rev = 0",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "encoder.a_edges_per_motor_rev"
 )]
 #[case::zero_battery(
     "voltage_v = 7.4",
     "voltage_v = 0.0",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "battery.voltage_v"
 )]
 #[case::duty_above_one(
@@ -123,8 +123,57 @@ enum Expect {
 #[case::negative_brake_tau(
     "# brake_tau_s = 0.018333",
     "brake_tau_s = -1.0",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "motor.left.brake_tau_s"
+)]
+#[case::battery_megavolt(
+    "voltage_v = 7.4",
+    "voltage_v = 1e6",
+    Expect::Unphysical,
+    "battery.voltage_v"
+)]
+#[case::battery_1e300("voltage_v = 7.4", "voltage_v = 1e300", Expect::Unphysical, "1e300")]
+#[case::gear_micro(
+    "gear_ratio = 100.37",
+    "gear_ratio = 1e-6",
+    Expect::Unphysical,
+    "encoder.gear_ratio"
+)]
+#[case::gear_giga(
+    "gear_ratio = 100.37",
+    "gear_ratio = 1e9",
+    Expect::Unphysical,
+    "give 1 to 1000"
+)]
+#[case::wheelbase_nanometre(
+    "wheelbase_mm = 130.0",
+    "wheelbase_mm = 1e-9",
+    Expect::Unphysical,
+    "give 20 to 2000 mm"
+)]
+#[case::tau_picosecond(
+    "tau_s = 0.055",
+    "tau_s = 1e-12",
+    Expect::Unphysical,
+    "motor.left.tau_s = 1e-12: give 1e-5 to 10 s"
+)]
+#[case::nan_fit_voltage(
+    "fit_voltage_v = 7.4",
+    "fit_voltage_v = nan",
+    Expect::Unphysical,
+    "motor.left.fit_voltage_v = NaN: give 1 to 60 V"
+)]
+#[case::inf_gain(
+    "gain_thesis_rpm = 25.0",
+    "gain_thesis_rpm = inf",
+    Expect::Unphysical,
+    "motor.right.gain_thesis_rpm = inf"
+)]
+#[case::edges_beyond_any_encoder(
+    "a_edges_per_motor_rev = 6",
+    "a_edges_per_motor_rev = 4000000000",
+    Expect::Unphysical,
+    "give 1 to 10000"
 )]
 fn bad_config_is_refused_naming_the_key(
     #[case] find: &str,
@@ -139,9 +188,9 @@ fn bad_config_is_refused_naming_the_key(
     let matches = match expect {
         Expect::Parse => matches!(err, Error::ParseConfig(_)),
         Expect::NotFinite => matches!(err, Error::NotFinite { .. }),
-        Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
         Expect::DutyOutOfRange => matches!(err, Error::DutyOutOfRange { .. }),
         Expect::DeadBand => matches!(err, Error::DeadBandNotBelowReference { .. }),
+        Expect::Unphysical => matches!(err, Error::Unphysical { .. }),
         _ => false,
     };
     assert!(matches, "expected {expect:?}, got {err:?}");
@@ -179,13 +228,13 @@ fn every_effect_round_trips() {
 #[case::negative_length(
     "stretch_mm = 25.0",
     "stretch_mm = -25.0",
-    Expect::NotPositive,
+    Expect::Unphysical,
     "effects.floor_noise.stretch_mm"
 )]
 #[case::negative_sigma(
     "heading_deg_per_sqrt_m = 0.5",
     "heading_deg_per_sqrt_m = -0.5",
-    Expect::OutOfRange,
+    Expect::Unphysical,
     "effects.floor_noise.heading_deg_per_sqrt_m"
 )]
 #[case::percentage_for_ratio(
@@ -224,6 +273,24 @@ fn every_effect_round_trips() {
     Expect::Conflict,
     "effects.coast.left_tau_s"
 )]
+#[case::coast_picosecond(
+    "left_tau_s = 0.12",
+    "left_tau_s = 1e-12",
+    Expect::Unphysical,
+    "effects.coast.left_tau_s = 1e-12: give 1e-5 to 10 s"
+)]
+#[case::sag_megavolt(
+    "open_circuit_full_v = 8.4",
+    "open_circuit_full_v = 1e6",
+    Expect::Unphysical,
+    "effects.battery_sag.open_circuit_full_v"
+)]
+#[case::castor_huge_force(
+    "force_n = 0.2",
+    "force_n = 1e300",
+    Expect::Unphysical,
+    "effects.castor_drag.force_n"
+)]
 fn bad_effect_is_refused_naming_the_key(
     #[case] find: &str,
     #[case] replace: &str,
@@ -237,12 +304,50 @@ fn bad_effect_is_refused_naming_the_key(
     let matches = match expect {
         Expect::Parse => matches!(err, Error::ParseConfig(_)),
         Expect::NotFinite => matches!(err, Error::NotFinite { .. }),
-        Expect::NotPositive => matches!(err, Error::NotPositive { .. }),
         Expect::OutOfRange => matches!(err, Error::OutOfRange { .. }),
         Expect::Conflict => matches!(err, Error::Conflict { .. }),
+        Expect::Unphysical => matches!(err, Error::Unphysical { .. }),
         _ => false,
     };
     assert!(matches, "expected {expect:?}, got {err:?}");
     let message = err.to_string();
     assert!(message.contains(key), "message names `{key}`: {message}");
+}
+
+/// A config file's error names the file, the key, the value and the range, on one line.
+#[test]
+fn a_file_error_names_the_file_the_key_and_the_range() {
+    let dir = std::env::temp_dir().join(format!("plant-config-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("x.toml");
+    std::fs::write(
+        &path,
+        fixture_text().replacen("tau_s = 0.055", "tau_s = 1e-12", 1),
+    )
+    .unwrap();
+    let message = RobotConfig::load(&path).unwrap_err().to_string();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        message.starts_with(&format!(
+            "{}: motor.left.tau_s = 1e-12: give 1e-5 to 10 s",
+            path.display()
+        )),
+        "{message}"
+    );
+    assert_eq!(message.lines().count(), 1, "{message}");
+}
+
+/// Every robot of fixtures/robots/ is inside the ranges.
+#[test]
+fn every_fixture_robot_is_in_range() {
+    let dir = common::fixture("robots");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            RobotConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            n += 1;
+        }
+    }
+    assert!(n >= 6, "{n} robots");
 }

@@ -7,6 +7,11 @@
 //! An action the plant refuses (a slip outside [0, 1], ...) is not applied
 //! and not logged as applied: the run ends with
 //! [`BenchError::ActionRefused`](super::BenchError::ActionRefused).
+//!
+//! Cycle arithmetic saturates: a trigger or a duration beyond the 64-bit
+//! cycle counter (1.2e12 s at 16 MHz) is due never, not at a wrapped cycle
+//! (an undo before its fault). The schedule keeps which armed faults have
+//! fired, so that a run can say which never did.
 
 use plant_model::{Seconds, Side};
 use serde::{Deserialize, Serialize};
@@ -66,6 +71,23 @@ pub enum Action {
     },
 }
 
+impl Action {
+    /// The action's tag in a scenario file (`action = "encoder"`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Action::Encoder { .. } => "encoder",
+            Action::Link { .. } => "link",
+            Action::MotorDisconnected { .. } => "motor_disconnected",
+            Action::Reset => "reset",
+            Action::Motor { .. } => "motor",
+            Action::SlipBurst { .. } => "slip_burst",
+            Action::BatteryVolts { .. } => "battery_volts",
+            Action::EncoderGlitch { .. } => "encoder_glitch",
+            Action::HostSend { .. } => "host_send",
+        }
+    }
+}
+
 /// When a scheduled action happens.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "at")]
@@ -79,6 +101,18 @@ pub enum Trigger {
     /// When the n-th byte (1-based) from the host goes on the air on the
     /// Bluetooth link, before the link's faults apply to it.
     HostByte { n: u32 },
+}
+
+impl std::fmt::Display for Trigger {
+    /// "at 3 s", "at the start of turn 3", "at host byte 2".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Trigger::Time { s } => write!(f, "at {s} s"),
+            Trigger::TurnStart { n } => write!(f, "at the start of turn {n}"),
+            Trigger::LegStart { n } => write!(f, "at the start of leg {n}"),
+            Trigger::HostByte { n } => write!(f, "at host byte {n}"),
+        }
+    }
 }
 
 /// A fault to inject: when, what, and what undoes it how long after (s).
@@ -99,14 +133,19 @@ impl ScheduledFault {
     }
 }
 
-/// An action waiting for its trigger, and its undo after so many cycles.
-type Armed = (Trigger, Action, Option<(u64, Action)>);
+/// An action waiting for its trigger, its undo after so many cycles, and
+/// the index of the fault it arms (in arming order).
+type Armed = (Trigger, Action, Option<(u64, Action)>, usize);
+
+/// A scheduled action: its cycle, itself, and the armed fault it starts
+/// (None for an undo or an action scheduled directly).
+type Due = (u64, Action, Option<usize>);
 
 /// The actions to come, the events that trigger them, and those applied.
 #[derive(Default)]
 pub(super) struct FaultSchedule {
     /// Scheduled actions, sorted by cycle (stable for equal cycles).
-    actions: Vec<(u64, Action)>,
+    actions: Vec<Due>,
     /// Actions waiting for an event, with an optional duration in cycles
     /// after which `undo` runs.
     triggered: Vec<Armed>,
@@ -118,6 +157,8 @@ pub(super) struct FaultSchedule {
     glitches: Vec<(u64, usize, usize, bool)>,
     /// Log of the actions applied: (cycle, action).
     applied: Vec<(u64, Action)>,
+    /// Per fault armed, in arming order: whether its action has come due.
+    fired: Vec<bool>,
 }
 
 impl FaultSchedule {
@@ -130,8 +171,22 @@ impl FaultSchedule {
 
     /// Schedule `action` at `cycle` (kept sorted; equal cycles keep order).
     pub(super) fn at(&mut self, cycle: u64, action: Action) {
+        self.at_for(cycle, action, None);
+    }
+
+    /// [`Self::at`], for armed fault `origin` when it starts one.
+    fn at_for(&mut self, cycle: u64, action: Action, origin: Option<usize>) {
         let pos = self.actions.partition_point(|a| a.0 <= cycle);
-        self.actions.insert(pos, (cycle, action));
+        self.actions.insert(pos, (cycle, action, origin));
+    }
+
+    /// Schedule fault `id`'s action at `cycle` and its undo `undo.0` cycles
+    /// later (never, when that is past the cycle counter).
+    fn start_at(&mut self, cycle: u64, id: usize, action: Action, undo: Option<(u64, Action)>) {
+        if let Some((d, u)) = undo {
+            self.at(cycle.saturating_add(d), u);
+        }
+        self.at_for(cycle, action, Some(id));
     }
 
     /// Run `action` when `trigger` fires, and `undo` `duration` cycles later.
@@ -142,16 +197,18 @@ impl FaultSchedule {
         action: Action,
         undo: Option<(u64, Action)>,
     ) {
+        let id = self.fired.len();
+        self.fired.push(false);
         match trigger {
-            Trigger::Time { s } => {
-                let at = clock.cycle_at_or_after(Seconds(s));
-                if let Some((d, u)) = undo {
-                    self.at(at + d, u);
-                }
-                self.at(at, action);
-            }
-            _ => self.triggered.push((trigger, action, undo)),
+            Trigger::Time { s } => self.start_at(cycle_at(clock, s), id, action, undo),
+            _ => self.triggered.push((trigger, action, undo, id)),
         }
+    }
+
+    /// The armed faults (indexes in arming order) whose action never came
+    /// due: a time past the run's end, an event the run never reached.
+    pub(super) fn never_fired(&self) -> Vec<usize> {
+        (0..self.fired.len()).filter(|&i| !self.fired[i]).collect()
     }
 
     /// Schedule at `cycle` every action armed for `event`.
@@ -159,11 +216,8 @@ impl FaultSchedule {
         let mut i = 0;
         while i < self.triggered.len() {
             if self.triggered[i].0 == event {
-                let (_, action, undo) = self.triggered.remove(i);
-                if let Some((d, u)) = undo {
-                    self.at(cycle + d, u);
-                }
-                self.at(cycle, action);
+                let (_, action, undo, id) = self.triggered.remove(i);
+                self.start_at(cycle, id, action, undo);
             } else {
                 i += 1;
             }
@@ -171,10 +225,14 @@ impl FaultSchedule {
     }
 
     pub(super) fn take_due_action(&mut self, when: u64) -> Option<Action> {
-        self.actions
-            .first()
-            .is_some_and(|a| a.0 <= when)
-            .then(|| self.actions.remove(0).1)
+        if self.actions.first().is_none_or(|a| a.0 > when) {
+            return None;
+        }
+        let (_, action, origin) = self.actions.remove(0);
+        if let Some(id) = origin {
+            self.fired[id] = true;
+        }
+        Some(action)
     }
 
     pub(super) fn take_due_glitch(&mut self, when: u64) -> Option<(usize, usize, bool)> {
@@ -223,9 +281,9 @@ impl FaultSchedule {
         period: u64,
     ) {
         for k in 0..pulses as u64 {
-            let on = cycle + k * period;
+            let on = cycle.saturating_add(k.saturating_mul(period));
             self.glitches.push((on, i, ch, true));
-            self.glitches.push((on + width, i, ch, false));
+            self.glitches.push((on.saturating_add(width), i, ch, false));
         }
         self.glitches.sort_by_key(|g| g.0);
     }
@@ -238,5 +296,78 @@ impl FaultSchedule {
     /// The actions applied so far: (cycle, action).
     pub(super) fn applied(&self) -> &[(u64, Action)] {
         &self.applied
+    }
+}
+
+/// The first cycle at or after robot time `s`; [`NEVER`] for a time the
+/// cycle counter cannot reach (or not a number), so nothing wraps.
+fn cycle_at(clock: Clock, s: f64) -> u64 {
+    // Half the counter's range: far beyond any run, and where the grid's
+    // rounding cannot step past u64::MAX.
+    let limit = (u64::MAX / 2) as f64 / clock.hz() as f64;
+    if s.is_nan() || s >= limit {
+        NEVER
+    } else {
+        clock.cycle_at_or_after(Seconds(s))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reset_at(s: f64, undo_after: Option<u64>) -> FaultSchedule {
+        let mut f = FaultSchedule::default();
+        f.arm(
+            Clock::MEGA_16MHZ,
+            Trigger::Time { s },
+            Action::Reset,
+            undo_after.map(|d| (d, Action::Reset)),
+        );
+        f
+    }
+
+    /// A trigger past the cycle counter (1.2e12 s at 16 MHz) is due never,
+    /// at once: no loop, no wrap.
+    #[test]
+    fn a_time_past_the_counter_is_never_due() {
+        for s in [1.2e12, 1e300, f64::INFINITY, f64::NAN] {
+            let f = reset_at(s, None);
+            assert_eq!(f.next_due(), NEVER, "{s}");
+            assert_eq!(f.never_fired(), vec![0], "{s}");
+        }
+    }
+
+    /// An undo a huge number of cycles after its fault comes after it (at
+    /// the end of time), not one cycle before it by wrapping.
+    #[test]
+    fn an_undo_never_precedes_its_fault() {
+        let mut f = reset_at(1.0, Some(u64::MAX));
+        assert_eq!(f.actions.len(), 2);
+        assert_eq!(f.next_due(), 16_000_000, "the fault first");
+        assert!(f.take_due_action(16_000_000).is_some());
+        assert_eq!(f.next_due(), NEVER, "the undo saturates");
+        assert!(f.never_fired().is_empty());
+    }
+
+    /// A fault armed for an event that never happens, and one whose time
+    /// has not come, are reported; one that fired is not.
+    #[test]
+    fn faults_that_never_fired_are_named_by_index() {
+        let mut f = FaultSchedule::default();
+        let clock = Clock::MEGA_16MHZ;
+        f.arm(clock, Trigger::Time { s: 0.5 }, Action::Reset, None);
+        f.arm(clock, Trigger::TurnStart { n: 3 }, Action::Reset, None);
+        f.arm(clock, Trigger::Time { s: 100.0 }, Action::Reset, None);
+        while f
+            .take_due_action(clock.cycle_at_or_after(Seconds(1.0)))
+            .is_some()
+        {}
+        assert_eq!(f.never_fired(), vec![1, 2]);
+        f.motion_started(20_000_000, Motion::SpinCw);
+        f.motion_started(21_000_000, Motion::SpinCw);
+        f.motion_started(22_000_000, Motion::SpinCcw);
+        while f.take_due_action(22_000_000).is_some() {}
+        assert_eq!(f.never_fired(), vec![2]);
     }
 }

@@ -170,6 +170,13 @@ impl Bench {
         self.avr.handler()
     }
 
+    /// The faults armed with [`Self::schedule`] (indexes in the order they
+    /// were scheduled) whose action has not come due: their time is past
+    /// the run, or their event never happened.
+    pub fn faults_never_fired(&self) -> Vec<usize> {
+        self.avr.handler().faults.never_fired()
+    }
+
     /// The firmware's bench interface (`HT_` variables); an error naming
     /// the first missing symbol for a firmware without it.
     pub fn vars(&self) -> Result<&FwVars, BenchError> {

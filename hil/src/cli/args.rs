@@ -154,7 +154,8 @@ impl Target {
                 hil::paths::robot_config("henrytwo-ideal")
             }
         });
-        RobotConfig::load(&path).with_context(|| format!("robot config {}", path.display()))
+        // The loader's errors name the file.
+        RobotConfig::load(&path).map_err(super::bad_input)
     }
 
     /// The ELF of `--elf`, else the one the test description names, else
@@ -168,7 +169,7 @@ impl Target {
                 hil::paths::firmware_elf(build.get_name())
             }
         };
-        Ok(Firmware::load(&path)?)
+        Firmware::load(&path).map_err(super::bad_input)
     }
 
     /// The robot and the firmware, read in that order.
@@ -233,7 +234,7 @@ pub struct Trace {
     #[arg(long, value_name = "FILE")]
     pub vcd: Option<PathBuf>,
     /// In the VCD, write the 31 kHz PWM waveforms edge by edge (large).
-    #[arg(long)]
+    #[arg(long, requires = "vcd")]
     pub vcd_pwm: bool,
 }
 
@@ -249,6 +250,36 @@ pub struct Common {
 }
 
 impl Common {
+    /// For a command that writes no trace: `--vcd` refused (exit 2), not
+    /// dropped without a file or a word.
+    pub fn refuse_trace(&self, command: &str) -> Result<()> {
+        if self.trace.vcd.is_some() {
+            return Err(super::bad_input(anyhow::anyhow!(
+                "--vcd traces one run: use hil run TEST ... --vcd FILE (hil {command} writes no trace)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// For a command that prints no result: `--json` (and `--deterministic`,
+    /// which only shapes results) refused, not dropped.
+    pub fn refuse_result_format(&self, command: &str, what: &str) -> Result<()> {
+        let print = self.print;
+        if let Some(option) = [
+            (print.json.json, "--json"),
+            (print.deterministic, "--deterministic"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+        {
+            return Err(super::bad_input(anyhow::anyhow!(
+                "{option}: hil {command} prints no result to format ({what}); the commands that \
+                 run tests take it (hil run, hil umbmark, ...)"
+            )));
+        }
+        Ok(())
+    }
+
     /// A test run as these options ask for it, with legs of `leg_mm`.
     pub fn test_options(&self, leg_mm: f64) -> TestOptions {
         TestOptions {
@@ -308,7 +339,7 @@ impl Solve {
 pub struct Correction {
     /// The wheelbase the firmware's odometry uses, mm (the thesis' `b`;
     /// default: the one the runs told it, the robot's, or the firmware's own).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_wheelbase)]
     pub firmware_wheelbase_mm: Option<f64>,
     #[command(flatten)]
     pub solve: Solve,
@@ -347,6 +378,20 @@ pub fn parse_leg(s: &str) -> Result<f64, String> {
             r.min, r.max
         )
     })?;
+    Ok(v)
+}
+
+/// A wheelbase in millimetres, in the robot config's range (20 to 2000 mm):
+/// 0 or nan would print a correction of 0 mm or NaN.
+pub fn parse_wheelbase(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of millimetres"))?;
+    if !(v.is_finite() && (20.0..=2000.0).contains(&v)) {
+        return Err(format!(
+            "{s} mm is out of range: a wheelbase is 20 to 2000 mm"
+        ));
+    }
     Ok(v)
 }
 

@@ -41,6 +41,7 @@ pub struct Bench {
 
 impl Bench {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("bench")?;
         let (robot, firmware) = self.common.target.load()?;
         let thesis_path = hil::paths::firmware_elf("thesis");
         let thesis = if !self.without_thesis && thesis_path.exists() {
@@ -89,6 +90,7 @@ pub struct Fuzz {
 
 impl Fuzz {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("fuzz")?;
         let target = &self.common.target;
         let (robot, firmware) = target.load()?;
         let bar = indicatif::ProgressBar::new(self.frames as u64);
@@ -135,7 +137,8 @@ pub struct Identify {
 impl Identify {
     pub fn run(self) -> Result<()> {
         let id = plant_model::identify::identify_csv(&self.csv, self.side.map(Into::into))
-            .with_context(|| format!("identifying {}", self.csv.display()))?;
+            .with_context(|| format!("identifying {}", self.csv.display()))
+            .map_err(super::bad_input)?;
         self.json.emit(&id, || id.render())
     }
 }

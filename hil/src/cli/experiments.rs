@@ -42,6 +42,7 @@ impl Umbmark {
             jobs,
             common,
         } = self;
+        common.refuse_trace("umbmark")?;
         let (robot, firmware, plan) = setup(&common, leg)?;
         let specs = match shard {
             Some(s) => plan.shard(s),
@@ -125,6 +126,7 @@ impl Triangle {
             out,
             common,
         } = self;
+        common.refuse_trace("triangle")?;
         let (robot, firmware, plan) = setup(&common, leg)?;
         let plan = plan.triangle();
         let clock = common.print.wall_clock();
@@ -226,8 +228,12 @@ pub struct Calibrate {
     #[arg(long)]
     side_cm: Option<f64>,
     /// The wheelbase the robot's odometry used, mm.
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::parse_wheelbase)]
     wheelbase_mm: Option<f64>,
+    /// With --from-csv: runs per direction (UMBmark) or per test (Triangular
+    /// Path) in the table.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    runs_per_group: u16,
     #[command(flatten)]
     solve: Solve,
     /// Correction rounds on the emulated robot (without --from-csv).
@@ -241,6 +247,7 @@ pub struct Calibrate {
 
 impl Calibrate {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("calibrate")?;
         match &self.from_csv {
             Some(path) => self.measured(path),
             None => self.rounds(),
@@ -250,11 +257,13 @@ impl Calibrate {
     /// Corrections from measured end points.
     fn measured(&self, path: &std::path::Path) -> Result<()> {
         let method = match self.method {
-            None => hil::calibrate::detect(path)?,
+            None => hil::calibrate::detect(path).map_err(super::bad_input)?,
             Some(m) => m.into(),
         };
         if let Some(l) = self.side_cm.filter(|l| !(l.is_finite() && *l > 0.0)) {
-            anyhow::bail!("--side-cm {l}: give a positive length in centimetres");
+            return Err(super::bad_input(anyhow::anyhow!(
+                "--side-cm {l}: give a positive length in centimetres"
+            )));
         }
         let opts = hil::calibrate::FromCsv {
             experiment: self.experiment,
@@ -263,9 +272,11 @@ impl Calibrate {
             side_cm: self.side_cm,
             wheelbase_mm: self.wheelbase_mm,
             solution: self.solve.solution(),
+            runs_per_group: self.runs_per_group.into(),
         };
         let result = hil::calibrate::from_csv(path, method, &opts)
-            .with_context(|| format!("{}", path.display()))?;
+            .with_context(|| format!("{}", path.display()))
+            .map_err(super::bad_input)?;
         self.common.print.json.emit(&result, || result.render())
     }
 

@@ -34,6 +34,7 @@ pub struct Faults {
 
 impl Faults {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("faults")?;
         let options = FaultOptions {
             seed: self.common.target.seed,
             board: self.common.target.bench().board,
@@ -43,7 +44,7 @@ impl Faults {
         let library = match &self.scenario {
             Some(path) => vec![hil::faults::from_scenario(
                 path,
-                &hil::scenario::Scenario::load(path)?,
+                &hil::scenario::Scenario::load(path).map_err(super::bad_input)?,
             )],
             None => hil::faults::library(),
         };

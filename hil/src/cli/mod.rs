@@ -110,9 +110,29 @@ impl std::fmt::Display for Incomplete {
 
 impl std::error::Error for Incomplete {}
 
+/// Input refused before anything ran: a robot config, scenario, ELF or CSV
+/// that does not check, an option the command does not take. The exit code
+/// says it (2), as for a bad argument; the message is one line.
+#[derive(Debug)]
+pub struct BadInput(pub String);
+
+impl std::fmt::Display for BadInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for BadInput {}
+
+/// `e` (with its causes, on one line) as a [`BadInput`].
+pub fn bad_input(e: impl Into<anyhow::Error>) -> anyhow::Error {
+    BadInput(format!("{:#}", e.into())).into()
+}
+
 /// Parse the command line and run it: exit code 0 on success, 1 when the
-/// command fails, 2 for bad arguments, 3 when it ran but a run did not
-/// complete; every error is one line on stderr.
+/// command fails, 2 for bad arguments or input refused before anything ran,
+/// 3 when it ran but a run did not complete; every error is one line on
+/// stderr.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -124,6 +144,8 @@ pub fn main() -> ExitCode {
             eprintln!("error: {e:#}");
             if e.downcast_ref::<Incomplete>().is_some() {
                 ExitCode::from(3)
+            } else if e.downcast_ref::<BadInput>().is_some() {
+                ExitCode::from(2)
             } else {
                 ExitCode::FAILURE
             }
@@ -151,6 +173,11 @@ fn usage_error(e: &clap::Error) -> ExitCode {
         (ErrorKind::InvalidValue, Some(ContextValue::Strings(values))) => {
             format!(": use {}", values.join(", "))
         }
+        // clap names the missing arguments on the lines below the first.
+        (ErrorKind::MissingRequiredArgument, _) => match e.get(ContextKind::InvalidArg) {
+            Some(ContextValue::Strings(args)) => format!(" {}", args.join(", ")),
+            _ => String::new(),
+        },
         _ => String::new(),
     };
     eprintln!("{first}{valid} (see `hil --help`)");

@@ -46,7 +46,7 @@ impl Run {
         let mut opts = common.test_options(common.leg_mm(leg)?);
         opts.hang_after_s = hang_after;
         if let Some(path) = &scenario {
-            let s = hil::scenario::Scenario::load(path)?;
+            let s = hil::scenario::Scenario::load(path).map_err(super::bad_input)?;
             opts.faults = s.scheduled();
             opts.framed = s.framed;
         }
@@ -117,6 +117,7 @@ pub struct Line {
 
 impl Line {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("line")?;
         let target = &self.common.target;
         let (robot, firmware) = target.load()?;
         let opts = LineOptions {

@@ -24,6 +24,9 @@ pub struct Serve {
 
 impl Serve {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("serve")?;
+        self.common
+            .refuse_result_format("serve", "it serves the emulated robot until stopped")?;
         let target = &self.common.target;
         let options = ServeOptions {
             speed: self.speed,
@@ -55,6 +58,9 @@ pub struct Ui {
 
 impl Ui {
     pub fn run(self) -> Result<()> {
+        self.common.refuse_trace("ui")?;
+        self.common
+            .refuse_result_format("ui", "it serves the station's page until stopped")?;
         let target = &self.common.target;
         let options = hil::station::ui::UiOptions {
             sessions_dir: self.sessions,

@@ -129,8 +129,27 @@ pub(crate) fn analyse(
             })
             .collect(),
         believed: Believed::factory(),
-        warnings: Vec::new(),
+        warnings: never_fired(bench, opts),
     }
+}
+
+/// "scenario fault 2 (encoder at 90 s) never fired", for each fault of
+/// `opts` the run did not reach: its numbers show no fault, not a firmware
+/// that survived one.
+fn never_fired(bench: &Bench, opts: &TestOptions) -> Vec<String> {
+    bench
+        .faults_never_fired()
+        .into_iter()
+        .filter_map(|i| {
+            let f = opts.faults.get(i)?;
+            Some(format!(
+                "scenario fault {} ({} {}) never fired",
+                i + 1,
+                f.action.name(),
+                f.trigger
+            ))
+        })
+        .collect()
 }
 
 /// A counter's change between two snapshots, when the bench reads it.

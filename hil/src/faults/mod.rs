@@ -158,6 +158,9 @@ pub struct Observed {
     pub fault_at_s: Option<f64>,
     /// Brown-out resets: robot times (s) the reset was pulled and released.
     pub brownouts: Vec<(f64, Option<f64>)>,
+    /// The run's warnings (a scenario fault that never fired, ...).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Counts per second of a wheel at the firmware's set-point (mean of the
     /// two wheels), from what the firmware believed about the robot.
     #[serde(skip)]
@@ -228,6 +231,7 @@ impl Observed {
             led_changes,
             led_at_end: run.leds.last().map_or("off", |e| e.colour()).into(),
             brownouts: run.brownouts.clone(),
+            warnings: run.warnings.clone(),
             setpoint_counts_per_s: (run.believed.setpoint_counts_per_s(0)
                 + run.believed.setpoint_counts_per_s(1))
                 / 2.0,
@@ -376,6 +380,16 @@ pub fn render(rows: &[FaultRow]) -> String {
         let _ = writeln!(s, "  robust    {}", r.robust);
         let _ = writeln!(s, "  judged    {}", r.why);
         let _ = writeln!(s, "  thesis    {}", r.thesis);
+        let thesis = r.thesis_observed.iter().flat_map(|o| &o.warnings);
+        for w in r
+            .robust_observed
+            .warnings
+            .iter()
+            .map(|w| ("robust", w))
+            .chain(thesis.map(|w| ("thesis", w)))
+        {
+            let _ = writeln!(s, "  warning   {}: {}", w.0, w.1);
+        }
     }
     let passed = rows.iter().filter(|r| r.pass).count();
     let _ = writeln!(s, "{passed} passed, {} failed", rows.len() - passed);

@@ -44,7 +44,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::{check_between, check_non_negative, check_positive};
+use crate::check::{check_between, check_physical, Bounds, TIME_CONSTANT_S, VOLTAGE_V};
 use crate::effects::key;
 use crate::Error;
 
@@ -81,10 +81,11 @@ fn default_interval() -> f64 {
 impl BatterySag {
     /// Checks the parameters; `prefix` is `effects.battery_sag`.
     pub fn validate(&self, prefix: &str) -> Result<(), Error> {
-        check_positive(
+        check_physical(
             &key(prefix, "open_circuit_full_v"),
             self.open_circuit_full_v,
-            "open-circuit voltage when full, V",
+            VOLTAGE_V,
+            "open-circuit voltage when full",
         )?;
         check_between(
             &key(prefix, "open_circuit_empty_v"),
@@ -93,10 +94,15 @@ impl BatterySag {
             "it must lie between 0 and open_circuit_full_v",
             "open-circuit voltage when empty, V",
         )?;
-        check_positive(
+        check_physical(
             &key(prefix, "capacity_mah"),
             self.capacity_mah,
-            "capacity, mAh",
+            Bounds {
+                low: 1.0,
+                high: 1e6,
+                unit: "mAh",
+            },
+            "capacity",
         )?;
         check_between(
             &key(prefix, "initial_charge_fraction"),
@@ -105,25 +111,41 @@ impl BatterySag {
             "a state of charge must lie in [0, 1]",
             "state of charge at the start",
         )?;
-        check_non_negative(
+        check_physical(
             &key(prefix, "internal_resistance_ohm"),
             self.internal_resistance_ohm,
-            "internal resistance of pack and wiring, ohm",
+            Bounds {
+                low: 0.0,
+                high: 100.0,
+                unit: "ohm",
+            },
+            "internal resistance of pack and wiring",
         )?;
-        check_positive(
+        check_physical(
             &key(prefix, "motor_resistance_ohm"),
             self.motor_resistance_ohm,
-            "winding resistance of one motor, ohm",
+            Bounds {
+                low: 0.01,
+                high: 1000.0,
+                unit: "ohm",
+            },
+            "winding resistance of one motor",
         )?;
-        check_non_negative(
+        check_physical(
             &key(prefix, "idle_current_a"),
             self.idle_current_a,
-            "current of the electronics, A",
+            Bounds {
+                low: 0.0,
+                high: 10.0,
+                unit: "A",
+            },
+            "current of the electronics",
         )?;
-        check_positive(
+        check_physical(
             &key(prefix, "update_interval_s"),
             self.update_interval_s,
-            "how often the voltage is recomputed, s",
+            TIME_CONSTANT_S,
+            "how often the voltage is recomputed",
         )?;
         Ok(())
     }

@@ -25,7 +25,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::{check_between, check_non_negative, check_positive};
+use crate::check::{check_between, check_physical, Bounds};
 use crate::effects::key;
 use crate::side::Side;
 use crate::Error;
@@ -46,10 +46,15 @@ impl CastorDrag {
     /// Checks the parameters; `prefix` is `effects.castor_drag`. The offset is checked
     /// against the wheelbase when the robot is built.
     pub fn validate(&self, prefix: &str) -> Result<(), Error> {
-        check_non_negative(
+        check_physical(
             &key(prefix, "force_n"),
             self.force_n,
-            "drag force at the castor, N",
+            Bounds {
+                low: 0.0,
+                high: 1000.0,
+                unit: "N",
+            },
+            "drag force at the castor",
         )?;
         check_between(
             &key(prefix, "lateral_offset_mm"),
@@ -58,10 +63,15 @@ impl CastorDrag {
             "it must lie within +-1000 mm",
             "castor contact left of the centre line, mm",
         )?;
-        check_positive(
+        check_physical(
             &key(prefix, "wheel_stall_torque_nm"),
             self.wheel_stall_torque_nm,
-            "a wheel's stall torque at full duty, N m",
+            Bounds {
+                low: 1e-4,
+                high: 100.0,
+                unit: "N m",
+            },
+            "a wheel's stall torque at full duty",
         )
     }
 

@@ -25,7 +25,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::check_positive;
+use crate::check::{check_physical, TIME_CONSTANT_S};
 use crate::effects::key;
 use crate::side::Side;
 use crate::units::Seconds;
@@ -44,15 +44,17 @@ pub struct Coast {
 impl Coast {
     /// Checks the parameters; `prefix` is `effects.coast`.
     pub fn validate(&self, prefix: &str) -> Result<(), Error> {
-        check_positive(
+        check_physical(
             &key(prefix, "left_tau_s"),
             self.left_tau_s,
-            "coast time constant of the left wheel, s",
+            TIME_CONSTANT_S,
+            "coast time constant of the left wheel",
         )?;
-        check_positive(
+        check_physical(
             &key(prefix, "right_tau_s"),
             self.right_tau_s,
-            "coast time constant of the right wheel, s",
+            TIME_CONSTANT_S,
+            "coast time constant of the right wheel",
         )
     }
 

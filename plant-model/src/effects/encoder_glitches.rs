@@ -27,7 +27,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::{check_fraction, check_positive};
+use crate::check::{check_fraction, check_physical, Bounds};
 use crate::effects::key;
 use crate::side::Side;
 use crate::Error;
@@ -58,10 +58,16 @@ impl EncoderGlitches {
             self.right_fraction,
             "share of the right encoder's edges that bounce",
         )?;
-        check_positive(
+        // The upper bound is half a quadrature state, checked against the encoder.
+        check_physical(
             &key(prefix, "width_motor_deg"),
             self.width_motor_deg,
-            "width of a glitch, degrees of motor-shaft angle",
+            Bounds {
+                low: 1e-3,
+                high: 180.0,
+                unit: "degrees of motor-shaft angle",
+            },
+            "width of a glitch",
         )
     }
 

@@ -34,7 +34,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::{check_non_negative, check_positive};
+use crate::check::{check_physical, Bounds};
 use crate::effects::key;
 use crate::rng::{stream, SplitMix64};
 use crate::Error;
@@ -66,27 +66,44 @@ fn default_stretch() -> f64 {
 impl FloorNoise {
     /// Checks the parameters; `prefix` is `effects.floor_noise`.
     pub fn validate(&self, prefix: &str) -> Result<(), Error> {
-        check_non_negative(
+        let heading = Bounds {
+            low: 0.0,
+            high: 90.0,
+            unit: "deg",
+        };
+        check_physical(
             &key(prefix, "heading_deg_per_sqrt_m"),
             self.heading_deg_per_sqrt_m,
-            "heading standard deviation after 1 m, deg",
+            heading,
+            "heading standard deviation after 1 m",
         )?;
-        check_non_negative(
+        check_physical(
             &key(prefix, "lateral_mm_per_sqrt_m"),
             self.lateral_mm_per_sqrt_m,
-            "lateral standard deviation after 1 m, mm",
+            Bounds {
+                low: 0.0,
+                high: 1000.0,
+                unit: "mm",
+            },
+            "lateral standard deviation after 1 m",
         )?;
         if let Some(sigma) = self.turn_heading_deg_per_sqrt_m {
-            check_non_negative(
+            check_physical(
                 &key(prefix, "turn_heading_deg_per_sqrt_m"),
                 sigma,
-                "heading standard deviation after 1 m turning on the spot, deg",
+                heading,
+                "heading standard deviation after 1 m turning on the spot",
             )?;
         }
-        check_positive(
+        check_physical(
             &key(prefix, "stretch_mm"),
             self.stretch_mm,
-            "floor travelled per random draw, mm",
+            Bounds {
+                low: 0.1,
+                high: 10_000.0,
+                unit: "mm",
+            },
+            "floor travelled per random draw",
         )?;
         Ok(())
     }

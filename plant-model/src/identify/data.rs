@@ -326,8 +326,10 @@ impl StepData {
         }
     }
 
-    /// Parses CSV text (module docs give the layout).
+    /// Parses CSV text (module docs give the layout). A UTF-8 byte-order mark (as
+    /// spreadsheet programs write) is skipped, as the end-point tables' reader does.
     pub fn parse(text: &str) -> Result<StepData, IdentifyError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = content_lines(text);
         let (header_line, header) = lines.next().ok_or(IdentifyError::NoHeader)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
