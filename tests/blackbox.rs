@@ -312,6 +312,12 @@ fn the_cli_says_what_a_black_box_run_needs() {
     let (code, err) = hil(&["run", "line", "--tests", THESIS_TESTS, "--leg-mm", "300"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("legs are 400 mm"), "{err}");
+    let (code, err) = hil(&["calibrate", "--rounds", "1", "--tests", THESIS_TESTS]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("calibration rounds send each round's correction"),
+        "{err}"
+    );
     let bad = std::env::temp_dir().join(format!("hil-bad-tests-{}.toml", std::process::id()));
     let text = std::fs::read_to_string(root.join(THESIS_TESTS))
         .unwrap()

@@ -282,6 +282,13 @@ impl Calibrate {
 
     /// Calibration rounds on the emulated robot.
     fn rounds(&self) -> Result<()> {
+        if let Some(d) = &self.common.target.description {
+            return Err(super::BadInput(format!(
+                "{}: calibration rounds send each round's correction (cL, cR, wheelbase) over the protocol, which a firmware run from a test description does not speak; run hil umbmark --tests and build the correction into the firmware",
+                d.path
+            ))
+            .into());
+        }
         let (robot, firmware, plan) = setup(&self.common, self.leg)?;
         let mut plan = match self.method {
             None | Some(MethodArg::Umbmark) => plan,
