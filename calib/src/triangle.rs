@@ -87,7 +87,7 @@
 
 use serde::Serialize;
 
-use crate::borenstein::{correction_factors, curvature, ed_from_curvature, radius};
+use crate::borenstein::{correction_factors, ed_from_curvature, radius};
 use crate::exact::{self, Solution};
 use crate::thesis_gui;
 use crate::types::{
@@ -383,13 +383,16 @@ pub fn triangle_correction(
                     match (
                         beta,
                         beta_t.and_then(|bt| {
-                            exact::triangle_delta(tri.x_cm, l, bt, params.direction)
+                            exact::triangle_delta(tri.x_cm, tri.y_cm, l, bt, params.direction)
                         }),
                     ) {
-                        (Some(b), Some(d)) => (b, d),
+                        (Some(b), Some(d)) => {
+                            warnings.extend(exact::residual_warning(d.rms_cm));
+                            (b, d.params[0])
+                        }
                         _ => {
                             warnings.push(
-                                "the exact solution did not converge (errors beyond ~30°): first-order β and δ used"
+                                "the exact solution did not converge (turn errors beyond 34° or legs bending beyond 69°): first-order β and δ used"
                                     .into(),
                             );
                             (beta_line, dx)
@@ -403,7 +406,7 @@ pub fn triangle_correction(
                 EdVariant::Borenstein => b_nom,
                 EdVariant::OptiOdom => wheelbase_mm,
             } / 10.0;
-            let kappa = curvature(beta_rad, l);
+            let kappa = params.solution.curvature(beta_rad, l);
             radius_cm = radius(kappa);
             ed = ed_from_curvature(kappa, b_for_ed_cm);
             ed_variant = params.ed_variant;

@@ -42,7 +42,7 @@
 use serde::Serialize;
 
 pub use crate::borenstein::correction_factors;
-use crate::borenstein::{curvature, ed_from_curvature, radius};
+use crate::borenstein::{ed_from_curvature, radius};
 use crate::exact::{self, Solution};
 use crate::thesis_gui;
 use crate::types::{
@@ -323,14 +323,19 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
             }
             (alpha_rad, beta_rad) = match params.solution {
                 Solution::FirstOrder => (est.alpha_x, est.beta_x),
-                Solution::Exact => exact::umbmark_alpha_beta(cw, ccw, side_actual)
-                    .unwrap_or_else(|| {
+                Solution::Exact => match exact::umbmark_alpha_beta(cw, ccw, side_actual) {
+                    Some(fit) => {
+                        warnings.extend(exact::residual_warning(fit.rms_cm));
+                        (fit.params[0], fit.params[1])
+                    }
+                    None => {
                         warnings.push(
-                            "the exact solution did not converge (errors beyond ~30°): first-order α and β used"
+                            "the exact solution did not converge (turn errors beyond 34° or legs bending beyond 69°): first-order α and β used"
                                 .into(),
                         );
                         (est.alpha_x, est.beta_x)
-                    }),
+                    }
+                },
             };
             let alpha_deg = alpha_rad.to_degrees();
             eb = 90.0 / ((90.0 - alpha_deg) * es.unwrap_or(1.0));
@@ -339,7 +344,7 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
                 EdVariant::Borenstein => b_nom,
                 EdVariant::OptiOdom => wheelbase_mm,
             } / 10.0;
-            let kappa = curvature(beta_rad, side_actual);
+            let kappa = params.solution.curvature(beta_rad, side_actual);
             radius_cm = radius(kappa);
             ed = ed_from_curvature(kappa, b_for_ed_cm);
             if kappa.abs() * b_for_ed_cm / 2.0 >= 1.0 {

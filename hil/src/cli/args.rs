@@ -317,19 +317,31 @@ pub struct Leg {
 #[derive(clap::Args, Clone, Copy)]
 pub struct Solve {
     /// Solve the error model exactly instead of with the published
-    /// first-order formulas (better when turns miss by degrees).
-    #[arg(long)]
+    /// first-order formulas (better when turns miss by degrees; the default
+    /// of calibration rounds).
+    #[arg(long, conflicts_with = "first_order")]
     pub exact: bool,
+    /// The published first-order formulas (Borenstein & Feng; Ruan, Li &
+    /// Zhu), also in calibration rounds.
+    #[arg(long)]
+    pub first_order: bool,
 }
 
 impl Solve {
-    /// The solution `--exact` selects.
-    pub fn solution(self) -> calib::Solution {
+    /// The solution `--exact` or `--first-order` selects, else `default`.
+    pub fn solution_or(self, default: calib::Solution) -> calib::Solution {
         if self.exact {
             calib::Solution::Exact
-        } else {
+        } else if self.first_order {
             calib::Solution::FirstOrder
+        } else {
+            default
         }
+    }
+
+    /// The solution selected, the published formulas by default.
+    pub fn solution(self) -> calib::Solution {
+        self.solution_or(calib::Solution::FirstOrder)
     }
 }
 

@@ -236,9 +236,15 @@ pub struct Calibrate {
     runs_per_group: u16,
     #[command(flatten)]
     solve: Solve,
-    /// Correction rounds on the emulated robot (without --from-csv).
-    #[arg(long, default_value_t = 2)]
-    rounds: usize,
+    /// Correction rounds on the emulated robot (without --from-csv); with
+    /// --until-cm, the most to run.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u16).range(0..=100))]
+    rounds: u16,
+    /// Stop the rounds once a round's systematic error (UMBmark's E_max, the
+    /// triangle centroid's distance) is at most this many cm; exit 1 when no
+    /// round reaches it.
+    #[arg(long, value_parser = parse_until_cm)]
+    until_cm: Option<f64>,
     #[command(flatten)]
     leg: Leg,
     #[command(flatten)]
@@ -256,6 +262,13 @@ impl Calibrate {
 
     /// Corrections from measured end points.
     fn measured(&self, path: &std::path::Path) -> Result<()> {
+        if self.until_cm.is_some() {
+            return Err(super::BadInput(
+                "--until-cm: a stopping rule of calibration rounds, which --from-csv does not run"
+                    .into(),
+            )
+            .into());
+        }
         let method = match self.method {
             None => hil::calibrate::detect(path).map_err(super::bad_input)?,
             Some(m) => m.into(),
@@ -301,15 +314,20 @@ impl Calibrate {
                 .push((hil::link::Param::WheelbaseMm.id(), wheelbase_mm as f32));
         }
         let total = 2 * plan.runs_per_direction;
-        let bar = progress_bar((self.rounds + 1) * total, plan.leg_mm);
-        let results = hil::umbmark::calibrate(
+        let rounds = usize::from(self.rounds);
+        let bar = progress_bar((rounds + 1) * total, plan.leg_mm);
+        let calibration = hil::umbmark::calibrate(
             &firmware,
             &robot,
             &plan,
             &hil::umbmark::RoundOptions {
                 wheelbase_mm,
-                rounds: self.rounds,
-                solution: self.solve.solution(),
+                rounds,
+                until_cm: self.until_cm,
+                // Rounds iterate on what the model says; the first-order
+                // formulas misread errors of several degrees and the
+                // rounds then wander instead of converging.
+                solution: self.solve.solution_or(calib::Solution::Exact),
                 bench: self.common.target.bench(),
             },
             &|round, n, _| {
@@ -318,12 +336,18 @@ impl Calibrate {
             },
         )?;
         bar.finish_and_clear();
-        let table = hil::umbmark::table10(&results)?;
+        let results = &calibration.rounds;
+        let table = hil::umbmark::table10(results)?;
         if self.common.print.json.json {
-            let v = serde_json::json!({ "rounds": results, "table10": table });
+            let v = serde_json::json!({
+                "rounds": results,
+                "table10": table,
+                "stop": calibration.stop,
+                "best": calibration.best,
+            });
             println!("{}", serde_json::to_string_pretty(&v)?);
         } else {
-            for r in &results {
+            for r in results {
                 println!(
                     "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm -> {}",
                     r.round,
@@ -339,8 +363,35 @@ impl Calibrate {
                 "{}",
                 calib::round::format_table10(&rows, calib::round::TableStyle::Rounded)
             );
+            println!("stopped: {}", calibration.stop.describe());
+            if let Some(best) = calibration.best.map(|i| &results[i]) {
+                println!(
+                    "best: round {} (cL {:.5}, cR {:.5}, wheelbase {:.2} mm), error {:.2} cm",
+                    best.round,
+                    best.c_left,
+                    best.c_right,
+                    best.wheelbase_mm,
+                    best.error_cm.unwrap_or(f64::NAN)
+                );
+            }
         }
-        Ok(())
+        match calibration.stop {
+            hil::umbmark::Stop::Incomplete { .. } => {
+                Err(super::Incomplete(calibration.stop.describe()).into())
+            }
+            ref s if !s.done() => Err(anyhow::anyhow!("{}", s.describe())),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// A `--until-cm` error: positive and finite.
+fn parse_until_cm(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 10_000.0 => Ok(v),
+        _ => Err(format!(
+            "{s} is out of range: give an error above 0 and up to 10000 cm"
+        )),
     }
 }
 

@@ -35,7 +35,9 @@ mod triangle;
 mod umbmark;
 
 pub use plan::{Experiment, Plan, RunSpec, Shard};
-pub use rounds::{calibrate, table10, CalibrationRound, RoundOptions, RoundReport};
+pub use rounds::{
+    calibrate, table10, Calibration, CalibrationRound, RoundOptions, RoundReport, Stop,
+};
 pub use runs::{execute, IndexedRun, RunRow, RunSet};
 pub use shard::{merge, partial_path};
 pub use triangle::{triangle_report, write_triangle_outputs, TriangleReport};
