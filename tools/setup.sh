@@ -8,6 +8,8 @@ cd "$(dirname "$0")/.."
 packages=(gcc-avr avr-libc binutils-avr libelf-dev libclang-dev clang pkg-config zlib1g-dev libzstd-dev)
 # The station's browser test drives Debian's Chromium through chromedriver.
 packages+=(chromium chromium-driver)
+# The VCD trace is checked with a real client: sigrok-cli's VCD input and UART decoder.
+packages+=(sigrok-cli)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,11 +1,20 @@
-//! Value Change Dump traces of a run, for GTKWave or Surfer.
+//! Value Change Dump traces of a run, for GTKWave, Surfer and sigrok.
 //!
 //! Written after the run from what the bench recorded, so tracing costs the
 //! simulation nothing but the recording: the encoder lines as raised on the
 //! pins, each H-bridge input's duty as the PWM model produced it (and, on
 //! request, the 31 kHz waveform itself, generated from the timer model), the
-//! motion the bridge commands, the bytes on the UARTs, and the plant's pose
-//! and edge counts at the trace samples. Time unit: one CPU cycle (62.5 ns).
+//! board's UARTs as the bit-level waveforms on their pins in both directions
+//! (8N1 at the board's baud rate: sigrok's `uart` decoder reads them), each
+//! byte's value beside them, and the plant's pose and edge counts at the
+//! trace samples. Time unit: one CPU cycle (62.5 ns).
+//!
+//! Every digital line is a 1-bit wire and every value a `real`: sigrok-cli's
+//! VCD input reads only 1-bit wires and skips reals, and stops at the first
+//! change of a wider wire; GTKWave and Surfer read both. Every variable has a
+//! value in `$dumpvars` (a UART line idles high; a byte value is 0 until the
+//! first byte). [`gtkw`] writes a GTKWave save file that opens the trace with
+//! every signal in the wave pane.
 
 use std::fmt::Write as _;
 
@@ -16,11 +25,17 @@ use plant_model::Side;
 /// Everything a trace is made of.
 pub struct VcdInput<'a> {
     pub clock_hz: u32,
-    /// The board the run was wired by: which pins the lines are.
+    /// The board the run was wired by: which pins the lines are, the UARTs'
+    /// baud rates.
     pub board: &'a Board,
     pub edges: &'a [PinEvent],
     pub drive: &'a [DriveEvent],
-    pub uart: &'a [(u64, u8, u8)],
+    /// Bytes the firmware sent: (cycle its frame started on the TX pin,
+    /// USART, byte).
+    pub uart_tx: &'a [(u64, u8, u8)],
+    /// Bytes the host sent: (cycle the receiver had the byte, its stop bit
+    /// done; USART, byte).
+    pub uart_rx: &'a [(u64, u8, u8)],
     pub samples: &'a [Sample],
     /// Write each bridge input's PWM waveform edge by edge (large files).
     pub pwm_edges: bool,
@@ -30,22 +45,94 @@ struct Var {
     id: String,
     name: String,
     kind: &'static str,
-    width: u32,
+    initial: String,
+}
+
+/// The variables of a trace, by scope, in the order they are declared.
+struct Vars {
+    scopes: Vec<(&'static str, Vec<Var>)>,
+    count: usize,
+}
+
+impl Vars {
+    /// A new variable in `scope` (the last one opened): its identifier.
+    fn add(
+        &mut self,
+        scope: &'static str,
+        name: &str,
+        kind: &'static str,
+        initial: String,
+    ) -> String {
+        let n = self.count;
+        self.count += 1;
+        let id = format!("!{}", char::from(b'a' + (n % 26) as u8)) + &"z".repeat(n / 26);
+        if self.scopes.last().map(|s| s.0) != Some(scope) {
+            self.scopes.push((scope, Vec::new()));
+        }
+        let value = match kind {
+            "real" => format!("r{initial} {id}"),
+            _ => format!("{initial}{id}"),
+        };
+        self.scopes.last_mut().expect("just pushed").1.push(Var {
+            id: id.clone(),
+            name: name.replace(' ', "_"),
+            kind,
+            initial: value,
+        });
+        id
+    }
+}
+
+/// The board's UARTs in USART order, each once: (USART, baud).
+fn uarts(board: &Board) -> Vec<(u8, u32)> {
+    let mut v = vec![
+        (board.debug_uart.usart, board.debug_uart.baud),
+        (board.command_uart.usart, board.command_uart.baud),
+    ];
+    v.sort_unstable();
+    v.dedup_by_key(|u| u.0);
+    v
+}
+
+/// The level changes of 8N1 frames of `bytes` (start cycle, byte) at
+/// `cycles_per_bit`: start bit low, bits LSB first, stop bit high. A frame
+/// never starts before the one before it has ended.
+fn frames(bytes: impl Iterator<Item = (u64, u8)>, cycles_per_bit: f64) -> Vec<(u64, bool)> {
+    let mut out = Vec::new();
+    let mut free = 0u64;
+    let mut level = true;
+    for (cycle, byte) in bytes {
+        let start = cycle.max(free);
+        let at = |k: u32| start + (f64::from(k) * cycles_per_bit).round() as u64;
+        let bits = std::iter::once(false)
+            .chain((0..8).map(|i| byte >> i & 1 == 1))
+            .chain(std::iter::once(true));
+        for (k, bit) in (0u32..).zip(bits) {
+            if bit != level {
+                out.push((at(k), bit));
+                level = bit;
+            }
+        }
+        free = at(10);
+    }
+    out
 }
 
 /// Render the VCD text.
 pub fn render(input: &VcdInput) -> String {
-    let mut vars: Vec<Var> = Vec::new();
-    let id = |name: &str, kind: &'static str, width: u32, vars: &mut Vec<Var>| {
-        let n = vars.len();
-        let code = format!("!{}", char::from(b'a' + (n % 26) as u8)) + &"z".repeat(n / 26);
-        vars.push(Var {
-            id: code.clone(),
-            name: name.replace(' ', "_"),
-            kind,
-            width,
-        });
-        code
+    let mut vars = Vars {
+        scopes: Vec::new(),
+        count: 0,
+    };
+    // Each line's level before its first change (the recording starts with
+    // every line's level at its first cycle).
+    let first_level = |line: u8| {
+        input
+            .edges
+            .iter()
+            .find(|e| e.line == line)
+            .filter(|e| e.cycle == input.edges[0].cycle)
+            .is_some_and(|e| e.level)
     };
     // The recorder's lines: left A, left B, right A, right B.
     let enc: Vec<String> = [Side::Left, Side::Right]
@@ -54,38 +141,57 @@ pub fn render(input: &VcdInput) -> String {
             let e = input.board.encoder(side);
             [("A", e.a), ("B", e.b)].map(|(ch, pin)| (side, ch, pin.arduino))
         })
-        .map(|(side, ch, pin)| {
+        .enumerate()
+        .map(|(line, (side, ch, pin))| {
             let side = match side {
                 Side::Left => "left",
                 Side::Right => "right",
             };
-            id(&format!("{side}_{ch}_D{pin}"), "wire", 1, &mut vars)
+            let initial = u8::from(first_level(line as u8)).to_string();
+            vars.add("encoders", &format!("{side}_{ch}_D{pin}"), "wire", initial)
         })
         .collect();
-    let bridge: Vec<u8> = input
+    let pins: Vec<(u8, String, String)> = input
         .board
         .bridge_inputs()
         .iter()
         .map(|b| b.pin.arduino)
-        .collect();
-    let pins: Vec<(u8, String, String)> = bridge
-        .iter()
         .map(|p| {
             (
-                *p,
-                id(&format!("D{p}_duty"), "real", 64, &mut vars),
-                id(&format!("D{p}_pwm"), "wire", 1, &mut vars),
+                p,
+                vars.add("bridge", &format!("D{p}_duty"), "real", "0".into()),
+                vars.add("bridge", &format!("D{p}_pwm"), "wire", "0".into()),
             )
         })
         .collect();
-    let uart: Vec<String> = ["uart0_tx_byte", "uart1_tx_byte"]
-        .iter()
-        .map(|n| id(n, "wire", 8, &mut vars))
+    // Per UART: (USART, cycles per bit, TX line, RX line, TX byte, RX byte).
+    let lines: Vec<(u8, f64, [String; 4])> = uarts(input.board)
+        .into_iter()
+        .map(|(n, baud)| {
+            let ids = [
+                ("tx", "wire"),
+                ("rx", "wire"),
+                ("tx_byte", "real"),
+                ("rx_byte", "real"),
+            ]
+            .map(|(what, kind)| {
+                let initial = if kind == "wire" { "1" } else { "0" };
+                vars.add("uart", &format!("uart{n}_{what}"), kind, initial.into())
+            });
+            (n, f64::from(input.clock_hz) / f64::from(baud), ids)
+        })
         .collect();
-    let plant: Vec<String> = ["x_mm", "y_mm", "theta_rad", "left_edges", "right_edges"]
-        .iter()
-        .map(|n| id(n, "real", 64, &mut vars))
-        .collect();
+    let pose = input.samples.first();
+    let plant: Vec<String> = [
+        ("x_mm", pose.map_or(0.0, |s| s.x_mm)),
+        ("y_mm", pose.map_or(0.0, |s| s.y_mm)),
+        ("theta_rad", pose.map_or(0.0, |s| s.theta_rad)),
+        ("left_edges", pose.map_or(0.0, |s| s.left_edges as f64)),
+        ("right_edges", pose.map_or(0.0, |s| s.right_edges as f64)),
+    ]
+    .iter()
+    .map(|(n, v)| vars.add("plant", n, "real", v.to_string()))
+    .collect();
 
     let mut out = String::new();
     let _ = writeln!(out, "$comment Henrytwo HIL bench trace $end");
@@ -94,36 +200,23 @@ pub fn render(input: &VcdInput) -> String {
         "$timescale {} ps $end",
         1_000_000_000_000u64 / input.clock_hz as u64
     );
-    let b = 4 + 2 * pins.len();
-    for (scope, range) in [
-        ("encoders", 0..4),
-        ("bridge", 4..b),
-        ("uart", b..b + 2),
-        ("plant", b + 2..b + 7),
-    ] {
+    for (scope, list) in &vars.scopes {
         let _ = writeln!(out, "$scope module {scope} $end");
-        for v in &vars[range] {
-            let _ = writeln!(out, "$var {} {} {} {} $end", v.kind, v.width, v.id, v.name);
+        for v in list {
+            let width = if v.kind == "real" { 64 } else { 1 };
+            let _ = writeln!(out, "$var {} {width} {} {} $end", v.kind, v.id, v.name);
         }
         let _ = writeln!(out, "$upscope $end");
     }
     let _ = writeln!(out, "$enddefinitions $end");
+    let _ = writeln!(out, "#0\n$dumpvars");
+    for v in vars.scopes.iter().flat_map(|s| &s.1) {
+        let _ = writeln!(out, "{}", v.initial);
+    }
+    let _ = writeln!(out, "$end");
 
     // Changes: (cycle, text), sorted stably.
     let mut changes: Vec<(u64, String)> = Vec::new();
-    changes.push((
-        0,
-        format!("$dumpvars\n{}$end", {
-            let mut s = String::new();
-            for e in &enc {
-                let _ = writeln!(s, "0{e}");
-            }
-            for (_, d, w) in &pins {
-                let _ = writeln!(s, "r0 {d}\n0{w}");
-            }
-            s
-        }),
-    ));
     for e in input.edges {
         changes.push((
             e.cycle,
@@ -152,9 +245,25 @@ pub fn render(input: &VcdInput) -> String {
             }
         }
     }
-    for &(cycle, n, byte) in input.uart {
-        if let Some(u) = uart.get(n as usize) {
-            changes.push((cycle, format!("b{byte:08b} {u}")));
+    for (n, cycles_per_bit, [tx, rx, tx_byte, rx_byte]) in &lines {
+        // A sent byte's frame starts when the USART takes it; a received
+        // byte's ends when the receiver has it.
+        let frame = (10.0 * cycles_per_bit).round() as u64;
+        for (log, line, value, back) in [
+            (input.uart_tx, tx, tx_byte, 0),
+            (input.uart_rx, rx, rx_byte, frame),
+        ] {
+            let bytes = || {
+                log.iter()
+                    .filter(|b| b.1 == *n)
+                    .map(move |b| (b.0.saturating_sub(back), b.2))
+            };
+            for (cycle, byte) in bytes() {
+                changes.push((cycle, format!("r{byte} {value}")));
+            }
+            for (cycle, level) in frames(bytes(), *cycles_per_bit) {
+                changes.push((cycle, format!("{}{line}", u8::from(level))));
+            }
         }
     }
     for s in input.samples {
@@ -171,7 +280,7 @@ pub fn render(input: &VcdInput) -> String {
         }
     }
     changes.sort_by_key(|c| c.0);
-    let mut last = None;
+    let mut last = Some(0);
     for (cycle, text) in changes {
         if last != Some(cycle) {
             let _ = writeln!(out, "#{cycle}");
@@ -179,6 +288,68 @@ pub fn render(input: &VcdInput) -> String {
         }
         let _ = writeln!(out, "{text}");
     }
+    out
+}
+
+/// A GTKWave save file for the trace at `vcd_path` as [`render`] writes it
+/// for `board`: every signal in the wave pane, digital lines as bits, values
+/// as analog steps, scopes open.
+pub fn gtkw(vcd_path: &std::path::Path, board: &Board) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "[*] GTKWave save file of a Henrytwo HIL bench trace");
+    let _ = writeln!(out, "[dumpfile] \"{}\"", vcd_path.display());
+    let _ = writeln!(out, "[timestart] 0");
+    for scope in ["encoders", "bridge", "uart", "plant"] {
+        let _ = writeln!(out, "[treeopen] {scope}.");
+    }
+    let bits = |out: &mut String, names: &[String]| {
+        let _ = writeln!(out, "@28");
+        for n in names {
+            let _ = writeln!(out, "{n}");
+        }
+    };
+    // Real-valued traces as analog steps (GTKWave's flags: real, analog
+    // step, right-justified).
+    let values = |out: &mut String, names: &[String]| {
+        for n in names {
+            let _ = writeln!(out, "@8420\n{n}");
+        }
+    };
+    let encoders: Vec<String> = [Side::Left, Side::Right]
+        .iter()
+        .flat_map(|&side| {
+            let e = board.encoder(side);
+            let s = match side {
+                Side::Left => "left",
+                Side::Right => "right",
+            };
+            [("A", e.a), ("B", e.b)].map(|(ch, pin)| format!("encoders.{s}_{ch}_D{}", pin.arduino))
+        })
+        .collect();
+    bits(&mut out, &encoders);
+    for b in board.bridge_inputs() {
+        let p = b.pin.arduino;
+        bits(&mut out, &[format!("bridge.D{p}_pwm")]);
+        values(&mut out, &[format!("bridge.D{p}_duty")]);
+    }
+    for (n, _) in uarts(board) {
+        bits(
+            &mut out,
+            &[format!("uart.uart{n}_tx"), format!("uart.uart{n}_rx")],
+        );
+        values(
+            &mut out,
+            &[
+                format!("uart.uart{n}_tx_byte"),
+                format!("uart.uart{n}_rx_byte"),
+            ],
+        );
+    }
+    let plant: Vec<String> = ["x_mm", "y_mm", "theta_rad", "left_edges", "right_edges"]
+        .iter()
+        .map(|n| format!("plant.{n}"))
+        .collect();
+    values(&mut out, &plant);
     out
 }
 
@@ -204,14 +375,20 @@ mod tests {
             board: &Board::default(),
             edges: &edges,
             drive: &drive,
-            uart: &[(200, 1, b'A')],
+            uart_tx: &[(200, 1, b'A')],
+            uart_rx: &[],
             samples: &[],
             pwm_edges: false,
         });
         assert!(text.contains("$timescale 62500 ps $end"));
         assert!(text.contains("$var wire 1 !a left_A_D2 $end"));
         assert!(text.contains("#100\n1!a"));
-        assert!(text.contains("b01000001"));
+        // No wire wider than a bit (sigrok stops at the first).
+        for l in text.lines().filter(|l| l.starts_with("$var wire")) {
+            assert!(l.starts_with("$var wire 1 "), "{l}");
+        }
+        assert!(text.contains("uart1_tx_byte"));
+        assert!(text.contains("r65 "), "the byte's value as a real");
         // Timestamps increase.
         let stamps: Vec<u64> = text
             .lines()
@@ -219,5 +396,69 @@ mod tests {
             .map(|t| t.parse().unwrap())
             .collect();
         assert!(stamps.windows(2).all(|w| w[0] < w[1]));
+    }
+}
+
+#[cfg(test)]
+mod uart_tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_is_start_bit_data_lsb_first_stop_bit() {
+        // 0x41 = 0b0100_0001 at 10 cycles per bit: start 0 at 100, bit0 = 1
+        // at 110, bits 1-5 = 0 from 120, bit 6 = 1 at 170, bit 7 = 0 at 180,
+        // stop 1 at 190.
+        let f = frames([(100, 0x41)].into_iter(), 10.0);
+        assert_eq!(
+            f,
+            vec![
+                (100, false),
+                (110, true),
+                (120, false),
+                (170, true),
+                (180, false),
+                (190, true)
+            ]
+        );
+        // A byte logged before the frame before it ended waits for it.
+        let f = frames([(0, 0xff), (50, 0x00)].into_iter(), 10.0);
+        assert_eq!(f, vec![(0, false), (10, true), (100, false), (190, true)]);
+    }
+
+    #[test]
+    fn every_variable_starts_with_a_value() {
+        let text = render(&VcdInput {
+            clock_hz: 16_000_000,
+            board: &Board::default(),
+            edges: &[PinEvent {
+                cycle: 0,
+                line: 2,
+                level: true,
+            }],
+            drive: &[],
+            uart_tx: &[],
+            uart_rx: &[(1000, 1, b'g')],
+            samples: &[],
+            pwm_edges: false,
+        });
+        let defined = text.lines().filter(|l| l.starts_with("$var")).count();
+        let dump: Vec<&str> = text
+            .split("$dumpvars\n")
+            .nth(1)
+            .and_then(|t| t.split("$end").next())
+            .expect("a $dumpvars section")
+            .lines()
+            .collect();
+        assert_eq!(dump.len(), defined, "{dump:?}");
+        assert!(dump.contains(&"1!c"), "right A starts high: {dump:?}");
+        assert!(text.contains("uart1_rx"), "the host's bytes are traced");
+        let gtkw = gtkw(std::path::Path::new("t.vcd"), &Board::default());
+        for l in text.lines().filter(|l| l.starts_with("$var")) {
+            let name = l.split(' ').nth(4).unwrap();
+            assert!(
+                gtkw.contains(&format!(".{name}\n")),
+                "{name} in the save file"
+            );
+        }
     }
 }

@@ -382,6 +382,7 @@ impl BenchCore {
                     vec![b]
                 };
                 for b in arrived {
+                    self.uart.delivered(when, n, b);
                     core.raise(irq, b as u32);
                 }
             }
@@ -620,6 +621,12 @@ impl BenchCore {
     /// Bytes the firmware sent: (cycle, USART, byte).
     pub fn uart_log(&self) -> &[(u64, u8, u8)] {
         self.uart.log()
+    }
+
+    /// Bytes that arrived at the firmware's receivers from the host's side:
+    /// (cycle, USART, byte).
+    pub fn uart_rx_log(&self) -> &[(u64, u8, u8)] {
+        self.uart.rx_log()
     }
 }
 

@@ -15,6 +15,9 @@ pub(super) struct HostUart {
     out: [Vec<u8>; 4],
     /// Bytes the firmware sent: (cycle, USART, byte).
     log: Vec<(u64, u8, u8)>,
+    /// Bytes the host's side put on the firmware's RX pins, as they
+    /// arrived (after the link's faults): (cycle, USART, byte).
+    rx_log: Vec<(u64, u8, u8)>,
     /// Bytes from the host waiting to go out on each USART, one per byte time.
     tx: [VecDeque<u8>; 4],
     next: [u64; 4],
@@ -28,6 +31,7 @@ impl HostUart {
             bluetooth: bluetooth as usize,
             out: Default::default(),
             log: Vec::new(),
+            rx_log: Vec::new(),
             tx: Default::default(),
             next: [NEVER; 4],
             irq: [None; 4],
@@ -94,5 +98,15 @@ impl HostUart {
     /// Bytes the firmware sent: (cycle, USART, byte).
     pub(super) fn log(&self) -> &[(u64, u8, u8)] {
         &self.log
+    }
+
+    /// `byte` arrived at USART `n`'s receiver at `cycle` (its stop bit done).
+    pub(super) fn delivered(&mut self, cycle: u64, n: usize, byte: u8) {
+        self.rx_log.push((cycle, n as u8, byte));
+    }
+
+    /// Bytes that arrived at the firmware's receivers: (cycle, USART, byte).
+    pub(super) fn rx_log(&self) -> &[(u64, u8, u8)] {
+        &self.rx_log
     }
 }

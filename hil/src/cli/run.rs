@@ -146,12 +146,18 @@ fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool, board: &Board) -> Resu
         board,
         edges: &run.edges,
         drive: &run.drive,
-        uart: &run.uart,
+        uart_tx: &run.uart,
+        uart_rx: &run.uart_rx,
         samples: &run.trace,
         pwm_edges,
     });
     hil::output::write_atomic(path, text.as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
-    eprintln!("wrote {}", path.display());
+    // A save file beside it, so that GTKWave opens with every signal shown.
+    let save = path.with_extension("gtkw");
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    hil::output::write_atomic(&save, hil::vcd::gtkw(&absolute, board).as_bytes())
+        .with_context(|| format!("writing {}", save.display()))?;
+    eprintln!("wrote {} and {}", path.display(), save.display());
     Ok(())
 }

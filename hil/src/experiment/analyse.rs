@@ -119,6 +119,7 @@ pub(crate) fn analyse(
         edges: core.recording().unwrap_or_default().to_vec(),
         drive: core.drive_log().to_vec(),
         uart: core.uart_log().to_vec(),
+        uart_rx: core.uart_rx_log().to_vec(),
         leds: core.leds().to_vec(),
         brownouts: core
             .brownouts()

@@ -163,6 +163,9 @@ pub struct TestRun {
     pub drive: Vec<DriveEvent>,
     #[serde(skip)]
     pub uart: Vec<(u64, u8, u8)>,
+    /// Bytes that arrived at the firmware's receivers: (cycle, USART, byte).
+    #[serde(skip)]
+    pub uart_rx: Vec<(u64, u8, u8)>,
     /// Battery LED changes.
     #[serde(skip)]
     pub leds: Vec<LedEvent>,
