@@ -98,3 +98,20 @@ fn solution_names() {
         assert_eq!(serde_json::to_string(&s).unwrap(), format!("\"{name}\""));
     }
 }
+
+/// Measured end points exactly on the axis (a rounded centroid often is) are solved like any
+/// other: a straight line, a square pair with no error, a triangle whose x error vanishes.
+#[test]
+fn end_points_exactly_on_the_axis_are_solved() {
+    let b = line_beta(0.0, L).expect("converges");
+    assert!(b.abs() < 1e-12, "{b}");
+    let origin = Endpoint::new(0.0, 0.0);
+    let (a, b) = umbmark_alpha_beta(origin, origin, L).expect("converges");
+    assert!(a.abs() < 1e-12 && b.abs() < 1e-12, "{a} {b}");
+    let t = 2.0 * std::f64::consts::FRAC_PI_3;
+    for dir in [Direction::Cw, Direction::Ccw] {
+        let d = triangle_delta(0.0, L, 0.05, dir).expect("converges");
+        let end = polygon_end(d, 0.05, L, t, dir, 3);
+        assert!(end.x_cm.abs() < 1e-9, "{dir:?}: {d} gives {end:?}");
+    }
+}
