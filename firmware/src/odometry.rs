@@ -213,4 +213,17 @@ mod tests {
         assert!(leg_progress(w, w, 4_999_000, 4_999_000) < t);
         assert!(leg_progress(w, w, 5_000_100, 5_000_100) >= t);
     }
+
+    /// A trip armed `ceil(remaining / 2w)` counts ahead, exactly when that
+    /// divides, at least 1, at most `i32::MAX`; a wheel of no weight (or
+    /// nothing left to go) is armed one count ahead instead of dividing by 0.
+    #[test]
+    fn a_trip_is_armed_half_the_remaining_progress_ahead() {
+        let w = WEIGHT_ONE;
+        assert_eq!(leg_trip_ahead(10 * w as i64, w), 5);
+        assert_eq!(leg_trip_ahead(10 * w as i64 + 1, w), 6);
+        assert_eq!(leg_trip_ahead(1000, 0), 1);
+        assert_eq!(leg_trip_ahead(-7, w), 1);
+        assert_eq!(leg_trip_ahead(i64::MAX / 2, 1), i32::MAX);
+    }
 }

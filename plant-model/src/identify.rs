@@ -95,7 +95,7 @@
 //! | FOPDT `K`, `tau`, `L` | 24.80, 0.0671 s, -0.0076 s | 21.53, 0.0514 s, -0.0076 s |
 //! | tangent `L`, `T`, s | 0.0045, 0.0627 | 0.0028, 0.0548 |
 //! | ZN (`T` = tau, `L` = 0.03 s): `Kp`, `Ki`, `Kd` | 2.69, 44.8, 0.0403 | 1.96, 32.6, 0.0294 |
-//! | ZOH model | 4.995/(z - 0.8000) | 5.757/(z - 0.7361) |
+//! | ZOH model | 4.995/(z - 0.8000) | 5.756/(z - 0.7361) |
 //!
 //! The checks ([`ThesisCheck`], printed by [`Identification::render`]): right `K`, `tau`,
 //! pole, numerator and `Kp` are reproduced from the data within their resolution (the

@@ -223,6 +223,18 @@ fn rewiring_releases_the_old_inputs_first_then_sets_up_the_new() {
     assert_eq!(d.wiring(), &enable_two_dir());
 }
 
+/// A pin the old and the new wiring share (D7, PH4) is still an output after
+/// the rewiring: the release leaves the old pins outputs, and setting the new
+/// ones up must not flip a DDR bit that is already set.
+#[test]
+fn a_pin_both_wirings_use_stays_an_output() {
+    let mut d = Driver::new(Fake::default(), &henrytwo());
+    assert_eq!(d.registers().mem[&DDRH], 0x78, "D6-D9 (PH3-PH6) outputs");
+    d.rewire(&pwm_dir());
+    assert!(d.drives(&pwm_dir()));
+    assert_eq!(d.registers().mem[&DDRH] & 0x10, 0x10, "D7 (PH4) still an output");
+}
+
 #[test]
 fn only_the_timers_of_pwm_inputs_start() {
     // PWM on D6 and D7 (timer 4); the direction pins D45 and D44 carry

@@ -165,3 +165,27 @@ impl<H: Hardware> App<H> {
         self.send(NOTIFY_FAULT, Status::Ok, &notice.to_bytes());
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use henrytwo_protocol::{Fault, FaultNotice, Phase, Status, NOTIFY_FAULT};
+
+    use super::fake::{self, Fake};
+    use super::App;
+    use crate::bench;
+
+    /// A reset by the watchdog is reported as its fault: in the bench
+    /// variables and in one fault notice on the link.
+    #[test]
+    fn a_watchdog_reset_is_reported_as_a_fault() {
+        let _bench = fake::lock();
+        let mut app = App::<Fake>::fake();
+        let _ = app.sent();
+        app.report_watchdog_reset();
+        assert_eq!((bench::phase_code(), bench::fault()), (Phase::Fault as u8, Fault::WatchdogReset as u8));
+        let sent = app.sent();
+        assert_eq!(sent.len(), 1, "{sent:?}");
+        assert_eq!((sent[0].0, sent[0].1), (NOTIFY_FAULT, Status::Ok as u8));
+        assert_eq!(FaultNotice::decode(&sent[0].2).unwrap().fault, Fault::WatchdogReset as u8);
+    }
+}

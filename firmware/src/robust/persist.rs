@@ -252,6 +252,15 @@ mod tests {
         }
     }
 
+    /// The layout is the magic byte and one slot per parameter, no more: the
+    /// check that it fits the EEPROM counts exactly the bytes it uses.
+    #[test]
+    fn the_layout_length_ends_with_the_last_slot() {
+        let end = Param::ALL.iter().map(|&p| slot_addr(p) + SLOT_LEN).max().unwrap();
+        assert_eq!(BASE + LAYOUT_LEN, end);
+        assert_eq!(LAYOUT_LEN, 1 + 5 * Param::ALL.len() as u16);
+    }
+
     #[test]
     fn an_erased_eeprom_gives_the_factory_settings_and_writes_nothing() {
         let mut s = Stored::load(Eeprom::default(), Settings::DEFAULT);

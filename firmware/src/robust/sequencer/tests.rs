@@ -77,6 +77,35 @@ fn the_time_out_counts_at_the_robots_speed() {
     assert!((1800..1950).contains(&app.segment_limit), "{}", app.segment_limit);
 }
 
+/// The time-out of a leg counts the wheel that makes the most counts (the
+/// shortest corrected distance per count) at the slower corrected set-point,
+/// whichever wheel that is; a turn's counts the wheel with the larger target.
+#[test]
+fn the_time_out_follows_the_wheel_that_counts_most() {
+    let _bench = fake::lock();
+    let limit = |counts: f32, app: &App<Fake>| {
+        let s = app.stored.settings;
+        let set_min = (s.setpoint.left / s.correction.left).min(s.setpoint.right / s.correction.right);
+        (TIMEOUT_FACTOR * (counts / (set_min / app.drive.speeds.per_count))) as u32 + TIMEOUT_EXTRA_TICKS
+    };
+    for (left, right) in [(0.9, 1.0), (1.0, 0.9)] {
+        let mut app = App::fake();
+        app.set_param(Param::CorrLeft, left);
+        app.set_param(Param::CorrRight, right);
+        app.start_test(Test::Line).unwrap();
+        let m = Settings::DEFAULT.mm_per_count;
+        let counts = robot::DEFAULT_LEG_MM / (left * m.left).min(right * m.right);
+        assert_eq!(app.segment_limit, limit(counts, &app), "c_L {left}, c_R {right}");
+        // Segment 1 of a square: a right turn.
+        assert!(matches!(plan::segment(Test::UmbmarkCw, 1), Some(Segment::Turn { .. })));
+        app.start_segment(Test::UmbmarkCw, 1);
+        let s = app.stored.settings;
+        let n = |c: f32, m: f32| spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, c, m);
+        let counts = n(left, m.left).max(n(right, m.right)) as f32;
+        assert_eq!(app.segment_limit, limit(counts, &app), "c_L {left}, c_R {right}");
+    }
+}
+
 /// Which input of each wheel is driven: +1 forward, -1 reverse, 0 none.
 fn directions(app: &App<Fake>) -> (i8, i8) {
     let dir = |(f, r): (u8, u8)| match (f > 0, r > 0) {
@@ -214,6 +243,9 @@ fn a_cut_wheel_coasts_gets_its_counter_pulse_then_both_waits_pass() {
         app.drive.encoders.edge(Side::Right, 1);
         app.poll();
     }
+    // The end of the coast is the deadline armed on timer 1's alarm.
+    assert!(app.clock.alarm.is_some());
+    assert_eq!(app.clock.alarm, app.next_deadline());
     let off = ((0, 0), (0, 0));
     let motors = |app: &App<Fake>| (app.drive.motors.left, app.drive.motors.right);
     app.wait(BRAKE_COAST - 1);
@@ -232,6 +264,28 @@ fn a_cut_wheel_coasts_gets_its_counter_pulse_then_both_waits_pass() {
     app.wait(1);
     assert!(matches!(app.mode, Mode::Segment { index: 1, .. }));
     assert_eq!(directions(&app), (1, -1));
+}
+
+/// Once one wheel is cut the other's control ticks go on, and so does the
+/// segment's time-out, until that wheel is cut too.
+#[test]
+fn the_ticks_go_on_while_one_wheel_still_drives() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    // A turn whose right wheel has the larger target (as in the test above).
+    app.stored.settings.correction = PerWheel { left: 1.0, right: 0.9 };
+    app.mode = Mode::Idle;
+    app.start_segment(Test::UmbmarkCw, 1);
+    let s = app.stored.settings;
+    let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0, s.mm_per_count.left);
+    app.drive.encoders.move_by(Side::Left, nl);
+    app.drive.encoders.move_by(Side::Right, -nl);
+    app.poll();
+    assert_eq!((app.drive.left.stage, app.drive.right.stage), (Stage::Coast, Stage::Driving));
+    let before = app.segment_ticks;
+    app.tick_plant(0);
+    app.tick_plant(0);
+    assert_eq!(app.segment_ticks, before + 2);
 }
 
 #[test]

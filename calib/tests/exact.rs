@@ -1,0 +1,117 @@
+//! The exact solver's edges: end points its model cannot reach give no solution (not a wrong
+//! one), and nearly straight legs lose nothing to the small-angle branch.
+
+use calib::exact::{line_beta, polygon_end, triangle_delta, umbmark_alpha_beta};
+use calib::{Direction, Endpoint, Solution};
+
+const L: f64 = 200.0;
+
+/// A line can end at most l·(1 − cos β)/β to the side for the largest bend the solver
+/// accepts (0.6 rad: 58 cm of a 200 cm line); half the length to the side is out of reach, on
+/// either side, and so are squares and triangles that end metres away.
+#[test]
+fn unreachable_end_points_have_no_solution() {
+    for y in [0.5 * L, -0.5 * L, 2.0 * L] {
+        assert_eq!(line_beta(y, L), None, "y = {y}");
+    }
+    let far = Endpoint::new(-3.0 * L, 0.0);
+    assert_eq!(umbmark_alpha_beta(far, far, L), None);
+    for dir in [Direction::Cw, Direction::Ccw] {
+        assert_eq!(triangle_delta(3.0 * L, L, 0.0, dir), None, "{dir:?}");
+    }
+}
+
+/// Just inside the limit the same solvers do find the model's parameters.
+#[test]
+fn large_but_reachable_errors_are_solved() {
+    let b = 0.55;
+    let end = polygon_end(0.0, b, L, 0.0, Direction::Ccw, 1);
+    let eb = line_beta(end.y_cm, L).expect("converges");
+    assert!((eb - b).abs() < 1e-9, "{eb}");
+}
+
+/// A leg bending by less than 2·10⁻⁸ rad is as long as its arc to the last bit (the exact
+/// chord differs from it by less than an ulp), and it leaves at half its bend.
+#[test]
+fn nearly_straight_legs_keep_their_length() {
+    for b in [0.0, 1e-12, 1.8e-8, -1.8e-8] {
+        let end = polygon_end(0.0, b, L, 0.0, Direction::Ccw, 1);
+        assert_eq!(end.x_cm, L * (b / 2.0).cos(), "beta {b}");
+        assert_eq!(end.y_cm, L * (b / 2.0).sin(), "beta {b}");
+    }
+}
+
+/// One leg bending uniformly by β is a circular arc of length l: it ends at
+/// (l·sin β/β, l·(1 − cos β)/β), heading β; the next leg starts after the turn.
+#[test]
+fn a_leg_is_an_arc_of_its_length() {
+    for b in [0.5f64, -0.3, 0.05] {
+        let end = polygon_end(0.0, b, L, 0.0, Direction::Ccw, 1);
+        assert!((end.x_cm - L * b.sin() / b).abs() < 1e-9, "{b}: {end:?}");
+        assert!(
+            (end.y_cm - L * (1.0 - b.cos()) / b).abs() < 1e-9,
+            "{b}: {end:?}"
+        );
+    }
+}
+
+/// Without errors the legs close the polygon; two legs of a square end one side along and one
+/// to the left (CCW) or right (CW); an under-rotating turn (positive error) turns less.
+#[test]
+fn error_free_paths_are_the_nominal_polygons() {
+    let q = std::f64::consts::FRAC_PI_2;
+    let t = 2.0 * std::f64::consts::FRAC_PI_3;
+    for dir in [Direction::Cw, Direction::Ccw] {
+        let square = polygon_end(0.0, 0.0, L, q, dir, 4);
+        let triangle = polygon_end(0.0, 0.0, L, t, dir, 3);
+        assert!(square.x_cm.hypot(square.y_cm) < 1e-9, "{dir:?} {square:?}");
+        assert!(
+            triangle.x_cm.hypot(triangle.y_cm) < 1e-9,
+            "{dir:?} {triangle:?}"
+        );
+    }
+    let ccw = polygon_end(0.0, 0.0, L, q, Direction::Ccw, 2);
+    let cw = polygon_end(0.0, 0.0, L, q, Direction::Cw, 2);
+    assert!(
+        (ccw.x_cm - L).abs() < 1e-9 && (ccw.y_cm - L).abs() < 1e-9,
+        "{ccw:?}"
+    );
+    assert!(
+        (cw.x_cm - L).abs() < 1e-9 && (cw.y_cm + L).abs() < 1e-9,
+        "{cw:?}"
+    );
+    // A 10° under-rotation: the second leg leaves at 80°.
+    let e = 10f64.to_radians();
+    let short = polygon_end(e, 0.0, L, q, Direction::Ccw, 2);
+    let want = (L + L * (q - e).cos(), L * (q - e).sin());
+    assert!((short.x_cm - want.0).abs() < 1e-9 && (short.y_cm - want.1).abs() < 1e-9);
+}
+
+/// The solution names reports print are the ones option files use.
+#[test]
+fn solution_names() {
+    for (s, name) in [
+        (Solution::FirstOrder, "first-order"),
+        (Solution::Exact, "exact"),
+    ] {
+        assert_eq!(s.as_str(), name);
+        assert_eq!(serde_json::to_string(&s).unwrap(), format!("\"{name}\""));
+    }
+}
+
+/// Measured end points exactly on the axis (a rounded centroid often is) are solved like any
+/// other: a straight line, a square pair with no error, a triangle whose x error vanishes.
+#[test]
+fn end_points_exactly_on_the_axis_are_solved() {
+    let b = line_beta(0.0, L).expect("converges");
+    assert!(b.abs() < 1e-12, "{b}");
+    let origin = Endpoint::new(0.0, 0.0);
+    let (a, b) = umbmark_alpha_beta(origin, origin, L).expect("converges");
+    assert!(a.abs() < 1e-12 && b.abs() < 1e-12, "{a} {b}");
+    let t = 2.0 * std::f64::consts::FRAC_PI_3;
+    for dir in [Direction::Cw, Direction::Ccw] {
+        let d = triangle_delta(0.0, L, 0.05, dir).expect("converges");
+        let end = polygon_end(d, 0.05, L, t, dir, 3);
+        assert!(end.x_cm.abs() < 1e-9, "{dir:?}: {d} gives {end:?}");
+    }
+}
