@@ -288,12 +288,14 @@ fn solve<const N: usize>(a: [[f64; N]; N], b: [f64; N]) -> Option<[f64; N]> {
 }
 
 /// The heading change β (rad) of a straight line of length `l` whose end is `y` (cm) to the
-/// side: an arc's end is y = l·(1 − cos β)/β. First order: β = 2y/l.
+/// side: an arc's end is y = l·(1 − cos β)/β. First order: β = 2y/l. `None` when no bend
+/// within the solver's range ends there.
 pub fn line_beta(y: f64, l: f64) -> Option<f64> {
     least_squares([2.0 * y / l], [MAX_LEG_BEND_RAD], |[b]| {
         let end = polygon_end(0.0, b, l, 0.0, Direction::Ccw, 1);
         [end.y_cm - y]
     })
+    .filter(|fit| fit.rms_cm < 1e-6)
     .map(|fit| fit.params[0])
 }
 
