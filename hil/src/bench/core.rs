@@ -14,7 +14,8 @@ use super::error::PendingError;
 use super::faults::{Action, FaultSchedule, Trigger};
 use super::power::{Brownout, Power};
 use super::recorder::{
-    AnalogEvent, Cutoff, DriveEvent, LedEvent, MotionEvent, PinEvent, Recorder, Sample, Snapshot,
+    AnalogEvent, Cutoff, DriveEvent, LedEvent, MotionEvent, PinEvent, Recorder, Retained, Sample,
+    Snapshot,
 };
 use super::registers::{ACSR, ACSR_ACIC, ACSR_ACIE};
 use super::requests::Requests;
@@ -524,6 +525,40 @@ impl BenchCore {
 
     pub fn motions(&self) -> &[MotionEvent] {
         self.recorder.motions()
+    }
+
+    /// Changes of [`crate::bench::Motion`] since the start, kept or not.
+    pub fn motion_changes(&self) -> u64 {
+        self.recorder.motion_changes()
+    }
+
+    /// How many items each record holds now.
+    pub fn retained(&self) -> Retained {
+        let (uart_bytes, uart_log) = self.uart.retained();
+        Retained {
+            uart_bytes,
+            uart_log,
+            applied: self.faults.applied().len(),
+            ..self.recorder.retained()
+        }
+    }
+
+    /// A notice for each record that reached its cap (see `log.rs`): what
+    /// the run's results do not cover.
+    pub fn record_notices(&self) -> Vec<String> {
+        let interval_s = self.clock.seconds(self.step_cycles).0 * f64::from(self.trace_every);
+        let mut v = self.recorder.notices(interval_s);
+        v.extend(self.uart.notices());
+        v
+    }
+
+    pub(super) fn keep_latest_records(&mut self) {
+        self.recorder.keep_latest();
+        self.uart.keep_latest();
+    }
+
+    pub(super) fn take_uart_out(&mut self, n: usize) -> Vec<u8> {
+        self.uart.take_out(n)
     }
 
     /// Battery LED changes.

@@ -24,6 +24,7 @@
 //! | `power.rs` | A0, VCC and the brown-out detector |
 //! | `faults.rs` | [`Action`], [`Trigger`], [`ScheduledFault`] and their schedule |
 //! | `recorder.rs` | what a run records: [`Sample`], [`DriveEvent`], [`Cutoff`], [`Motion`], ... |
+//! | `log.rs` | how much of each record is kept: a cap, or the latest item only ([`Retention`]) |
 //! | `error.rs` | [`BenchError`] |
 //! | `requests.rs` | what a callback leaves for the run loop: an error, a reset |
 //! | `registers.rs` | the MCU registers the bench reads or watches, by address |
@@ -35,6 +36,7 @@ mod driver;
 mod edges;
 mod error;
 mod faults;
+mod log;
 mod power;
 mod recorder;
 mod registers;
@@ -52,9 +54,10 @@ pub use self::core::BenchCore;
 pub use self::edges::decode_a_edge;
 pub use self::error::BenchError;
 pub use self::faults::{Action, ScheduledFault, Trigger};
+pub use self::log::Retention;
 pub use self::recorder::{
-    AnalogEvent, AnalogInput, Cutoff, DriveEvent, LedEvent, Motion, MotionEvent, PinEvent, Sample,
-    Snapshot,
+    AnalogEvent, AnalogInput, Cutoff, DriveEvent, LedEvent, Motion, MotionEvent, PinEvent,
+    Retained, Sample, Snapshot,
 };
 pub use self::run::{Observer, Step, CHECK_PERIOD_S};
 pub use crate::elf::Location;
@@ -244,7 +247,11 @@ impl Bench {
             segment: read(v.and_then(|v| v.segment)),
             done: v.map_or(0, |v| self.read_u16(v.done_count)),
             fault: read(v.and_then(|v| v.fault)),
-            outputs: if v.is_none() { core.motions().len() } else { 0 },
+            outputs: if v.is_none() {
+                core.motion_changes() as usize
+            } else {
+                0
+            },
             held_in_reset: core.held_in_reset(),
         }
     }
@@ -405,9 +412,24 @@ impl Bench {
         Ok(())
     }
 
-    /// Bytes the firmware sent on USART `n` so far.
+    /// Bytes the firmware sent on USART `n` so far (since the last
+    /// [`Bench::take_uart_output`]).
     pub fn uart_output(&self, n: u8) -> &[u8] {
         self.avr.handler().uart_out(n as usize)
+    }
+
+    /// The bytes the firmware sent on USART `n` since the last call, taken:
+    /// for a reader that streams them on, so that the bench keeps none.
+    pub fn take_uart_output(&mut self, n: u8) -> Vec<u8> {
+        self.avr.handler_mut().take_uart_out(n as usize)
+    }
+
+    /// Keep only the latest item of each record from now on (see
+    /// [`Retention::Latest`]): for a bench that runs for days and whose
+    /// records no one reads (`hil serve`). The firmware's bytes stay until
+    /// [`Bench::take_uart_output`] takes them.
+    pub fn keep_latest_records(&mut self) {
+        self.avr.handler_mut().keep_latest_records();
     }
 
     /// The simulated MCU, for a debugger's register and memory access.

@@ -5,6 +5,7 @@
 
 use plant_model::{Robot, Side};
 
+use super::log::{Log, Retention, Thinned};
 use crate::board::{LedWiring, Pin};
 use crate::sim::Core;
 
@@ -166,33 +167,134 @@ pub struct MotionEvent {
     pub at: Snapshot,
 }
 
-/// The records of one run.
+/// The records of one run, each bounded (see `log.rs`).
 pub(super) struct Recorder {
     led_wiring: LedWiring,
-    trace: Vec<Sample>,
-    drive_log: Vec<DriveEvent>,
-    cutoffs: Vec<Cutoff>,
-    motions: Vec<MotionEvent>,
-    leds: Vec<LedEvent>,
+    trace: Thinned<Sample>,
+    drive_log: Log<DriveEvent>,
+    cutoffs: Log<Cutoff>,
+    motions: Log<MotionEvent>,
+    leds: Log<LedEvent>,
     /// Encoder pin changes, when recording (for replays without the bench).
-    pins: Option<Vec<PinEvent>>,
+    pins: Option<Log<PinEvent>>,
     /// Every change of the analog inputs since cycle 0 (rare: the battery's
     /// steps), for replays without the bench.
-    analog: Vec<AnalogEvent>,
+    analog: Log<AnalogEvent>,
+    /// The motion now (the log may keep only the first or the latest).
+    motion: Option<Motion>,
+    retention: Retention,
+}
+
+/// The caps of the records in a test run (see `log.rs`): 2^16 trace
+/// samples are 11 minutes at 10 ms before the trace is thinned; 2^19 drive
+/// events are 87 minutes of driving (the robust build changes the bridge
+/// about 100 times a robot second on a leg); 2^21 pin changes, several
+/// minutes of both encoders' four lines (a VCD trace).
+pub(super) const TRACE_CAP: usize = 1 << 16;
+pub(super) const DRIVE_CAP: usize = 1 << 19;
+pub(super) const PIN_CAP: usize = 1 << 21;
+/// Motion changes, cut-offs, LED and analog changes: a few per leg.
+pub(super) const EVENT_CAP: usize = 1 << 16;
+
+/// How many items each record holds now: what a run retains.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Retained {
+    pub trace: usize,
+    pub drive: usize,
+    pub cutoffs: usize,
+    pub motions: usize,
+    pub leds: usize,
+    pub pins: usize,
+    pub analog: usize,
+    /// Bytes from the firmware and their log entries, all USARTs.
+    pub uart_bytes: usize,
+    pub uart_log: usize,
+    /// Fault actions applied.
+    pub applied: usize,
+}
+
+impl Retained {
+    pub fn total(&self) -> usize {
+        self.trace
+            + self.drive
+            + self.cutoffs
+            + self.motions
+            + self.leds
+            + self.pins
+            + self.analog
+            + self.uart_bytes
+            + self.uart_log
+            + self.applied
+    }
 }
 
 impl Recorder {
     pub(super) fn new(led_wiring: LedWiring) -> Self {
         Self {
             led_wiring,
-            trace: Vec::new(),
-            drive_log: Vec::new(),
-            cutoffs: Vec::new(),
-            motions: Vec::new(),
-            leds: Vec::new(),
+            trace: Thinned::new(TRACE_CAP),
+            drive_log: Log::new(DRIVE_CAP),
+            cutoffs: Log::new(EVENT_CAP),
+            motions: Log::new(EVENT_CAP),
+            leds: Log::new(EVENT_CAP),
             pins: None,
-            analog: Vec::new(),
+            analog: Log::new(EVENT_CAP),
+            motion: None,
+            retention: Retention::Run,
         }
+    }
+
+    /// Keep only the latest item of each record from now on.
+    pub(super) fn keep_latest(&mut self) {
+        self.retention = Retention::Latest;
+        self.trace.keep_latest();
+        self.drive_log.keep_latest();
+        self.cutoffs.keep_latest();
+        self.motions.keep_latest();
+        self.leds.keep_latest();
+        if let Some(p) = &mut self.pins {
+            p.keep_latest();
+        }
+        self.analog.keep_latest();
+    }
+
+    /// What each record holds (the UART's and the faults' left at 0).
+    pub(super) fn retained(&self) -> Retained {
+        Retained {
+            trace: self.trace.as_slice().len(),
+            drive: self.drive_log.as_slice().len(),
+            cutoffs: self.cutoffs.as_slice().len(),
+            motions: self.motions.as_slice().len(),
+            leds: self.leds.as_slice().len(),
+            pins: self.pins.as_ref().map_or(0, |p| p.as_slice().len()),
+            analog: self.analog.as_slice().len(),
+            ..Retained::default()
+        }
+    }
+
+    /// A notice for each record that reached its cap in this run.
+    pub(super) fn notices(&self, trace_interval_s: f64) -> Vec<String> {
+        let mut v = Vec::new();
+        if self.trace.every() > 1 {
+            v.push(format!(
+                "the trace reached its cap of {TRACE_CAP} samples: it was thinned to one sample every {} ms over the whole run",
+                (trace_interval_s * self.trace.every() as f64 * 1000.0).round()
+            ));
+        }
+        v.extend(self.drive_log.notice("drive log (VCD, fault timings)"));
+        v.extend(self.cutoffs.notice("log of motor cut-offs"));
+        v.extend(
+            self.motions
+                .notice("log of motion changes (legs and turns)"),
+        );
+        v.extend(self.leds.notice("log of LED changes"));
+        v.extend(
+            self.pins
+                .as_ref()
+                .and_then(|p| p.notice("log of encoder pin changes (VCD)")),
+        );
+        v.extend(self.analog.notice("log of analog input changes"));
+        v
     }
 
     pub(super) fn drive(&mut self, e: DriveEvent) {
@@ -211,7 +313,13 @@ impl Recorder {
     /// `side`'s forward (or reverse) drive is on at `cycle`: its last
     /// cut-off of that drive, if still open, ends here.
     pub(super) fn drive_on(&mut self, side: Side, forward: bool, cycle: u64) {
-        if let Some(c) = self.cutoffs.iter_mut().rev().find(|c| c.side == side) {
+        if let Some(c) = self
+            .cutoffs
+            .as_mut_slice()
+            .iter_mut()
+            .rev()
+            .find(|c| c.side == side)
+        {
             if c.forward == forward && c.resumed_cycle.is_none() && cycle > c.at.cycle {
                 c.resumed_cycle = Some(cycle);
             }
@@ -220,10 +328,11 @@ impl Recorder {
 
     /// The motion last recorded.
     pub(super) fn motion(&self) -> Option<Motion> {
-        self.motions.last().map(|m| m.motion)
+        self.motion
     }
 
     pub(super) fn motion_changed(&mut self, e: MotionEvent) {
+        self.motion = Some(e.motion);
         self.motions.push(e);
     }
 
@@ -250,7 +359,7 @@ impl Recorder {
         };
         let same = |x: &LedEvent| (x.green, x.blue, x.red) == (e.green, e.blue, e.red);
         // The log starts dark: only a change is an event.
-        let dark_start = self.leds.is_empty() && port == 0;
+        let dark_start = self.leds.pushed() == 0 && port == 0;
         if !(dark_start || self.leds.last().is_some_and(same)) {
             self.leds.push(e);
         }
@@ -321,35 +430,47 @@ impl Recorder {
                 line: line as u8,
                 level,
             })
-            .collect();
-        self.pins = Some(levels);
+            .collect::<Vec<_>>();
+        let mut log = Log::new(PIN_CAP);
+        for e in levels {
+            log.push(e);
+        }
+        if self.retention == Retention::Latest {
+            log.keep_latest();
+        }
+        self.pins = Some(log);
     }
 
     pub(super) fn trace(&self) -> &[Sample] {
-        &self.trace
+        self.trace.as_slice()
     }
 
     pub(super) fn drive_log(&self) -> &[DriveEvent] {
-        &self.drive_log
+        self.drive_log.as_slice()
     }
 
     pub(super) fn cutoffs(&self) -> &[Cutoff] {
-        &self.cutoffs
+        self.cutoffs.as_slice()
     }
 
     pub(super) fn motions(&self) -> &[MotionEvent] {
-        &self.motions
+        self.motions.as_slice()
+    }
+
+    /// Motion changes since the start, kept or not.
+    pub(super) fn motion_changes(&self) -> u64 {
+        self.motions.pushed()
     }
 
     pub(super) fn leds(&self) -> &[LedEvent] {
-        &self.leds
+        self.leds.as_slice()
     }
 
     pub(super) fn recording(&self) -> Option<&[PinEvent]> {
-        self.pins.as_deref()
+        self.pins.as_ref().map(|p| p.as_slice())
     }
 
     pub(super) fn analog_log(&self) -> &[AnalogEvent] {
-        &self.analog
+        self.analog.as_slice()
     }
 }

@@ -4,20 +4,25 @@
 
 use std::collections::VecDeque;
 
+use super::log::Log;
 use super::NEVER;
 use crate::sim::Irq;
 use crate::time::Clock;
 
+/// Bytes kept of each USART's output and in the log: over 18 minutes of a
+/// USART sending without a pause at 9600 baud.
+const UART_CAP: usize = 1 << 20;
+
 pub(super) struct HostUart {
     /// The USART carrying the Bluetooth link.
     bluetooth: usize,
-    /// Bytes the firmware sent, per USART.
-    out: [Vec<u8>; 4],
+    /// Bytes the firmware sent, per USART (up to a cap, unless taken).
+    out: [Log<u8>; 4],
     /// Bytes the firmware sent: (cycle, USART, byte).
-    log: Vec<(u64, u8, u8)>,
+    log: Log<(u64, u8, u8)>,
     /// Bytes the host's side put on the firmware's RX pins, as they
     /// arrived (after the link's faults): (cycle, USART, byte).
-    rx_log: Vec<(u64, u8, u8)>,
+    rx_log: Log<(u64, u8, u8)>,
     /// Bytes from the host waiting to go out on each USART, one per byte time.
     tx: [VecDeque<u8>; 4],
     next: [u64; 4],
@@ -29,9 +34,9 @@ impl HostUart {
     pub(super) fn new(bluetooth: u8, clock: Clock) -> Self {
         Self {
             bluetooth: bluetooth as usize,
-            out: Default::default(),
-            log: Vec::new(),
-            rx_log: Vec::new(),
+            out: std::array::from_fn(|_| Log::new(UART_CAP)),
+            log: Log::new(UART_CAP),
+            rx_log: Log::new(UART_CAP),
             tx: Default::default(),
             next: [NEVER; 4],
             irq: [None; 4],
@@ -90,14 +95,43 @@ impl HostUart {
         };
     }
 
-    /// Bytes the firmware sent on USART `n` so far.
+    /// Bytes the firmware sent on USART `n` so far (since the last
+    /// [`HostUart::take_out`]).
     pub(super) fn out(&self, n: usize) -> &[u8] {
-        &self.out[n]
+        self.out[n].as_slice()
+    }
+
+    /// The bytes the firmware sent on USART `n` since the last call, taken.
+    pub(super) fn take_out(&mut self, n: usize) -> Vec<u8> {
+        self.out[n].take()
     }
 
     /// Bytes the firmware sent: (cycle, USART, byte).
     pub(super) fn log(&self) -> &[(u64, u8, u8)] {
-        &self.log
+        self.log.as_slice()
+    }
+
+    /// Keep only the latest entry of the log from now on (the bytes stay
+    /// until taken).
+    pub(super) fn keep_latest(&mut self) {
+        self.log.keep_latest();
+        self.rx_log.keep_latest();
+    }
+
+    /// (bytes held, log entries held).
+    pub(super) fn retained(&self) -> (usize, usize) {
+        let bytes = self.out.iter().map(|o| o.as_slice().len()).sum();
+        (bytes, self.log.as_slice().len() + self.rx_log.as_slice().len())
+    }
+
+    /// A notice for each record that reached its cap.
+    pub(super) fn notices(&self) -> Vec<String> {
+        let mut v: Vec<String> = (0..4)
+            .filter_map(|n| self.out[n].notice(&format!("record of the bytes from USART{n}")))
+            .collect();
+        v.extend(self.log.notice("UART log (VCD)"));
+        v.extend(self.rx_log.notice("UART receive log (VCD)"));
+        v
     }
 
     /// `byte` arrived at USART `n`'s receiver at `cycle` (its stop bit done).
@@ -107,6 +141,6 @@ impl HostUart {
 
     /// Bytes that arrived at the firmware's receivers: (cycle, USART, byte).
     pub(super) fn rx_log(&self) -> &[(u64, u8, u8)] {
-        &self.rx_log
+        self.rx_log.as_slice()
     }
 }

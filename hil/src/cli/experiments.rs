@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
 use hil::elf::Firmware;
+use hil::output::OutputDir;
 use hil::report::{json_with_pace, Pace, PaceFields};
 use hil::umbmark::{execute, IndexedRun, Partial, Plan, RunSpec, Shard};
 use plant_model::RobotConfig;
@@ -44,6 +45,17 @@ impl Umbmark {
         } = self;
         common.refuse_trace("umbmark")?;
         let (robot, firmware, plan) = setup(&common, leg)?;
+        // The folder is claimed before anything runs: another writer, or a
+        // folder that cannot be replaced, is refused now, not after the runs.
+        let shard_dir = out.out.clone().unwrap_or_else(|| PathBuf::from("."));
+        let (claim, _shared) = match (shard, &out.out) {
+            (Some(_), _) => (None, Some(hil::output::share(&shard_dir)?)),
+            (None, Some(dir)) => (
+                Some(OutputDir::claim(dir, hil::umbmark::UMBMARK_FILES)?),
+                None,
+            ),
+            (None, None) => (None, None),
+        };
         let specs = match shard {
             Some(s) => plan.shard(s),
             None => plan.runs(),
@@ -68,8 +80,7 @@ impl Umbmark {
             runs,
         };
         if let Some(s) = shard {
-            let dir = out.out.unwrap_or_else(|| PathBuf::from("."));
-            let path = hil::umbmark::partial_path(&dir, s);
+            let path = hil::umbmark::partial_path(&shard_dir, s);
             hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
             eprintln!("wrote {} ({} runs)", path.display(), partial.runs.len());
             return Ok(());
@@ -81,8 +92,9 @@ impl Umbmark {
                 .unwrap_or(partial.plan.believed().wheelbase_mm),
             correction.solve.solution(),
         )?;
-        if let Some(dir) = &out.out {
-            for f in hil::umbmark::write_outputs(dir, &partial, &report)? {
+        if let Some(claim) = claim {
+            hil::umbmark::write_set(claim.staging(), &partial, &report)?;
+            for f in claim.commit()? {
                 eprintln!("wrote {}", f.display());
             }
         }
@@ -128,6 +140,11 @@ impl Triangle {
         } = self;
         common.refuse_trace("triangle")?;
         let (robot, firmware, plan) = setup(&common, leg)?;
+        // Claimed before anything runs (see `Umbmark::run`).
+        let claim = match &out.out {
+            Some(dir) => Some(OutputDir::claim(dir, hil::umbmark::TRIANGLE_FILES)?),
+            None => None,
+        };
         let plan = plan.triangle();
         let clock = common.print.wall_clock();
         let runs = execute_with_progress(
@@ -151,8 +168,9 @@ impl Triangle {
                 .unwrap_or(full.plan.believed().wheelbase_mm),
             correction.solve.solution(),
         )?;
-        if let Some(dir) = &out.out {
-            for f in hil::umbmark::write_triangle_outputs(dir, &full, &report)? {
+        if let Some(claim) = claim {
+            hil::umbmark::write_triangle_set(claim.staging(), &full, &report)?;
+            for f in claim.commit()? {
                 eprintln!("wrote {}", f.display());
             }
         }

@@ -131,8 +131,8 @@ pub fn bad_input(e: impl Into<anyhow::Error>) -> anyhow::Error {
 
 /// Parse the command line and run it: exit code 0 on success, 1 when the
 /// command fails, 2 for bad arguments or input refused before anything ran,
-/// 3 when it ran but a run did not complete; every error is one line on
-/// stderr.
+/// 3 when it ran but a run did not complete, 4 when another process writes
+/// the same `--out` folder (nothing ran); every error is one line on stderr.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -146,6 +146,12 @@ pub fn main() -> ExitCode {
                 ExitCode::from(3)
             } else if e.downcast_ref::<BadInput>().is_some() {
                 ExitCode::from(2)
+            } else if let Some(o) = e.downcast_ref::<hil::output::OutputError>() {
+                match o {
+                    hil::output::OutputError::Busy { .. } => ExitCode::from(4),
+                    o if o.is_bad_folder() => ExitCode::from(2),
+                    _ => ExitCode::FAILURE,
+                }
             } else {
                 ExitCode::FAILURE
             }

@@ -130,7 +130,10 @@ pub(crate) fn analyse(
             })
             .collect(),
         believed: Believed::factory(),
-        warnings: never_fired(bench, opts),
+        warnings: never_fired(bench, opts)
+            .into_iter()
+            .chain(core.record_notices())
+            .collect(),
     }
 }
 

@@ -40,8 +40,10 @@ pub use rounds::{
 };
 pub use runs::{execute, IndexedRun, RunRow, RunSet};
 pub use shard::{merge, partial_path};
-pub use triangle::{triangle_report, write_triangle_outputs, TriangleReport};
-pub use umbmark::{report, write_outputs, Report};
+pub use triangle::{
+    triangle_report, write_triangle_outputs, write_triangle_set, TriangleReport, TRIANGLE_FILES,
+};
+pub use umbmark::{report, write_outputs, write_set, Report, UMBMARK_FILES};
 
 /// The former name of [`RunSet`]: it holds a shard's runs or all of them.
 pub use runs::RunSet as Partial;

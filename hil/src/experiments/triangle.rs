@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::plan::Plan;
 use super::runs::{RunRow, RunSet};
 use super::ExperimentError;
-use crate::output::write_atomic;
+use crate::output::OutputDir;
 
 /// The Triangular Path's result: the runs' end errors and the correction.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -102,31 +102,39 @@ impl TriangleReport {
     }
 }
 
-/// Write the triangle report and its plot into `dir`.
+/// The files of a Triangular Path's `--out` folder, all of them and nothing else.
+pub const TRIANGLE_FILES: &[&str] = &["triangle.svg", "triangle.png", "triangle.json"];
+
+/// Write the triangle report and its plot ([`TRIANGLE_FILES`]) into `dir`,
+/// a folder of their own that [`OutputDir::commit`] puts in place as a whole.
+pub fn write_triangle_set(
+    dir: &Path,
+    full: &RunSet,
+    report: &TriangleReport,
+) -> anyhow::Result<()> {
+    let (line, tri) = triangle_runs(full)?;
+    calib::plot_triangle(
+        &report.result,
+        &line,
+        &tri,
+        dir.join("triangle.svg"),
+        dir.join("triangle.png"),
+    )?;
+    std::fs::write(
+        dir.join("triangle.json"),
+        serde_json::to_string_pretty(report)?,
+    )?;
+    Ok(())
+}
+
+/// Replace the folder `dir` by the triangle report and its plot, as a
+/// whole (see [`OutputDir`]); the paths written.
 pub fn write_triangle_outputs(
     dir: &Path,
     full: &RunSet,
     report: &TriangleReport,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)?;
-    let (line, tri) = triangle_runs(full)?;
-    let tmp = dir.join(format!(".tmp-{}", std::process::id()));
-    std::fs::create_dir_all(&tmp)?;
-    calib::plot_triangle(
-        &report.result,
-        &line,
-        &tri,
-        tmp.join("triangle.svg"),
-        tmp.join("triangle.png"),
-    )?;
-    let mut written = Vec::new();
-    for f in ["triangle.svg", "triangle.png"] {
-        std::fs::rename(tmp.join(f), dir.join(f))?;
-        written.push(dir.join(f));
-    }
-    let _ = std::fs::remove_dir_all(&tmp);
-    let json = dir.join("triangle.json");
-    write_atomic(&json, serde_json::to_string_pretty(report)?.as_bytes())?;
-    written.push(json);
-    Ok(written)
+    let out = OutputDir::claim(dir, TRIANGLE_FILES)?;
+    write_triangle_set(out.staging(), full, report)?;
+    Ok(out.commit()?)
 }

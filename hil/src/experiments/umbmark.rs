@@ -8,7 +8,7 @@ use calib::{Direction, UmbmarkParams, UmbmarkResult, UmbmarkRuns};
 use super::plan::Plan;
 use super::runs::{RunRow, RunSet};
 use super::ExperimentError;
-use crate::output::write_atomic;
+use crate::output::OutputDir;
 
 /// The experiment's result: the runs' end errors and Borenstein's correction.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -135,42 +135,46 @@ impl Report {
     }
 }
 
-/// Write the report, its Markdown rendering and the plots into `dir`; each
-/// file appears whole or not at all.
-pub fn write_outputs(dir: &Path, full: &RunSet, report: &Report) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)?;
-    let tmp = dir.join(format!(".tmp-{}", std::process::id()));
-    std::fs::create_dir_all(&tmp)?;
+/// The files of a UMBmark's `--out` folder, all of them and nothing else.
+pub const UMBMARK_FILES: &[&str] = &[
+    "umbmark.svg",
+    "umbmark.png",
+    "trajectories.svg",
+    "trajectories.png",
+    "report.json",
+    "report.md",
+];
+
+/// Write the report, its Markdown rendering and the plots ([`UMBMARK_FILES`])
+/// into `dir`, a folder of their own that [`OutputDir::commit`] puts in
+/// place as a whole.
+pub fn write_set(dir: &Path, full: &RunSet, report: &Report) -> anyhow::Result<()> {
     let runs = umbmark_runs(full)?;
     calib::plot_umbmark(
         &report.result,
         &runs,
-        tmp.join("umbmark.svg"),
-        tmp.join("umbmark.png"),
+        dir.join("umbmark.svg"),
+        dir.join("umbmark.png"),
     )?;
     calib::plot::plot_trajectories(
         &format!("UMBmark trajectories, L = {:.0} mm", full.plan.leg_mm),
         &full.paths(["clockwise", "counter-clockwise"]),
-        tmp.join("trajectories.svg"),
-        tmp.join("trajectories.png"),
+        dir.join("trajectories.svg"),
+        dir.join("trajectories.png"),
     )?;
-    let mut written = Vec::new();
-    for f in [
-        "umbmark.svg",
-        "umbmark.png",
-        "trajectories.svg",
-        "trajectories.png",
-    ] {
-        let to = dir.join(f);
-        std::fs::rename(tmp.join(f), &to)?;
-        written.push(to);
-    }
-    let _ = std::fs::remove_dir_all(&tmp);
-    let json = dir.join("report.json");
-    write_atomic(&json, serde_json::to_string_pretty(report)?.as_bytes())?;
-    written.push(json);
-    let md = dir.join("report.md");
-    write_atomic(&md, report.markdown().as_bytes())?;
-    written.push(md);
-    Ok(written)
+    std::fs::write(
+        dir.join("report.json"),
+        serde_json::to_string_pretty(report)?,
+    )?;
+    std::fs::write(dir.join("report.md"), report.markdown())?;
+    Ok(())
+}
+
+/// Replace the folder `dir` by the report, its Markdown rendering and the
+/// plots, as a whole (see [`OutputDir`]); the paths written. A caller that
+/// runs the experiment first claims the folder before it runs instead.
+pub fn write_outputs(dir: &Path, full: &RunSet, report: &Report) -> anyhow::Result<Vec<PathBuf>> {
+    let out = OutputDir::claim(dir, UMBMARK_FILES)?;
+    write_set(out.staging(), full, report)?;
+    Ok(out.commit()?)
 }

@@ -109,6 +109,9 @@ impl Default for LinkOptions {
 pub trait Port: AsyncRead + AsyncWrite + Unpin + Send {}
 impl<T: AsyncRead + AsyncWrite + Unpin + Send> Port for T {}
 
+/// Commands a [`Link`] remembers having sent.
+pub const SENT_KEPT: usize = 64;
+
 /// The client: one command at a time over `port`.
 pub struct Link {
     port: Box<dyn Port>,
@@ -119,8 +122,9 @@ pub struct Link {
     notices: VecDeque<Notice>,
     /// Replies parsed but not yet handed out (several may come in one read).
     replies: VecDeque<Frame>,
-    /// Every command frame written, for tests that check what went out.
-    sent: Vec<Command>,
+    /// The last [`SENT_KEPT`] command frames written, for tests that check
+    /// what went out (the station polls for as long as it runs).
+    sent: VecDeque<Command>,
 }
 
 /// A firmware frame, owned.
@@ -195,7 +199,7 @@ impl Link {
             epoch: Instant::now(),
             notices: VecDeque::new(),
             replies: VecDeque::new(),
-            sent: Vec::new(),
+            sent: VecDeque::new(),
         }
     }
 
@@ -203,8 +207,9 @@ impl Link {
         &self.name
     }
 
-    /// Commands written so far, in order (each attempt counts).
-    pub fn sent(&self) -> &[Command] {
+    /// The last commands written, in order (each attempt counts; at most
+    /// [`SENT_KEPT`]).
+    pub fn sent(&self) -> &VecDeque<Command> {
         &self.sent
     }
 
@@ -314,7 +319,10 @@ impl Link {
             if let Err(e) = self.port.flush().await {
                 return Err(self.gone(e));
             }
-            self.sent.push(cmd);
+            if self.sent.len() == SENT_KEPT {
+                self.sent.pop_front();
+            }
+            self.sent.push_back(cmd);
             let deadline = tokio::time::Instant::now() + self.options.timeout;
             while let Some(r) = self.next_reply(deadline).await? {
                 if r.id == want {
@@ -497,6 +505,17 @@ mod tests {
                 attempts: 3,
             },
         )
+    }
+
+    /// The station polls for as long as it runs: what the link remembers
+    /// of it stays bounded.
+    #[tokio::test]
+    async fn the_commands_remembered_are_bounded() {
+        let mut l = link(vec![]);
+        for _ in 0..SENT_KEPT + 10 {
+            l.ping().await.unwrap();
+        }
+        assert_eq!(l.sent().len(), SENT_KEPT);
     }
 
     #[tokio::test]

@@ -253,7 +253,13 @@ fn serve_loop(
     stop: &AtomicBool,
 ) -> Result<(), BenchError> {
     let t0 = bench.robot_time_s();
-    let mut sent = bench.uart_output(1).len();
+    // A served robot runs for days: the bench keeps nothing of its past
+    // (no trace, no logs), and the firmware's bytes are taken as they come;
+    // those sent before the host came (at boot) are not the host's.
+    bench.keep_latest_records();
+    for n in 0..4 {
+        bench.take_uart_output(n);
+    }
     let mut pending: std::collections::VecDeque<u8> = Default::default();
     let mut buf = [0u8; 256];
     let pacer = Pacer::new(options.speed);
@@ -270,9 +276,11 @@ fn serve_loop(
         // Clients come and go between slices; one syscall per slice.
         slave.allow_reopen();
         bench.run_for(options.slice_s)?;
-        let out = bench.uart_output(1);
-        pending.extend(&out[sent..]);
-        sent = out.len();
+        pending.extend(bench.take_uart_output(1));
+        // The other USARTs (a debug port) have no listener here.
+        for n in [0, 2, 3] {
+            bench.take_uart_output(n);
+        }
         while !pending.is_empty() {
             let (a, _) = pending.as_slices();
             match master.write(a) {
