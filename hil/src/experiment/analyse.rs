@@ -130,6 +130,7 @@ pub(crate) fn analyse(
             .collect(),
         believed: Believed::factory(),
         warnings: never_fired(bench, opts),
+        faults_never_fired: bench.faults_never_fired(),
     }
 }
 
