@@ -51,8 +51,12 @@ pub struct FaultCase {
     /// Judge the robust build's run: Ok(why) passes, Err(why) fails; None
     /// for a case that states no expectation (a scenario file's), which is
     /// run and reported, not judged.
-    pub check: Option<fn(&Observed) -> Result<String, String>>,
+    pub check: Option<Check>,
 }
+
+/// A case's judgement of the robust build's run: Ok(why) passes, Err(why)
+/// fails.
+pub type Check = fn(&Observed) -> Result<String, String>;
 
 /// What `hil faults` concludes of one case.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
