@@ -327,6 +327,7 @@ fn faults_json_rows_have_the_table_fields() {
         assert!(rows[0][key].is_string(), "{key}");
     }
     assert_eq!(rows[0]["pass"], true);
+    assert_eq!(rows[0]["verdict"], "pass");
 }
 
 /// `--param NAME=VALUE` reaches the firmware before the run: a distance per

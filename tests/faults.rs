@@ -4,7 +4,7 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::faults::{library, run_fault, FaultOptions};
+use hil::faults::{library, run_fault, FaultOptions, Verdict};
 
 #[test]
 fn robust_firmware_reacts_as_expected_to_every_fault() {
@@ -24,6 +24,14 @@ fn robust_firmware_reacts_as_expected_to_every_fault() {
         println!("{}: {} | thesis: {}", row.fault, row.robust, row.thesis);
         if !row.pass {
             failures.push(format!("{}: {}", row.fault, row.why));
+        }
+        // The thesis build does not restart its test after a reset either:
+        // its selector is a RAM variable the C runtime clears at boot.
+        if row.fault == "reset-mid-test" {
+            let again = row.thesis_observed.as_ref().map(|o| o.driven_again_after_s);
+            if again != Some(None) {
+                failures.push(format!("reset-mid-test: thesis driven again: {again:?}"));
+            }
         }
         // The thesis build wedged in its leg loop is a hang the bench finds
         // and places (PC and symbol), as a finding of the row.
@@ -80,4 +88,39 @@ fn an_action_the_plant_refuses_ends_the_run_naming_it() {
     }
     let applied: Vec<&Action> = bench.core().applied().iter().map(|a| &a.1).collect();
     assert_eq!(applied, [&good]);
+}
+
+/// `reset-mid-test` fails for a firmware that starts its test again after
+/// the reset: here the robust build, sent the line's start byte again 0.5 s
+/// after the reset, does what such a firmware does by itself. (The reset
+/// alone drives the motors' pins low, and a check of that, over a window
+/// shorter than the line, passed whatever the firmware did next.)
+#[test]
+fn reset_mid_test_fails_for_a_firmware_that_restarts_its_test() {
+    use hil::bench::{Action, ScheduledFault, Trigger};
+    let mut case = library()
+        .into_iter()
+        .find(|c| c.name == "reset-mid-test")
+        .unwrap();
+    case.faults.push(ScheduledFault::new(
+        Trigger::Time { s: 4.5 },
+        Action::HostSend {
+            bytes: vec![hil::experiment::Test::Line.command_byte()],
+        },
+    ));
+    let row = run_fault(
+        &case,
+        &support::firmware("robust"),
+        None,
+        &support::robot("henrytwo-ideal"),
+        &FaultOptions::default(),
+    )
+    .expect("the bench runs it");
+    assert_eq!(row.verdict, Verdict::Fail, "{}: {}", row.robust, row.why);
+    let again = row
+        .robust_observed
+        .driven_again_after_s
+        .expect("driven again");
+    assert!((0.5..1.0).contains(&again), "{again}");
+    assert!(row.why.contains("driven again"), "{}", row.why);
 }

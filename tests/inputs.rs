@@ -115,8 +115,10 @@ fn scenario_times_beyond_a_day_are_refused() {
 }
 
 /// A fault whose trigger the run never reaches is named in the run's
-/// warnings (JSON and text), and in `hil faults --scenario`; the fault that
-/// fired is not.
+/// warnings (JSON and text), and in `hil faults --scenario`, where it fails
+/// the case (verdict, text and exit code: nothing was tested); the fault that
+/// fired is not named. A scenario whose faults all fire is run and reported
+/// as not judged, never as a pass.
 #[test]
 fn a_scenario_fault_that_never_fires_is_a_warning() {
     let scenario = fixture("scenarios/never-fires.toml");
@@ -146,20 +148,58 @@ fn a_scenario_fault_that_never_fires_is_a_warning() {
         "{text}"
     );
 
-    let out = hil(&[
-        "faults",
-        "--scenario",
-        &scenario,
-        "--robot",
-        &robot,
-        "--json",
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let faults = |scenario: &str, json: bool| {
+        let args = ["faults", "--scenario", scenario, "--robot", &robot];
+        hil(&[&args[..], if json { &["--json"][..] } else { &[][..] }].concat())
+    };
+    let out = faults(&scenario, true);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("never fired"), "{}", stderr(&out));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(
         rows[0]["robust_observed"]["warnings"],
         serde_json::json!(["scenario fault 1 (reset at 3000 s) never fired"]),
     );
+    assert_eq!(rows[0]["verdict"], "not_fired");
+    assert_eq!(rows[0]["pass"], false);
+    assert_eq!(
+        rows[0]["robust_observed"]["faults_never_fired"],
+        serde_json::json!([1])
+    );
+    let out = faults(&scenario, false);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("[FAIL: a fault never fired]"), "{text}");
+    assert!(!text.contains("[pass]"), "{text}");
+    assert_eq!(out.status.code(), Some(1));
+
+    // Only the fault that fires: run, reported, not judged, exit 0.
+    let dir = std::env::temp_dir().join(format!("hil-fires-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fires = dir.join("fires.toml");
+    std::fs::write(
+        &fires,
+        "test = \"line\"\nleg_mm = 300.0\nlimit_s = 30.0\n\n[[fault]]\n\
+         trigger = { at = \"leg_start\", n = 1 }\n\
+         action = { action = \"slip_burst\", side = \"left\", slip = 0.0 }\n",
+    )
+    .unwrap();
+    let fires = fires.display().to_string();
+    let out = faults(&fires, true);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows[0]["verdict"], "not_judged");
+    assert_eq!(rows[0]["pass"], false);
+    let out = faults(&fires, false);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("[ran, not judged]") && !text.contains("[pass]"),
+        "{text}"
+    );
+    assert!(
+        text.contains("0 passed, 0 failed, 1 ran, not judged"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 // ---- 3. the ELF's MCU -------------------------------------------------------

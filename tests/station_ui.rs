@@ -1,6 +1,8 @@
 //! The station's page in headless Chromium, as an operator uses it: connect
 //! the emulated robot, run a UMBmark CW to its end (the emulator's end point
-//! lands in the table), type ten end points, check the factors shown are the
+//! lands in the table, the side follows the test's leg), stop a running test
+//! (the notice and the live values cleared), type ten end points (a side
+//! other than the leg refused), check the factors shown are the
 //! calib crate's for those points, send them and read the firmware's
 //! parameters back over the protocol; the session survives a reload. The
 //! next round is a Triangular Path: ten line and triangle end points, the
@@ -238,6 +240,31 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
         .unwrap()
         .unwrap_or_default();
     assert!(first.parse::<f64>().is_ok(), "{first:?}");
+    // The round ran with 300 mm legs: the side of the formulas follows.
+    let side = c
+        .find(Locator::Id("side_cm"))
+        .await
+        .unwrap()
+        .prop("value")
+        .await
+        .unwrap();
+    assert_eq!(side.as_deref(), Some("30"));
+
+    // Stop ends a running test: the notice says so, and the live values
+    // (the firmware's last duty and speed) are gone and stay gone.
+    click(&c, Locator::Css("button[data-test='umbmark-ccw']")).await;
+    wait_text(&c, "pwm-left", 20, |t| {
+        t.parse::<u32>().is_ok_and(|d| d > 0)
+    })
+    .await;
+    click(&c, Locator::Id("stop")).await;
+    wait_text(&c, "notice", 10, |t| t == "stopped").await;
+    wait_text(&c, "state", 10, |t| t.starts_with("idle")).await;
+    tokio::time::sleep(Duration::from_millis(1000)).await;
+    for id in ["pwm-left", "pwm-right", "speed-left", "speed-right"] {
+        assert_eq!(text(&c, id).await, "-", "#{id} after Stop");
+    }
+    assert_eq!(text(&c, "notice").await, "stopped");
 
     // Ten end points as the operator measured them.
     for (dir, points) in [("cw", CW), ("ccw", CCW)] {
@@ -248,7 +275,17 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     }
     wait_text(&c, "save-state", 10, |t| t == "saved").await;
 
-    // The factors shown are the library's for those points, with the
+    // A side typed otherwise than the tests' leg is refused: no correction.
+    type_into(&c, "side_cm", "200").await;
+    let errors = wait_text(&c, "field-errors", 10, |t| t.contains("side_cm")).await;
+    assert!(errors.contains("300 mm legs"), "{errors}");
+    let apply = c.find(Locator::Id("apply")).await.unwrap();
+    assert!(!apply.is_enabled().await.unwrap());
+    type_into(&c, "side_cm", "30").await;
+    wait_text(&c, "field-errors", 10, |t| t.is_empty()).await;
+
+    // The factors shown are the library's for those points, with the side
+    // of the legs the tests ran with (not the 200 cm default) and the
     // wheelbase the robot ran with.
     let b = value_of(&c, "robot-wheelbase").await.unwrap();
     let runs = UmbmarkRuns::new(
@@ -259,7 +296,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     let want = umbmark_correction(
         &runs,
         &UmbmarkParams {
-            side_cm: 200.0,
+            side_cm: 30.0,
             wheelbase_mm: b,
             ..Default::default()
         },
@@ -335,6 +372,8 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     let saved: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
     assert_eq!(saved["rounds"][0]["ccw"][4]["y"], "-3.3");
+    assert_eq!(saved["rounds"][0]["leg_mm"], 300.0);
+    assert_eq!(saved["side_cm"], "30");
     assert_eq!(saved["rounds"][1]["cw"][0]["x"], "12,5x");
     assert_eq!(saved["rounds"][1]["params"]["c_left"], robot_cl_after);
     screenshot(&c, "station-ui-applied.png").await;
@@ -343,6 +382,8 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     // five triangles typed; the factors shown are the library's, first order
     // and then exact.
     click(&c, Locator::Css("#method option[value='triangle']")).await;
+    // Measured on 2 m paths the station did not run: the side is typed.
+    type_into(&c, "side_cm", "200").await;
     for (test, points) in [("line", LINE), ("triangle", TRIANGLE)] {
         for (i, (x, y)) in points.iter().enumerate() {
             type_into(&c, &format!("r1-{test}-{}-x", i + 1), &x.to_string()).await;

@@ -76,7 +76,8 @@ pub struct Target {
     /// built in). Checked before anything runs.
     #[arg(long, value_name = "FILE", value_parser = super::board::parse_board)]
     pub board: Option<Board>,
-    /// Seed of the plant's random effects.
+    /// Seed of the plant's random effects (an experiment's runs each use a
+    /// seed mixed from it and the run's index).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Do not tell the firmware the robot's geometry (distance per count,

@@ -200,17 +200,22 @@ impl Merge {
     pub fn run(self) -> Result<()> {
         let mut partials = Vec::new();
         for p in &self.parts {
-            let text =
-                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-            let part: Partial = serde_json::from_str(&text).with_context(|| {
-                format!(
-                    "{} is not a partial result of `hil umbmark --shard`",
-                    p.display()
-                )
-            })?;
-            partials.push(part);
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("reading {}", p.display()))
+                .map_err(super::bad_input)?;
+            let part: Partial = serde_json::from_str(&text)
+                .with_context(|| {
+                    format!(
+                        "{} is not a partial result of `hil umbmark --shard`",
+                        p.display()
+                    )
+                })
+                .map_err(super::bad_input)?;
+            partials.push((p.display().to_string(), part));
         }
-        let full = hil::umbmark::merge(partials)?;
+        // Parts that do not make one experiment are refused (exit 2), as
+        // input that does not check: no order of them gives a result.
+        let full = hil::umbmark::merge_named(partials).map_err(super::bad_input)?;
         let report = hil::umbmark::report(
             &full,
             self.correction
@@ -218,7 +223,15 @@ impl Merge {
                 .unwrap_or(full.plan.believed().wheelbase_mm),
             self.correction.solve.solution(),
         )?;
-        self.json.emit(&report, || report.render())
+        if self.json.json {
+            // As `hil umbmark --json --deterministic` prints it, byte for
+            // byte (a merge has no wall time of its own).
+            let v = json_with_pace(&report, None, PaceFields::RtfAndWall)?;
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            print!("{}", report.render());
+        }
+        incomplete(&full)
     }
 }
 

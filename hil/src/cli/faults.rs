@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use hil::elf::Firmware;
-use hil::faults::{FaultCase, FaultOptions};
+use hil::faults::{FaultCase, FaultOptions, Verdict};
 use rayon::prelude::*;
 
 use super::args::{parse_seconds, Common};
@@ -21,7 +21,8 @@ pub struct Faults {
     #[arg(long)]
     list: bool,
     /// Run the faults of a scenario file (TOML or JSON) against both
-    /// builds instead of the library (reported, not judged).
+    /// builds instead of the library (reported, not judged; a fault that
+    /// never fires fails).
     #[arg(long, value_name = "FILE")]
     scenario: Option<PathBuf>,
     /// Robot seconds without progress after which a busy firmware is
@@ -69,15 +70,22 @@ impl Faults {
             .par_iter()
             .map(|case| hil::faults::run_fault(case, &robust, thesis.as_ref(), &robot, &options))
             .collect::<Result<Vec<_>, _>>()?;
-        let failed = rows.iter().filter(|r| !r.pass).count();
         self.common
             .print
             .json
             .emit(&rows, || hil::faults::render(&rows))?;
-        if failed > 0 {
-            anyhow::bail!("{failed} fault reaction(s) not as expected");
+        let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
+        let (failed, not_fired) = (count(Verdict::Fail), count(Verdict::NotFired));
+        match (failed, not_fired) {
+            (0, 0) => Ok(()),
+            (f, 0) => anyhow::bail!("{f} fault reaction(s) not as expected"),
+            (0, n) => {
+                anyhow::bail!("{n} case(s) with a fault that never fired: nothing was tested")
+            }
+            (f, n) => anyhow::bail!(
+                "{f} fault reaction(s) not as expected, {n} case(s) with a fault that never fired"
+            ),
         }
-        Ok(())
     }
 
     /// The cases `--all`, `--fault` or `--scenario` ask for.

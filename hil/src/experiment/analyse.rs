@@ -134,6 +134,7 @@ pub(crate) fn analyse(
             .into_iter()
             .chain(core.record_notices())
             .collect(),
+        faults_never_fired: bench.faults_never_fired(),
     }
 }
 

@@ -179,6 +179,10 @@ pub struct TestRun {
     /// firmware whose geometry is not the robot's).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// The faults of [`TestOptions::faults`] (their indices) the run never
+    /// reached: named in `warnings`, and for whoever judges the run.
+    #[serde(skip)]
+    pub faults_never_fired: Vec<usize>,
 }
 
 /// Run `test` from a fresh reset.

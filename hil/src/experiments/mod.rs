@@ -39,7 +39,7 @@ pub use rounds::{
     calibrate, table10, Calibration, CalibrationRound, RoundOptions, RoundReport, Stop,
 };
 pub use runs::{execute, IndexedRun, RunRow, RunSet};
-pub use shard::{merge, partial_path};
+pub use shard::{merge, merge_named, partial_path};
 pub use triangle::{
     triangle_report, write_triangle_outputs, write_triangle_set, TriangleReport, TRIANGLE_FILES,
 };
@@ -57,6 +57,12 @@ pub enum ExperimentError {
     BadShard(String),
     #[error("partial results do not belong together: {0}")]
     Mismatch(String),
+    #[error("run {index} is in {first} and in {second} with different results: merge one copy of each shard")]
+    Conflict {
+        index: usize,
+        first: String,
+        second: String,
+    },
     #[error("runs {missing:?} are missing: merge the partial results of every shard")]
     Missing { missing: Vec<usize> },
     #[error("calibration: {0}")]

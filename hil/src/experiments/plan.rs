@@ -48,7 +48,7 @@ pub struct Plan {
     pub experiment: Experiment,
     pub leg_mm: f64,
     pub runs_per_direction: usize,
-    /// Run `i` uses seed `seed + i`.
+    /// The experiment's seed: run `i` uses [`run_seed`]`(seed, i)`.
     pub seed: u64,
     /// The robot config, by content (a file name would not pin it).
     pub robot: String,
@@ -68,6 +68,18 @@ pub struct Plan {
     /// [`crate::description`]); the firmware's hash pins the rest.
     #[serde(skip)]
     pub description: Option<std::sync::Arc<crate::description::Description>>,
+}
+
+/// The seed of run `index` of an experiment seeded `seed`: the `index`-th
+/// output of a SplitMix64 stream started from `mix(seed)`. Mixing the seed
+/// first makes the streams of different seeds unrelated, so two experiments
+/// with seeds 1 and 2 draw independent samples (with `seed + index`, seeds
+/// 1 and 2 shared 9 of 10 runs); the same seed still gives the same runs on
+/// every machine, and a run's seed depends only on its index, so shards stay
+/// exact.
+pub fn run_seed(seed: u64, index: usize) -> u64 {
+    use plant_model::rng::{mix, GOLDEN};
+    mix(mix(seed).wrapping_add((index as u64).wrapping_add(1).wrapping_mul(GOLDEN)))
 }
 
 /// One run of a plan: its index, direction and seed.
@@ -166,7 +178,7 @@ impl Plan {
             .map(|i| RunSpec {
                 index: i,
                 test: if i < n { first } else { second },
-                seed: self.seed.wrapping_add(i as u64),
+                seed: run_seed(self.seed, i),
             })
             .collect()
     }
@@ -177,5 +189,34 @@ impl Plan {
             .into_iter()
             .filter(|r| r.index % shard.n == shard.k - 1)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::run_seed;
+
+    /// Experiments seeded 0..50 share no run (same seed and same test): with
+    /// `seed + i`, consecutive seeds shared 8 of their 10 runs. One seed
+    /// always gives the same run seeds.
+    #[test]
+    fn different_seeds_share_no_run_and_one_seed_repeats() {
+        let n = 5;
+        let runs =
+            |seed| -> Vec<(bool, u64)> { (0..2 * n).map(|i| (i < n, run_seed(seed, i))).collect() };
+        let mut seen = std::collections::HashMap::new();
+        for seed in 0..50u64 {
+            for r in runs(seed) {
+                if let Some(other) = seen.insert(r, seed) {
+                    panic!("seeds {other} and {seed} share the run seed {}", r.1);
+                }
+            }
+        }
+        assert_eq!(runs(7), runs(7));
+        assert_eq!(
+            run_seed(7, 3),
+            0xe21b_5034_36e9_7f5b,
+            "run seeds are pinned"
+        );
     }
 }

@@ -59,7 +59,7 @@ impl TriangleReport {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "Triangular Path, L = {:.0} mm, {} lines and {} counter-clockwise triangles ({}, seeds {}..)",
+            "Triangular Path, L = {:.0} mm, {} lines and {} counter-clockwise triangles ({}, seed {})",
             self.plan.leg_mm, self.plan.runs_per_direction, self.plan.runs_per_direction, self.plan.firmware, self.plan.seed
         );
         let _ = writeln!(

@@ -57,7 +57,7 @@ impl Report {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "Reduced UMBmark, L = {:.0} mm, {} runs per direction ({}, seeds {}..)",
+            "Reduced UMBmark, L = {:.0} mm, {} runs per direction ({}, seed {})",
             self.plan.leg_mm, self.plan.runs_per_direction, self.plan.firmware, self.plan.seed
         );
         let _ = writeln!(
@@ -123,7 +123,7 @@ impl Report {
     pub fn markdown(&self) -> String {
         format!(
             "# Reduced UMBmark on the emulated robot\n\n\
-             Firmware `{}` ({}), L = {:.0} mm, seeds from {}.\n\n\
+             Firmware `{}` ({}), L = {:.0} mm, seed {} (run seeds derived from it).\n\n\
              ```text\n{}```\n\n\
              ![end errors](umbmark.svg)\n\n![trajectories](trajectories.svg)\n",
             self.plan.firmware,

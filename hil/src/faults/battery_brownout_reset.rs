@@ -22,7 +22,7 @@ pub fn case() -> FaultCase {
         }],
         limit_s: 8.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

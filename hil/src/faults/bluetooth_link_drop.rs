@@ -35,7 +35,7 @@ pub fn case() -> FaultCase {
         ],
         limit_s: 20.0,
         framed: true,
-        check,
+        check: Some(check),
     }
 }
 

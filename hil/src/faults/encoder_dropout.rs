@@ -25,7 +25,7 @@ pub fn case() -> FaultCase {
         )],
         limit_s: 25.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

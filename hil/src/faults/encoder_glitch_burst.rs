@@ -37,7 +37,7 @@ pub fn case() -> FaultCase {
         faults,
         limit_s: 30.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

@@ -48,8 +48,46 @@ pub struct FaultCase {
     pub limit_s: f64,
     /// Start the test with a framed command instead of the raw selector byte.
     pub framed: bool,
-    /// Judge the robust build's run: Ok(why) passes, Err(why) fails.
-    pub check: fn(&Observed) -> Result<String, String>,
+    /// Judge the robust build's run: Ok(why) passes, Err(why) fails; None
+    /// for a case that states no expectation (a scenario file's), which is
+    /// run and reported, not judged.
+    pub check: Option<Check>,
+}
+
+/// A case's judgement of the robust build's run: Ok(why) passes, Err(why)
+/// fails.
+pub type Check = fn(&Observed) -> Result<String, String>;
+
+/// What `hil faults` concludes of one case.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// The robust build reacted as expected.
+    Pass,
+    /// It did not.
+    Fail,
+    /// Run and reported, against no expectation (a scenario file).
+    NotJudged,
+    /// A fault of the case never fired: the run shows no reaction to it,
+    /// whatever its numbers say. A failure: nothing was tested.
+    NotFired,
+}
+
+impl Verdict {
+    /// Whether the command that reached it failed (its exit code).
+    pub fn failed(self) -> bool {
+        matches!(self, Verdict::Fail | Verdict::NotFired)
+    }
+
+    /// Its tag in the text table.
+    pub fn tag(self) -> &'static str {
+        match self {
+            Verdict::Pass => "pass",
+            Verdict::Fail => "FAIL",
+            Verdict::NotJudged => "ran, not judged",
+            Verdict::NotFired => "FAIL: a fault never fired",
+        }
+    }
 }
 
 /// Every fault, in a fixed order.
@@ -161,6 +199,15 @@ pub struct Observed {
     /// The run's warnings (a scenario fault that never fired, ...).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// The case's faults (1-based, as the warnings name them) the run never
+    /// reached.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub faults_never_fired: Vec<usize>,
+    /// Robot time from the first fault action to the first time, after the
+    /// motors went all off, that a PWM bridge input was driven again: a
+    /// firmware that resumed or restarted something on its own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub driven_again_after_s: Option<f64>,
     /// Counts per second of a wheel at the firmware's set-point (mean of the
     /// two wheels), from what the firmware believed about the robot.
     #[serde(skip)]
@@ -179,18 +226,32 @@ impl Observed {
             .filter(|b| b.pwm.is_some())
             .map(|b| b.pin.arduino)
             .collect();
-        let motors_off_after_s = fault_cycle.and_then(|fc| {
-            // Replay the drive log to find the first moment after the fault
-            // with every PWM bridge input at zero.
-            let mut duty = [0.0f64; 70];
+        // Replay the drive log to find the first moment after the fault with
+        // every PWM bridge input at zero, and the first one after that with
+        // one of them driven again.
+        let mut duty = [0.0f64; 70];
+        let mut off_at = None;
+        let mut again_at = None;
+        if let Some(fc) = fault_cycle {
             for e in &run.drive {
                 duty[e.pin as usize] = e.duty;
-                if e.cycle >= fc && inputs.iter().all(|&p| duty[p as usize] == 0.0) {
-                    return Some((e.cycle - fc) as f64 / clock_hz as f64);
+                if e.cycle < fc {
+                    continue;
+                }
+                let all_off = inputs.iter().all(|&p| duty[p as usize] == 0.0);
+                match off_at {
+                    None if all_off => off_at = Some(e.cycle),
+                    Some(_) if !all_off => {
+                        again_at = Some(e.cycle);
+                        break;
+                    }
+                    _ => {}
                 }
             }
-            None
-        });
+        }
+        let since_fault = |c: Option<u64>| Some((c? - fault_cycle?) as f64 / clock_hz as f64);
+        let motors_off_after_s = since_fault(off_at);
+        let driven_again_after_s = since_fault(again_at);
         let leg = run.legs.first();
         let replies = crate::link::replies(&run.bluetooth_out);
         let led_changes = run
@@ -232,6 +293,8 @@ impl Observed {
             led_at_end: run.leds.last().map_or("off", |e| e.colour()).into(),
             brownouts: run.brownouts.clone(),
             warnings: run.warnings.clone(),
+            faults_never_fired: run.faults_never_fired.iter().map(|i| i + 1).collect(),
+            driven_again_after_s,
             setpoint_counts_per_s: (run.believed.setpoint_counts_per_s(0)
                 + run.believed.setpoint_counts_per_s(1))
                 / 2.0,
@@ -295,7 +358,9 @@ pub struct FaultRow {
     pub expected: String,
     pub robust: String,
     pub thesis: String,
+    /// The verdict is [`Verdict::Pass`].
     pub pass: bool,
+    pub verdict: Verdict,
     pub why: String,
     pub robust_observed: Observed,
     pub thesis_observed: Option<Observed>,
@@ -340,10 +405,7 @@ pub fn run_fault(
     options: &FaultOptions,
 ) -> Result<FaultRow, BenchError> {
     let r = run_case(robust, robot, case, options)?;
-    let (pass, why) = match (case.check)(&r) {
-        Ok(why) => (true, why),
-        Err(why) => (false, why),
-    };
+    let (verdict, why) = judge(case, &r);
     // The thesis build may do anything: whatever the bench sees is a finding.
     let t = match thesis {
         Some(fw) => match run_case(fw, robot, case, options) {
@@ -362,11 +424,40 @@ pub fn run_fault(
             Some(Err(e)) => format!("the bench stopped it: {e}"),
             None => "not run (no thesis build)".into(),
         },
-        pass,
+        pass: verdict == Verdict::Pass,
+        verdict,
         why,
         robust_observed: r,
         thesis_observed: t.and_then(|t| t.ok()),
     })
+}
+
+/// The verdict on the robust build's run of `case`, and why. A fault that
+/// never fired fails the case before its check is asked: the check would
+/// judge a run without the fault (a reset that never came leaves the motors
+/// as a fault-free run does).
+fn judge(case: &FaultCase, o: &Observed) -> (Verdict, String) {
+    if !o.faults_never_fired.is_empty() {
+        let list: Vec<String> = o.faults_never_fired.iter().map(|i| i.to_string()).collect();
+        return (
+            Verdict::NotFired,
+            format!(
+                "fault {} never fired in {:.1} s of robot time: the run shows no reaction to it",
+                list.join(", "),
+                o.robot_time_s
+            ),
+        );
+    }
+    match case.check {
+        None => (
+            Verdict::NotJudged,
+            "not judged: the scenario states no expectation".into(),
+        ),
+        Some(check) => match check(o) {
+            Ok(why) => (Verdict::Pass, why),
+            Err(why) => (Verdict::Fail, why),
+        },
+    }
 }
 
 /// The `hil faults` table.
@@ -374,7 +465,7 @@ pub fn render(rows: &[FaultRow]) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     for r in rows {
-        let _ = writeln!(s, "{} [{}]", r.fault, if r.pass { "pass" } else { "FAIL" });
+        let _ = writeln!(s, "{} [{}]", r.fault, r.verdict.tag());
         let _ = writeln!(s, "  fault     {}", r.what);
         let _ = writeln!(s, "  expected  {}", r.expected);
         let _ = writeln!(s, "  robust    {}", r.robust);
@@ -391,8 +482,22 @@ pub fn render(rows: &[FaultRow]) -> String {
             let _ = writeln!(s, "  warning   {}: {}", w.0, w.1);
         }
     }
-    let passed = rows.iter().filter(|r| r.pass).count();
-    let _ = writeln!(s, "{passed} passed, {} failed", rows.len() - passed);
+    let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
+    let _ = write!(
+        s,
+        "{} passed, {} failed",
+        count(Verdict::Pass),
+        count(Verdict::Fail)
+    );
+    for (v, what) in [
+        (Verdict::NotFired, "with a fault that never fired (failed)"),
+        (Verdict::NotJudged, "ran, not judged"),
+    ] {
+        if count(v) > 0 {
+            let _ = write!(s, ", {} {what}", count(v));
+        }
+    }
+    let _ = writeln!(s);
     s
 }
 
@@ -419,6 +524,6 @@ pub fn from_scenario(path: &std::path::Path, s: &crate::scenario::Scenario) -> F
         faults: s.scheduled(),
         limit_s: s.limit_s.unwrap_or(60.0),
         framed: s.framed,
-        check: |_| Ok("not judged: the scenario states no expectation".into()),
+        check: None,
     }
 }

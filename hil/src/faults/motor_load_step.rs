@@ -29,7 +29,7 @@ pub fn case() -> FaultCase {
         faults: left_load_from_3_s(0.15),
         limit_s: 30.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

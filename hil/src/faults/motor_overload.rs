@@ -16,7 +16,7 @@ pub fn case() -> FaultCase {
         faults: super::motor_load_step::left_load_from_3_s(0.3),
         limit_s: 30.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

@@ -26,7 +26,7 @@ pub fn case() -> FaultCase {
         faults: vec![stall(Side::Left), stall(Side::Right)],
         limit_s: 25.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

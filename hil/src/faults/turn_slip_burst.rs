@@ -26,7 +26,7 @@ pub fn case() -> FaultCase {
         faults,
         limit_s: 80.0,
         framed: false,
-        check,
+        check: Some(check),
     }
 }
 

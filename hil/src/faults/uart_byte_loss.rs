@@ -27,7 +27,7 @@ pub fn case() -> FaultCase {
         }],
         limit_s: 8.0,
         framed: true,
-        check,
+        check: Some(check),
     }
 }
 

@@ -24,7 +24,7 @@ pub fn case() -> FaultCase {
         )],
         limit_s: 8.0,
         framed: true,
-        check,
+        check: Some(check),
     }
 }
 

@@ -59,7 +59,9 @@ impl IntoResponse for UiError {
     fn into_response(self) -> Response {
         let status = match &self {
             UiError::Input(_) | UiError::Session(SessionError::Csv(_)) => StatusCode::BAD_REQUEST,
-            UiError::Session(SessionError::WhichExperiment { .. }) => StatusCode::BAD_REQUEST,
+            UiError::Session(
+                SessionError::WhichExperiment { .. } | SessionError::LegChanged { .. },
+            ) => StatusCode::BAD_REQUEST,
             UiError::NotConnected => StatusCode::CONFLICT,
             UiError::Link(LinkError::Refused { .. } | LinkError::OutOfRange { .. }) => {
                 StatusCode::CONFLICT
@@ -457,11 +459,26 @@ async fn start(
     Json(req): Json<StartRequest>,
 ) -> Result<Json<serde_json::Value>, UiError> {
     let (link, emulator) = link_of(&app).await?;
+    // The session before the link, as `apply` takes them.
+    let mut guard = app.session.lock().await;
     let mut l = link.lock().await;
     let leg_mm = match req.leg_mm {
         Some(v) => l.set_param(Param::LegLengthMm, v as f32).await?,
         None => l.get_param(Param::LegLengthMm).await?,
     } as f64;
+    // The leg the round's end points will come from, recorded before the
+    // robot moves: a round whose points came from another leg refuses it.
+    let recorded = match guard.as_mut() {
+        Some((file, s)) => {
+            let mut new = s.clone();
+            if session::record_leg(&mut new, req.test, leg_mm)? {
+                Some((file.clone(), new))
+            } else {
+                None
+            }
+        }
+        None => None,
+    };
     if let Some(v) = emulator.as_ref().map(|e| e.view()) {
         if let Ok(mut s) = app.start.lock() {
             *s = Some(StartPose {
@@ -474,14 +491,25 @@ async fn start(
         }
     }
     l.start(req.test).await?;
-    Ok(Json(
-        json!({ "started": req.test.name(), "leg_mm": leg_mm }),
-    ))
+    let mut body = json!({ "started": req.test.name(), "leg_mm": leg_mm });
+    if let Some((file, new)) = recorded {
+        session::save(&file, &new)?;
+        body["session"] = json!(new);
+        body["evaluation"] = json!(session::evaluate(&new));
+        if let Some((_, s)) = guard.as_mut() {
+            *s = new;
+        }
+    }
+    Ok(Json(body))
 }
 
+/// Stop the robot; a test it was running gives no end point.
 async fn stop(State(app): State<Shared>) -> Result<Json<serde_json::Value>, UiError> {
     let (link, _) = link_of(&app).await?;
     link.lock().await.stop().await?;
+    if let Ok(mut s) = app.start.lock() {
+        *s = None;
+    }
     Ok(Json(json!({ "stopped": true })))
 }
 
@@ -533,6 +561,7 @@ async fn put_session(
     for (n, old) in new.rounds.iter_mut().zip(&s.rounds) {
         n.params = old.params;
         n.applied = old.applied;
+        n.leg_mm = old.leg_mm;
     }
     new.robot = s.robot.clone();
     session::save(file, &new)?;

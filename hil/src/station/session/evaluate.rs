@@ -9,7 +9,7 @@ use calib::{
 };
 use serde::Serialize;
 
-use super::{Method, PointText, Session, MAX_ERROR_CM};
+use super::{Method, PointText, Session, MAX_ERROR_CM, SAME_LEG_MM};
 
 /// What to send to the robot after a round.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -108,8 +108,27 @@ pub fn evaluate(session: &Session) -> Evaluation {
         }
     };
     let mut rounds = Vec::new();
+    let last = session.rounds.len().saturating_sub(1);
     for (k, round) in session.rounds.iter().enumerate() {
         let mut ok = true;
+        // The side is the leg the round's tests ran with, when the station
+        // ran them. The last round's correction is refused while the side
+        // typed says otherwise (a 300 mm leg computed as 200 cm gives a
+        // correction 6.7 times too small); earlier rounds were sent already.
+        let side = match (round.leg_mm, side) {
+            (Some(leg), Some(typed)) if k == last && (typed * 10.0 - leg).abs() > SAME_LEG_MM => {
+                errors.insert(
+                    "side_cm".into(),
+                    format!(
+                        "this round's tests ran with {leg} mm legs: the side is {} cm, not {typed}",
+                        leg / 10.0
+                    ),
+                );
+                None
+            }
+            (Some(leg), _) => Some(leg / 10.0),
+            (None, side) => side,
+        };
         // Only the runs of the round's method count (and are checked): the
         // other method's rows stay as typed, for a switch back.
         let groups: [(&str, &Vec<PointText>); 2] = match round.method {

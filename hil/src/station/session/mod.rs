@@ -10,6 +10,8 @@
 use std::path::{Path, PathBuf};
 
 use calib::{Endpoint, PartialEndpoint, Solution};
+
+use crate::experiment::Test;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -40,6 +42,11 @@ pub enum SessionError {
     Csv(#[from] calib::Error),
     #[error("the CSV holds {method} experiments {list}: give the one to import")]
     WhichExperiment { method: &'static str, list: String },
+    #[error(
+        "round {round} has end points from tests with {was_mm} mm legs: run its tests with {was_mm} mm legs, \
+         or clear its end points first (one side per round)"
+    )]
+    LegChanged { round: usize, was_mm: f64 },
 }
 
 /// One end point as typed, centimetres.
@@ -77,6 +84,15 @@ impl Method {
             Method::Triangle => "Triangular Path",
         }
     }
+
+    /// Whether `test`'s end point is one of this method's runs (a line in a
+    /// UMBmark round measures Es, with its own length).
+    pub fn runs_of(self, test: Test) -> bool {
+        match self {
+            Method::Umbmark => matches!(test, Test::UmbmarkCw | Test::UmbmarkCcw),
+            Method::Triangle => matches!(test, Test::Line | Test::Triangle),
+        }
+    }
 }
 
 fn empty_runs() -> Vec<PointText> {
@@ -107,6 +123,12 @@ pub struct RoundEntry {
     /// correction.
     #[serde(default)]
     pub applied: Option<Params>,
+    /// The leg length (mm) the station's tests of this round ran with,
+    /// recorded when the first of them started: the side of Borenstein's
+    /// (or Ruan's) formulas. None for end points from elsewhere (typed, a
+    /// CSV), and in files from before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub leg_mm: Option<f64>,
 }
 
 impl RoundEntry {
@@ -121,8 +143,52 @@ impl RoundEntry {
             line_commanded_cm: String::new(),
             line_measured_cm: String::new(),
             applied: None,
+            leg_mm: None,
         }
     }
+
+    /// Whether any end point of the round's method is typed.
+    fn has_points(&self) -> bool {
+        let groups = match self.method {
+            Method::Umbmark => [&self.cw, &self.ccw],
+            Method::Triangle => [&self.line, &self.triangle],
+        };
+        groups
+            .iter()
+            .flat_map(|g| g.iter())
+            .any(|p| !p.x.trim().is_empty() || !p.y.trim().is_empty())
+    }
+}
+
+/// Legs this close (mm) are the same leg (the firmware keeps an f32; a side
+/// is typed with a few decimals).
+pub(crate) const SAME_LEG_MM: f64 = 0.05;
+
+/// `test` is about to start with `leg_mm` legs: when it gives the last
+/// round's end points, the round records the leg and the side follows it
+/// (true: the session changed). Refused when the round already has end
+/// points from tests with another leg: one round, one side.
+pub fn record_leg(session: &mut Session, test: Test, leg_mm: f64) -> Result<bool, SessionError> {
+    let k = session.rounds.len().saturating_sub(1);
+    let Some(round) = session.rounds.get_mut(k) else {
+        return Ok(false);
+    };
+    if !round.method.runs_of(test) {
+        return Ok(false);
+    }
+    match round.leg_mm {
+        Some(was) if (was - leg_mm).abs() <= SAME_LEG_MM => return Ok(false),
+        Some(was) if round.has_points() => {
+            return Err(SessionError::LegChanged {
+                round: k,
+                was_mm: was,
+            })
+        }
+        _ => {}
+    }
+    round.leg_mm = Some(leg_mm);
+    session.side_cm = format!("{}", leg_mm / 10.0);
+    Ok(true)
 }
 
 /// Everything entered for one robot.
@@ -253,6 +319,9 @@ pub fn import_csv(
     let Some(r) = session.rounds.get_mut(round) else {
         return Ok(());
     };
+    // The table's points are not the station's tests: their side is the
+    // one typed.
+    r.leg_mm = None;
     match method {
         Method::Umbmark => {
             let opts = calib::csv::CsvOptions::default();

@@ -267,3 +267,76 @@ fn a_session_from_before_the_triangle_loads_as_umbmark() {
     assert_eq!(s.rounds[0].triangle.len(), RUNS_PER_DIRECTION);
     assert_eq!(s, filled());
 }
+
+/// The leg the station's tests ran with is the side of the formulas: a
+/// round recorded at 300 mm computes with L = 30 cm (the default 200 cm gave
+/// a correction 6.7 times too small), refuses a side typed otherwise, keeps
+/// the leg in the file, and refuses a test with another leg once it has
+/// points; a line in a UMBmark round (for Es) records nothing.
+#[test]
+fn the_tests_leg_is_the_side_and_a_different_side_is_refused() {
+    use crate::experiment::Test;
+    let mut s = filled();
+    assert!(!record_leg(&mut s, Test::Line, 1000.0).unwrap());
+    assert_eq!(s.rounds[0].leg_mm, None);
+    // Points typed, no leg recorded yet: the first test records it.
+    assert!(record_leg(&mut s, Test::UmbmarkCw, 300.0).unwrap());
+    assert_eq!(s.rounds[0].leg_mm, Some(300.0));
+    assert_eq!(s.side_cm, "30");
+    assert!(!record_leg(&mut s, Test::UmbmarkCcw, 300.0).unwrap());
+    let err = record_leg(&mut s, Test::UmbmarkCcw, 2000.0).unwrap_err();
+    assert!(err.to_string().contains("300 mm legs"), "{err}");
+    assert_eq!(s.rounds[0].leg_mm, Some(300.0));
+
+    let ev = evaluate(&s);
+    assert!(ev.errors.is_empty(), "{:?}", ev.errors);
+    let got = ev.rounds[0].result.as_ref().unwrap();
+    let mut at_200 = s.clone();
+    at_200.rounds[0].leg_mm = None;
+    at_200.side_cm = "200".into();
+    let wrong = evaluate(&at_200).rounds[0].result.clone().unwrap();
+    let want = umbmark_correction(
+        &UmbmarkRuns::new(
+            s.rounds[0]
+                .cw
+                .iter()
+                .map(|p| Endpoint::new(p.x.parse().unwrap(), p.y.parse().unwrap()))
+                .collect(),
+            s.rounds[0]
+                .ccw
+                .iter()
+                .map(|p| Endpoint::new(p.x.parse().unwrap(), p.y.parse().unwrap()))
+                .collect(),
+        )
+        .unwrap(),
+        &UmbmarkParams {
+            side_cm: 30.0,
+            wheelbase_mm: 130.0,
+            ..Default::default()
+        },
+    );
+    assert_eq!(got, &want);
+    assert_ne!(got.wheelbase_mm, wrong.wheelbase_mm);
+
+    // The side typed back to 200 cm: no correction to send, the side named.
+    s.side_cm = "200".into();
+    let ev = evaluate(&s);
+    assert!(
+        ev.errors["side_cm"].contains("300 mm legs"),
+        "{:?}",
+        ev.errors
+    );
+    assert!(ev.rounds[0].result.is_none() && ev.rounds[0].send.is_none());
+
+    // The file keeps the leg; a round with no points takes a new leg.
+    let text = serde_json::to_string(&s).unwrap();
+    let back: Session = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.rounds[0].leg_mm, Some(300.0));
+    let mut fresh = Session::new("t", NOMINAL);
+    assert!(record_leg(&mut fresh, Test::UmbmarkCw, 300.0).unwrap());
+    assert!(record_leg(&mut fresh, Test::UmbmarkCw, 500.0).unwrap());
+    assert_eq!(
+        (fresh.rounds[0].leg_mm, fresh.side_cm.as_str()),
+        (Some(500.0), "50")
+    );
+}

@@ -392,21 +392,32 @@ function drawFloor(pose) {
 // --- live telemetry -----------------------------------------------------------
 
 const STATES = ["booting", "idle", "driving", "braking"];
+const IDLE = 1;
 const PHASES = ["idle", "leg", "turn", "braking", "fault"];
 const TESTS = { 2: "umbmark-cw", 3: "umbmark-ccw", 4: "line", 5: "triangle" };
+
+// The live values of a robot at rest: its firmware keeps the last duty and
+// speed it computed, which are not what the motors do now.
+function clearLive() {
+  for (const id of ["pwm-left", "pwm-right", "speed-left", "speed-right"]) $(id).textContent = "-";
+}
 
 function onEvent(ev) {
   if (ev.kind === "telemetry") {
     $("state").textContent = `${STATES[ev.state] || ev.state} / ${PHASES[ev.phase] || ev.phase}` +
       (ev.test ? `, ${TESTS[ev.test] || ev.test} segment ${ev.segment}` : "") + (ev.fault ? `, FAULT ${ev.fault}` : "");
     $("tests-done").textContent = ev.tests_done;
-    $("pwm-left").textContent = ev.duty_left;
-    $("pwm-right").textContent = ev.duty_right;
-    $("speed-left").textContent = fmt(ev.speed_left, 2);
-    $("speed-right").textContent = fmt(ev.speed_right, 2);
-    speeds.push(ev);
-    if (speeds.length > 120) speeds.shift();
-    drawSpeeds();
+    if (ev.state === IDLE) {
+      clearLive();
+    } else {
+      $("pwm-left").textContent = ev.duty_left;
+      $("pwm-right").textContent = ev.duty_right;
+      $("speed-left").textContent = fmt(ev.speed_left, 2);
+      $("speed-right").textContent = fmt(ev.speed_right, 2);
+      speeds.push(ev);
+      if (speeds.length > 120) speeds.shift();
+      drawSpeeds();
+    }
     if (ev.pose) {
       const last = trail[trail.length - 1];
       if (!last || Math.hypot(last[0] - ev.pose.x_mm, last[1] - ev.pose.y_mm) > 2) trail.push([ev.pose.x_mm, ev.pose.y_mm]);
@@ -470,6 +481,18 @@ async function startTest(test) {
     const leg = Number($("leg-mm").value);
     const r = await api("POST", "/api/start", { test, leg_mm: leg });
     $("notice").textContent = `${r.started} started, ${r.leg_mm} mm legs`;
+    // The round recorded the leg, and the side follows it.
+    if (r.session) setSession(r.session, r.evaluation);
+  } catch (e) {
+    $("notice").textContent = e.message;
+  }
+}
+
+async function stop() {
+  try {
+    await api("POST", "/api/stop");
+    $("notice").textContent = "stopped";
+    clearLive();
   } catch (e) {
     $("notice").textContent = e.message;
   }
@@ -478,7 +501,7 @@ async function startTest(test) {
 window.addEventListener("load", () => {
   $("connect").onclick = connect;
   for (const b of document.querySelectorAll("button[data-test]")) b.onclick = () => startTest(b.dataset.test);
-  $("stop").onclick = () => api("POST", "/api/stop").catch((e) => ($("notice").textContent = e.message));
+  $("stop").onclick = stop;
   $("side_cm").addEventListener("input", edited("side_cm"));
   $("line_commanded_cm").addEventListener("input", edited("line_commanded_cm"));
   $("line_measured_cm").addEventListener("input", edited("line_measured_cm"));
