@@ -86,7 +86,9 @@ const ISR_TRIP_FIRES: [(&str, u64); 2] = [("INT4", 70), ("INT5", 71)];
 /// datasheet's response time (5 cycles when the CPU is awake, 5 more to wake
 /// it), delayed at most by one other handler in progress; the stack keeps
 /// its margin and the CPU is awake as little as firmware/README.md
-/// documents for a straight line.
+/// documents for a straight line. The latencies are measured, not computed:
+/// the simulation spends the response (`hil/src/sim/response.rs`), so a
+/// run that lost it measures less than the datasheet's figures.
 #[test]
 fn encoder_isrs_are_measured() {
     use hil::timing::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
@@ -108,13 +110,14 @@ fn encoder_isrs_are_measured() {
             "{name}: mean {} cycles",
             d.mean
         );
-        // Awake with interrupts on, an edge is served in the response time
-        // alone; the CPU sleeps ~98 % of the time, so nearly every edge
-        // wakes it (response + wake-up).
+        // Awake with interrupts on, between instructions, an edge is served
+        // in the response time alone (the 5 cycles of the shortest); the CPU
+        // sleeps ~98 % of the time, so nearly every edge wakes it (response
+        // + wake-up, 10 cycles; a few wait for a handler in progress).
         let asleep = (RESPONSE_CYCLES + WAKE_UP_CYCLES) as f64;
         assert_eq!(isr.latency.min, RESPONSE_CYCLES, "{name}: latency min");
         assert!(
-            (asleep..asleep + 2.0).contains(&isr.latency.mean),
+            (asleep - 0.5..asleep + 0.5).contains(&isr.latency.mean),
             "{name}: latency mean {}",
             isr.latency.mean
         );

@@ -92,10 +92,9 @@ pub const VECTOR_NAMES: [&str; 57] = [
 
 /// Interrupt response (datasheet 7.8.1): at least five cycles from the
 /// request to the vector's first instruction on a 3-byte-PC device, five more
-/// when the interrupt wakes the CPU from sleep. simavr jumps to the vector
-/// without spending them, so the probe adds them to the latencies it reports.
-pub const RESPONSE_CYCLES: u64 = 5;
-pub const WAKE_UP_CYCLES: u64 = 5;
+/// when the interrupt wakes the CPU from sleep. The simulation spends them
+/// (`crate::sim`), so the latencies measured contain them.
+pub use crate::sim::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
 
 #[derive(Debug, Error)]
 pub enum TimingError {
@@ -175,6 +174,8 @@ impl Stats {
 struct IsrFrame {
     vector: u8,
     entry: u64,
+    /// The response's cycles the CPU spent awake before `entry`.
+    response: u64,
 }
 
 #[derive(Debug, Clone)]
@@ -191,8 +192,9 @@ pub struct IsrTiming {
     pub name: String,
     /// Cycles from the vector's first instruction to the end of RETI.
     pub duration: Stats,
-    /// Cycles from the encoder edge to the vector (INT4/INT5 only), with the
-    /// datasheet's response time added (see [`RESPONSE_CYCLES`]).
+    /// Cycles from the encoder edge to the vector (INT4/INT5 only): the
+    /// instruction in progress, handlers before it, and the response (see
+    /// [`RESPONSE_CYCLES`]).
     pub latency: Stats,
 }
 
@@ -266,7 +268,9 @@ impl Observer for TimingProbe {
                 self.isrs.entry(frame.vector).or_default().duration.add(d);
                 if let Some(f) = &mut self.fn_frame {
                     if self.isr_stack.is_empty() {
-                        f.interrupted += d;
+                        // The response (before the vector) is the
+                        // interrupt's time too.
+                        f.interrupted += frame.response + d;
                     }
                 }
             }
@@ -285,9 +289,15 @@ impl Observer for TimingProbe {
                 // A jump to the slot is an interrupt only if the stack grew by
                 // (at least) a return address.
                 if s.sp_after + RETURN_ADDRESS_BYTES <= s.sp_before {
+                    // The response ends the step; waking, the CPU starts up
+                    // first (asleep), then responds (awake).
+                    if s.slept {
+                        self.awake += RESPONSE_CYCLES;
+                    }
                     self.isr_stack.push(IsrFrame {
                         vector: v,
                         entry: s.cycle_after,
+                        response: RESPONSE_CYCLES,
                     });
                     let t = self.isrs.entry(v).or_default();
                     t.vector = v;
@@ -298,8 +308,7 @@ impl Observer for TimingProbe {
                         _ => None,
                     };
                     if let Some(e) = edge.filter(|&e| e > 0 && e <= s.cycle_after) {
-                        let response = RESPONSE_CYCLES + if s.slept { WAKE_UP_CYCLES } else { 0 };
-                        t.latency.add(s.cycle_after - e + response);
+                        t.latency.add(s.cycle_after - e);
                     }
                 }
             }

@@ -7,9 +7,13 @@
 //! callback the handler gets a [`Core`], a narrow view of the running MCU.
 //!
 //! What simavr does that we change, and why:
-//! - the sleep callback is a no-op: simavr's default usleeps to keep emulated
-//!   time in step with the wall clock, which pins a sleeping firmware to 1x
-//!   real time and makes runs depend on the host;
+//! - the interrupt response is the datasheet's (`response.rs`): entering a
+//!   vector takes five cycles (ten when it wakes the CPU), where simavr
+//!   takes none; a jump over a sleep ends on the cycle of the timer it
+//!   sleeps until, not one past it;
+//! - the sleep callback does not wait: simavr's default usleeps to keep
+//!   emulated time in step with the wall clock, which pins a sleeping
+//!   firmware to 1x real time and makes runs depend on the host;
 //! - the UARTs' "poll sleep" and stdio flags are cleared: the first usleeps on
 //!   status polls, the second prints the firmware's bytes on our stdout;
 //! - the firmware image is loaded from the ELF by the bench ([`crate::elf`]),
@@ -35,7 +39,8 @@
 //! its `// SAFETY:` line and every unsafe fn its `# Safety` doc:
 //! - `mod.rs`: [`Avr::new`]'s setup of the MCU's fields, the step calls and
 //!   field reads of the run loops, the IO slot installs of the claims,
-//!   the notify registration of [`Avr::watch_irq`], `avr_reset`, and the
+//!   the notify registration of [`Avr::watch_irq`], `avr_reset`, the
+//!   response's installation, and the
 //!   handler borrows of [`Avr::handler`], [`Avr::handler_mut`] and
 //!   [`Avr::with_core`];
 //! - `mcu.rs`: making, initialising and freeing the `avr_t`, and the raw
@@ -45,11 +50,14 @@
 //! - `view.rs`: [`Core`]'s field accesses and its raise and schedule calls;
 //! - `irq.rs`: IRQ lookups and `avr_raise_irq`;
 //! - `shared.rs`: the handler state's allocation and free;
+//! - `response.rs`: the sleep callback and the running-interrupt notify,
+//!   which add the response's cycles, and their installation;
 //! - `trampolines.rs`: the `extern "C"` callbacks and the timer
 //!   registration;
 //! - `owner.rs`, `tests.rs`: none.
 
 use std::ffi::{c_void, CString};
+use std::ptr::NonNull;
 
 use simavr_ffi as ffi;
 use thiserror::Error;
@@ -58,6 +66,7 @@ mod irq;
 mod mcu;
 mod memory;
 mod owner;
+mod response;
 mod shared;
 #[cfg(test)]
 mod tests;
@@ -65,6 +74,7 @@ mod trampolines;
 mod view;
 
 pub use irq::Irq;
+pub use response::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
 pub use view::Core;
 
 use mcu::{decode_state, io_slot, Mcu};
@@ -72,7 +82,7 @@ use owner::Owner;
 use shared::{Flag, Shared, SharedBox, WriteSlot};
 use trampolines::{
     io_read_observe_trampoline, io_read_trampoline, io_write_trampoline, irq_trampoline,
-    schedule_from_core, schedule_timer, sleep_noop,
+    schedule_from_core, schedule_timer,
 };
 
 /// Errors from creating or driving the simulated MCU.
@@ -144,7 +154,8 @@ pub trait Handler: 'static {
     }
     /// The bench's cycle timer fired; `when` is the cycle it was scheduled for
     /// (the current cycle may be a few cycles later: simavr checks timers
-    /// between instructions). Returns the next cycle to fire at, or 0 for none.
+    /// between instructions, and after the instruction that follows an
+    /// interrupt's response). Returns the next cycle to fire at, or 0 for none.
     fn timer(&mut self, core: &mut Core, when: u64) -> u64;
     /// An IRQ watched with [`Avr::watch_irq`] was raised.
     fn irq(&mut self, core: &mut Core, tag: u32, value: u32);
@@ -179,8 +190,15 @@ impl<H: Handler> Avr<H> {
             (*a).vcc = 5000;
             (*a).avcc = 5000;
             (*a).aref = 5000;
-            (*a).sleep = Some(sleep_noop);
             (*a).set_log(1); // LOG_ERROR: simavr's errors only
+        }
+        // SAFETY: the response is a field of the state, allocated once and
+        // freed after the MCU (the order of `Avr`'s fields).
+        unsafe {
+            let p = shared.ptr().as_ptr();
+            let response = NonNull::new(std::ptr::addr_of_mut!((*p).response))
+                .expect("a field of a live allocation");
+            response::install(response);
         }
         Ok(Self {
             mcu: avr,
@@ -505,6 +523,7 @@ impl<H: Handler> Avr<H> {
             let cycle = (*a).cycle;
             ffi::avr_reset(a);
             (*a).cycle = cycle;
+            (*self.state_ptr()).response.forget_sleep();
         }
         self.resume_failure();
     }

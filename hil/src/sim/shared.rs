@@ -21,6 +21,7 @@ use std::ptr::NonNull;
 use simavr_ffi as ffi;
 
 use super::owner::Owner;
+use super::response::Response;
 
 /// A panic caught at the C boundary, to be resumed in Rust.
 pub(super) type Payload = Box<dyn Any + Send>;
@@ -63,6 +64,9 @@ pub(super) struct Shared<H> {
     /// [`super::Avr::observe_io_read`], called after the bench's. Changed
     /// only outside callbacks.
     pub(super) reads: Vec<Option<(ffi::avr_io_read_t, *mut c_void)>>,
+    /// The interrupt response's bookkeeping; simavr's sleep callback and
+    /// the notify on its running-interrupt line point here (`response.rs`).
+    pub(super) response: Response,
     pub(super) handler: H,
 }
 
@@ -78,6 +82,7 @@ impl<H> Shared<H> {
             failure: Cell::new(None),
             writes: vec![None; ffi::MAX_IOs as usize],
             reads: vec![None; ffi::MAX_IOs as usize],
+            response: Response::new(avr),
             handler,
         }
     }

@@ -238,17 +238,6 @@ pub(super) unsafe extern "C" fn irq_trampoline<H: Handler>(
     }
 }
 
-/// simavr's default sleep usleeps to keep emulated time in step with the
-/// wall clock: the bench's runs must not depend on the host.
-///
-/// # Safety
-/// None needed: it touches nothing.
-pub(super) unsafe extern "C" fn sleep_noop(
-    _avr: *mut ffi::avr_t,
-    _how_long: ffi::avr_cycle_count_t,
-) {
-}
-
 #[inline]
 fn param_to_shared<H>(param: *mut c_void) -> NonNull<Shared<H>> {
     // Never null: every `param` the bench registers is the state's pointer.
