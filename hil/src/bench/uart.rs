@@ -121,7 +121,10 @@ impl HostUart {
     /// (bytes held, log entries held).
     pub(super) fn retained(&self) -> (usize, usize) {
         let bytes = self.out.iter().map(|o| o.as_slice().len()).sum();
-        (bytes, self.log.as_slice().len() + self.rx_log.as_slice().len())
+        (
+            bytes,
+            self.log.as_slice().len() + self.rx_log.as_slice().len(),
+        )
     }
 
     /// A notice for each record that reached its cap.
