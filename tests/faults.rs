@@ -10,10 +10,7 @@ use hil::faults::{library, run_fault, FaultOptions, Verdict};
 /// says so in their expectations). Each must still fail: one that passes
 /// (the firmware fixed, or the bench lost the behaviour that breaks it)
 /// fails this test until it leaves the list.
-const KNOWN_FAILING: [(&str, &str); 1] = [(
-    "encoder-glitch-burst",
-    "a 1 us pulse that wakes the CPU ends before the encoder handler reads A (20 cycles after the edge with the interrupt response)",
-)];
+const KNOWN_FAILING: [(&str, &str); 0] = [];
 
 #[test]
 fn robust_firmware_reacts_as_expected_to_every_fault() {

@@ -77,14 +77,16 @@ fn control_tick_is_15_ms() {
 /// `reti`): an edge that counts up with no carry and the trip unarmed, and
 /// one that also fires the armed trip. INT5 reads its pins with one
 /// instruction more. encoder.rs documents "about 47 cycles unarmed, 65
-/// armed" from the handler's entry.
-const ISR_UNARMED_UP: [(&str, u64); 2] = [("INT4", 43), ("INT5", 44)];
-const ISR_TRIP_FIRES: [(&str, u64); 2] = [("INT4", 70), ("INT5", 71)];
+/// armed" from the handler's entry, plus 7 for the glitch check (`lds`,
+/// `eor`, `sbrs` skipping, `sts`).
+const ISR_UNARMED_UP: [(&str, u64); 2] = [("INT4", 50), ("INT5", 51)];
+const ISR_TRIP_FIRES: [(&str, u64); 2] = [("INT4", 77), ("INT5", 78)];
 
 /// Both encoder interrupts are seen, each run once per A edge, in exactly
 /// the cycles their assembly takes; an edge reaches its handler in the
 /// datasheet's response time (5 cycles when the CPU is awake, 5 more to wake
-/// it), delayed at most by one other handler in progress; the stack keeps
+/// it), delayed at most by one other handler in progress and a return to
+/// sleep; the stack keeps
 /// its margin and the CPU is awake as little as firmware/README.md
 /// documents for a straight line. The latencies are measured, not computed:
 /// the simulation spends the response (`hil/src/sim/response.rs`), so a
@@ -128,9 +130,13 @@ fn encoder_isrs_are_measured() {
             .map(|i| i.duration.max)
             .max()
             .unwrap();
+        // At worst the edge waits for the other handler, whose `reti` is
+        // followed by one main instruction, the loop's `sleep`: entered with
+        // this edge pending, it wakes at once and the response is taken
+        // again (INT5: 97 cycles = 77 + 2 x 10).
         assert!(
-            isr.latency.max <= RESPONSE_CYCLES + WAKE_UP_CYCLES + other,
-            "{name}: latency max {} cycles, longer than one other handler ({other})",
+            isr.latency.max <= 2 * (RESPONSE_CYCLES + WAKE_UP_CYCLES) + other,
+            "{name}: latency max {} cycles, longer than one other handler ({other}) and a return to sleep",
             isr.latency.max
         );
     }

@@ -72,6 +72,18 @@ pub static mut LEFT_TRIP: Trip = Trip { armed: 0, up: 1, remaining: 0 };
 /// The right wheel's trip (INT5 handler).
 #[doc(hidden)]
 pub static mut RIGHT_TRIP: Trip = Trip { armed: 0, up: 1, remaining: 0 };
+/// PINE as each handler last counted from it: only its wheel's A bit
+/// (left PE4, right PE5) is compared. An edge whose handler finds A back at
+/// that level was undone before the handler read it (a glitch pulse shorter
+/// than the interrupt response and the handler's first instructions, ~20
+/// cycles when the edge wakes the CPU): it is not counted, nor is the edge
+/// that undid it, which finds the same level. Set from the pins before the
+/// interrupts are enabled.
+#[doc(hidden)]
+pub static mut LEFT_LAST_PINE: u8 = 0;
+/// As [`LEFT_LAST_PINE`], for the right wheel (INT5 handler).
+#[doc(hidden)]
+pub static mut RIGHT_LAST_PINE: u8 = 0;
 /// Trips fired since the main loop last took them ([`TRIP_LEFT`],
 /// [`TRIP_RIGHT`] bits).
 #[doc(hidden)]
@@ -91,7 +103,10 @@ fn trip_of(side: Side) -> *mut Trip {
 // edge (about 1 750 times per second while driving) and a Rust handler saves
 // thirteen registers: this one saves r24, r25 and SREG and takes about 47
 // cycles from the vector jump to `reti` with the trip unarmed, 65 armed (the
-// Rust version took about 128). Per edge:
+// Rust version took about 128; the glitch check below adds 7). Per edge:
+// 0. A compared with the level the last counted edge left: unchanged, the
+//    edge was undone before this read (a glitch) and nothing is counted;
+//    changed, the new PINE is kept for the next edge;
 // 1. up = A xor B (the thesis' rule: A high and B low, or A low and B high,
 //    counts up), A read before B;
 // 2. the 32-bit count: +1 or -1 on the low byte, the carry or borrow carried
@@ -202,6 +217,11 @@ fn encoder_vectors() {
             "push r24",
             "push r25",
             "in r24, 0x0c",
+            "lds r25, {last}",
+            "eor r25, r24",
+            "sbrs r25, 4",
+            "rjmp 6f",
+            "sts {last}, r24",
             "in r25, 0x12",
             "lsl r24",
             "eor r24, r25",
@@ -209,6 +229,7 @@ fn encoder_vectors() {
             ".size __vector_5, . - __vector_5",
             ".popsection",
             count = sym bench::HT_LEFT_COUNT,
+            last = sym LEFT_LAST_PINE,
             trip = sym LEFT_TRIP,
             tripped = sym TRIPPED,
             woken = sym sleep::WOKEN,
@@ -224,6 +245,11 @@ fn encoder_vectors() {
             "push r24",
             "push r25",
             "in r24, 0x0c",
+            "lds r25, {last}",
+            "eor r25, r24",
+            "sbrs r25, 5",
+            "rjmp 6f",
+            "sts {last}, r24",
             "mov r25, r24",
             "lsl r25",
             "lsl r25",
@@ -232,6 +258,7 @@ fn encoder_vectors() {
             ".size __vector_6, . - __vector_6",
             ".popsection",
             count = sym bench::HT_RIGHT_COUNT,
+            last = sym RIGHT_LAST_PINE,
             trip = sym RIGHT_TRIP,
             tripped = sym TRIPPED,
             woken = sym sleep::WOKEN,
@@ -263,10 +290,18 @@ impl Encoders {
         right_a: Pin<RightEncoderA, MC>,
         right_b: Pin<RightEncoderB, MD>,
     ) -> Self {
+        let left_a = left_a.into_floating_input();
+        let right_a = right_a.into_floating_input();
+        // SAFETY: the handlers that read these are not enabled yet (INT4/5
+        // are enabled below), so nothing else accesses them.
+        unsafe {
+            write_volatile(addr_of_mut!(LEFT_LAST_PINE), if left_a.is_high() { 1 << 4 } else { 0 });
+            write_volatile(addr_of_mut!(RIGHT_LAST_PINE), if right_a.is_high() { 1 << 5 } else { 0 });
+        }
         Encoders {
-            _left_a: left_a.into_floating_input(),
+            _left_a: left_a,
             _left_b: left_b.into_floating_input(),
-            _right_a: right_a.into_floating_input(),
+            _right_a: right_a,
             _right_b: right_b.into_floating_input(),
             _exint: {
                 exint.enable(Line::Int4, Sense::AnyEdge);

@@ -44,19 +44,18 @@ pub fn case() -> FaultCase {
 
 /// What the firmware owes: a glitch pulse must not move the count (the
 /// line completes, no fault code, the left count within 5 of the plant's
-/// edges). What it does, with the datasheet's interrupt response in the
-/// simulation: the INT4 handler reads channel A (`in r24, PINE`) 7 cycles
-/// after its vector's `jmp`, so 15 cycles after the edge with the CPU
-/// awake and 20 when the edge wakes it from idle (10 of response, 3 of
-/// `jmp`, 7 of prologue). A 1 us pulse is 16 cycles: awake, the handler
-/// sees each edge at its own level and the two counts cancel; asleep, which
-/// the CPU is ~98 % of the time, the pulse is over before the first read,
-/// both edges are counted at the level after it, and the pulse adds 2 in
-/// the direction B's level gives (a pulse of 24 cycles or more would
-/// cancel). Pulses in the two halves of an A period offset each other, so
-/// the error is what is left of ~100 such +/-2: here +10, and the fault
-/// fails.
-const EXPECTED: &str = "owed: glitch pulses do not move the count (the line completes with no fault code, the left count within 5 of the plant's edges); a 1 us pulse that wakes the CPU is over before the encoder handler reads A (20 cycles after the edge, 15 awake), so it counts 2 instead of 0: the robust build does not meet this";
+/// edges). With the datasheet's interrupt response in the simulation the
+/// INT4 handler reads channel A (`in r24, PINE`) 15 cycles after the edge
+/// with the CPU awake and 20 when the edge wakes it from idle (10 of
+/// response, 3 of `jmp`, 7 of prologue); a 1 us pulse is 16 cycles. Awake,
+/// the handler sees each edge at its own level and the two counts cancel.
+/// Asleep (~98 % of the time), the pulse is over before the first read:
+/// counting from B alone, both edges would count at the level after it and
+/// add 2 (a +10 error over the 100 pulses). The robust build's handler
+/// therefore first compares A with the level its last counted edge left
+/// (firmware/src/encoder.rs): unchanged, the edge was undone before the
+/// read and neither it nor the edge that undid it is counted.
+const EXPECTED: &str = "owed: glitch pulses do not move the count (the line completes with no fault code, the left count within 5 of the plant's edges), also a 1 us pulse that wakes the CPU and is over before the encoder handler reads A (20 cycles after the edge, 15 awake)";
 
 fn check(o: &Observed) -> Result<String, String> {
     let err = o.first_leg_count_error.map(|e| e.0);
@@ -66,7 +65,7 @@ fn check(o: &Observed) -> Result<String, String> {
             "completed without a fault; the left count ended {e:+} off the plant's edges"
         )),
         e => Err(format!(
-            "owed completion, no fault code, the left count within 5 of the plant; completed {}, code {code}, count error {e:?} (each 1 us pulse that wakes the CPU ends before the handler reads A and counts 2)",
+            "owed completion, no fault code, the left count within 5 of the plant; completed {}, code {code}, count error {e:?} (a 1 us pulse that wakes the CPU ends before the handler reads A: counted from B alone it adds 2)",
             o.completed
         )),
     }
