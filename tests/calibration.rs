@@ -30,18 +30,24 @@ fn ideal_with(extra: &str) -> RobotConfig {
     RobotConfig::from_toml_str(&format!("{text}\n{extra}")).expect("robot config with effects")
 }
 
+/// A UMBmark of `LEG_MM` sides on `robot`, Henrytwo's board, the robot's
+/// geometry told to the firmware.
+fn plan(fw: &hil::elf::Firmware, robot: &RobotConfig, seed: u64) -> Plan {
+    Plan::new(
+        LEG_MM,
+        seed,
+        robot,
+        &Default::default(),
+        fw,
+        Default::default(),
+    )
+}
+
 /// (Ed, Eb) of `robot` by `experiment`, first-order and exact. The robot has
 /// no noise, so one run per direction (or per line/triangle) is the centroid.
 fn measure(robot: &RobotConfig, triangle: bool) -> [(f64, f64); 2] {
     let fw = support::firmware("robust");
-    let mut plan = Plan::new(
-        LEG_MM,
-        1,
-        robot,
-        &Default::default(),
-        &fw,
-        Default::default(),
-    );
+    let mut plan = plan(&fw, robot, 1);
     plan.runs_per_direction = 1;
     if triangle {
         plan = plan.triangle();
@@ -120,14 +126,7 @@ fn calibration_rounds_shrink_the_default_robots_error() {
     let fw = support::firmware("robust");
     let robot = support::robot("henrytwo");
     for (name, triangle) in [("umbmark", false), ("triangle", true)] {
-        let mut plan = Plan::new(
-            LEG_MM,
-            7,
-            &robot,
-            &Default::default(),
-            &fw,
-            Default::default(),
-        );
+        let mut plan = plan(&fw, &robot, 7);
         if triangle {
             plan = plan.triangle();
         }
@@ -193,14 +192,7 @@ fn rounds_converge_over_a_real_robots_errors() {
             "[effects.wheel_diameter_ratio]\nright_over_left_ratio = {ed}\n\
              [effects.wheelbase_ratio]\nactual_over_nominal_ratio = {eb}\n"
         ));
-        let mut plan = Plan::new(
-            LEG_MM,
-            3,
-            &robot,
-            &Default::default(),
-            &fw,
-            Default::default(),
-        );
+        let mut plan = plan(&fw, &robot, 3);
         plan.runs_per_direction = 1;
         let c = umbmark::calibrate(
             &fw,

@@ -13,6 +13,10 @@
 //! timestamps every write (an IO callback sees the cycle its instruction
 //! starts at) and every toggle.
 
+#[path = "support/avr_asm.rs"]
+mod avr_asm;
+
+use avr_asm::{jmp, ldi, sts};
 use hil::sim::{Avr, Core, Handler, IoClaim, Irq, RESPONSE_CYCLES, WAKE_UP_CYCLES};
 
 const F_CPU: u32 = 16_000_000;
@@ -54,19 +58,6 @@ impl Handler for Log {
         self.edges.get(self.raised.len()).copied().unwrap_or(0)
     }
     fn irq(&mut self, _core: &mut Core, _tag: u32, _value: u32) {}
-}
-
-fn ldi(r: u16, k: u8) -> u16 {
-    let k = k as u16;
-    0xE000 | (k & 0xF0) << 4 | (r - 16) << 4 | (k & 0x0F)
-}
-
-fn sts(addr: u16, r: u16) -> [u16; 2] {
-    [0x9200 | r << 4, addr]
-}
-
-fn jmp(word: u16) -> [u16; 2] {
-    [0x940C, word]
 }
 
 /// `rjmp` at word `from` to word `to`.

@@ -8,6 +8,10 @@
 //! it writes the timer's registers, enables the one interrupt, and sleeps;
 //! every vector writes GPIOR0, whose writes the handler timestamps.
 
+#[path = "support/avr_asm.rs"]
+mod avr_asm;
+
+use avr_asm::{jmp, ldi, sts};
 use hil::sim::{Avr, Core, Handler, IoClaim};
 
 /// GPIOR0 in data space, and as an IO address for `out`.
@@ -29,19 +33,6 @@ impl Handler for Stamps {
         0
     }
     fn irq(&mut self, _core: &mut Core, _tag: u32, _value: u32) {}
-}
-
-fn ldi(r: u16, k: u8) -> u16 {
-    let k = k as u16;
-    0xE000 | (k & 0xF0) << 4 | (r - 16) << 4 | (k & 0x0F)
-}
-
-fn sts(addr: u16, r: u16) -> [u16; 2] {
-    [0x9200 | r << 4, addr]
-}
-
-fn jmp(word: u16) -> [u16; 2] {
-    [0x940C, word]
 }
 
 const SEI: u16 = 0x9478;
