@@ -406,4 +406,76 @@ duration_s = 0.0005
         let e = bad("name = \"nothing\"\nfault = []\n");
         assert!(e.contains("no [[fault]]"), "{e}");
     }
+
+    /// Random scenario files, absurd numbers included (nan, inf, negative,
+    /// past a day, past the 64-bit cycle counter), are either loaded with
+    /// every number finite or refused with one error line; never a panic.
+    mod fuzz {
+        use super::*;
+        use proptest::prelude::*;
+
+        fn number() -> impl Strategy<Value = String> {
+            prop_oneof![
+                3 => (0.0f64..20.0).prop_map(|v| format!("{v:.3}")),
+                1 => prop::sample::select(vec![
+                    "nan", "inf", "-inf", "-1.0", "0.0", "86400.0", "86400.5", "1.2e12", "1e300",
+                    "\"3\"", "3",
+                ])
+                .prop_map(str::to_owned),
+            ]
+        }
+
+        fn count() -> impl Strategy<Value = String> {
+            prop::sample::select(vec!["1", "3", "0", "-1", "1000000000", "1.5", "\"x\""])
+                .prop_map(str::to_owned)
+        }
+
+        fn fault() -> impl Strategy<Value = String> {
+            let trigger = prop_oneof![
+                number().prop_map(|s| format!("{{ at = \"time\", s = {s} }}")),
+                (
+                    prop::sample::select(vec!["turn_start", "leg_start", "host_byte", "noon"]),
+                    count()
+                )
+                    .prop_map(|(at, n)| format!("{{ at = \"{at}\", n = {n} }}")),
+            ];
+            let action = prop_oneof![
+                Just(
+                    "{ action = \"encoder\", side = \"left\", fault = { kind = \"dropout\" } }"
+                        .to_owned()
+                ),
+                number().prop_map(|v| format!(
+                    "{{ action = \"slip_burst\", side = \"right\", slip = {v} }}"
+                )),
+                number().prop_map(|v| format!("{{ action = \"link\", fault = {{ loss = {v} }} }}")),
+                Just("{ action = \"reset\" }".to_owned()),
+                Just("{ action = \"explode\" }".to_owned()),
+            ];
+            let duration = prop_oneof![
+                Just(String::new()),
+                number().prop_map(|d| format!("duration_s = {d}\n")),
+            ];
+            (trigger, action, duration)
+                .prop_map(|(t, a, d)| format!("[[fault]]\ntrigger = {t}\naction = {a}\n{d}"))
+        }
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(300))]
+
+            #[test]
+            fn scenario_files_load_or_are_refused(faults in prop::collection::vec(fault(), 0..4)) {
+                let text = format!("name = \"fuzz\"\n{}", faults.join("\n"));
+                match Scenario::parse(std::path::Path::new("fuzz.toml"), &text) {
+                    Ok(s) => {
+                        let shown = format!("{s:?}");
+                        prop_assert!(!shown.contains("NaN") && !shown.contains("inf"), "{shown}");
+                    }
+                    Err(e) => {
+                        let e = e.to_string();
+                        prop_assert!(!e.is_empty() && !e.contains('\n'), "{e}");
+                    }
+                }
+            }
+        }
+    }
 }
