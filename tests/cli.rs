@@ -188,6 +188,15 @@ fn calibrate_from_csv_reproduces_the_thesis_gui() {
         .map(|d| d["formula"].as_str().unwrap().to_string())
         .collect();
     assert!(formulas.iter().any(|f| f.contains("sin()")), "{formulas:?}");
+    // Another robot's table is computed with that robot's wheelbase, and
+    // --wheelbase-mm still overrides it.
+    let rover = hil::paths::robot_config("rover65");
+    let rover = rover.to_str().unwrap();
+    let other = run(&["--robot", rover]);
+    assert_eq!(f(&other, "wheelbase_nominal_mm"), 180.0);
+    assert_eq!(f(&correct, "wheelbase_nominal_mm"), 130.0);
+    let given = run(&["--robot", rover, "--wheelbase-mm", "150"]);
+    assert_eq!(f(&given, "wheelbase_nominal_mm"), 150.0);
 }
 
 /// A malformed end-point table is refused with the line it is on.

@@ -146,7 +146,7 @@ impl Target {
 
     /// The robot config asked for, else the best estimate of the thesis
     /// robot, else the ideal one.
-    fn robot(&self) -> Result<RobotConfig> {
+    pub fn robot(&self) -> Result<RobotConfig> {
         let path = self.robot.clone().unwrap_or_else(|| {
             let best = hil::paths::robot_config("henrytwo");
             if best.exists() {

@@ -258,7 +258,9 @@ pub struct Calibrate {
     /// Square side / line length, cm (default 200).
     #[arg(long)]
     side_cm: Option<f64>,
-    /// The wheelbase the robot's odometry used, mm.
+    /// The wheelbase the robot's odometry used, mm (default with
+    /// --from-csv: the --robot config's, else 130, or in --thesis-compat
+    /// the thesis' value for the experiment).
     #[arg(long, value_parser = super::args::parse_wheelbase)]
     wheelbase_mm: Option<f64>,
     /// With --from-csv: runs per direction (UMBmark) or per test (Triangular
@@ -314,7 +316,7 @@ impl Calibrate {
             thesis_compat: self.thesis_compat,
             frame: self.frame.map(Into::into),
             side_cm: self.side_cm,
-            wheelbase_mm: self.wheelbase_mm,
+            wheelbase_mm: self.measured_wheelbase_mm()?,
             solution: self.solve.solution(),
             runs_per_group: self.runs_per_group.into(),
         };
@@ -322,6 +324,17 @@ impl Calibrate {
             .with_context(|| format!("{}", path.display()))
             .map_err(super::bad_input)?;
         self.common.print.json.emit(&result, || result.render())
+    }
+
+    /// The wheelbase the measured robot's odometry used: --wheelbase-mm,
+    /// else the nominal one of the robot config given with --robot (a robot
+    /// other than Henrytwo is not computed with Henrytwo's 130 mm), else
+    /// the default of [`hil::calibrate::FromCsv::wheelbase_mm`].
+    fn measured_wheelbase_mm(&self) -> Result<Option<f64>> {
+        if self.wheelbase_mm.is_some() || self.common.target.robot.is_none() {
+            return Ok(self.wheelbase_mm);
+        }
+        Ok(Some(self.common.target.robot()?.geometry.wheelbase_mm))
     }
 
     /// Calibration rounds on the emulated robot.
