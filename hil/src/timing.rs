@@ -204,9 +204,9 @@ pub struct TimingProbe {
     vectors: BTreeMap<u32, u8>,
     isr_stack: Vec<IsrFrame>,
     fn_frame: Option<FnFrame>,
-    last_entry: Option<u64>,
-    periods: Stats,
-    max_period_dev: u64,
+    /// Cycle of every entry of the control function, in order (one per
+    /// 15 ms: about 240 000 in an hour of robot time).
+    entries: Vec<u64>,
     period_nominal: u64,
     control: Stats,
     isrs: BTreeMap<u8, IsrTiming>,
@@ -230,9 +230,7 @@ impl TimingProbe {
             vectors,
             isr_stack: Vec::new(),
             fn_frame: None,
-            last_entry: None,
-            periods: Stats::default(),
-            max_period_dev: 0,
+            entries: Vec::new(),
             period_nominal: period_cycles,
             control: Stats::default(),
             isrs: BTreeMap::new(),
@@ -313,12 +311,7 @@ impl Observer for TimingProbe {
                 }
             }
             if s.pc_after == self.control_fn && self.fn_frame.is_none() {
-                if let Some(last) = self.last_entry {
-                    let p = s.cycle_after - last;
-                    self.periods.add(p);
-                    self.max_period_dev = self.max_period_dev.max(p.abs_diff(self.period_nominal));
-                }
-                self.last_entry = Some(s.cycle_after);
+                self.entries.push(s.cycle_after);
                 self.fn_frame = Some(FnFrame {
                     entry: s.cycle_after,
                     sp: s.sp_after,
@@ -352,8 +345,13 @@ pub struct TimingReport {
     pub clock_hz: u32,
     pub control_function: String,
     pub control_cycles: Stats,
+    /// Periods between consecutive entries of the control function, except
+    /// those across a segment start (see [`TimingProbe::report`]).
     pub tick_period_cycles: Stats,
     pub tick_jitter_max_cycles: u64,
+    /// Periods left out because a segment (leg or turn) started inside
+    /// them: the firmware restarts its tick there, after a pause.
+    pub tick_restarts: usize,
     pub isrs: Vec<IsrTiming>,
     pub interrupts_off_max_cycles: u64,
     pub interrupts_off_max_at: Option<String>,
@@ -364,14 +362,40 @@ pub struct TimingReport {
 }
 
 impl TimingProbe {
-    pub fn report(&self, fw: &Firmware, control_fn: &str, clock_hz: u32) -> TimingReport {
+    /// What was measured. `segment_starts`: the cycles at which the run's
+    /// legs and turns started. A firmware stops its control tick between
+    /// segments and restarts it at the next one, so the period across a
+    /// segment start is a pause, not jitter, and is left out (counted in
+    /// [`TimingReport::tick_restarts`]); a tick missed while a segment
+    /// runs still counts.
+    pub fn report(
+        &self,
+        fw: &Firmware,
+        control_fn: &str,
+        clock_hz: u32,
+        segment_starts: &[u64],
+    ) -> TimingReport {
         let bss_end = fw.symbol("__bss_end").map(|s| s.addr as u16).unwrap_or(0);
+        let mut periods = Stats::default();
+        let mut jitter = 0;
+        let mut restarts = 0;
+        for w in self.entries.windows(2) {
+            let (from, to) = (w[0], w[1]);
+            if segment_starts.iter().any(|&c| from < c && c <= to) {
+                restarts += 1;
+                continue;
+            }
+            let p = to - from;
+            periods.add(p);
+            jitter = jitter.max(p.abs_diff(self.period_nominal));
+        }
         TimingReport {
             clock_hz,
             control_function: control_fn.into(),
             control_cycles: self.control,
-            tick_period_cycles: self.periods,
-            tick_jitter_max_cycles: self.max_period_dev,
+            tick_period_cycles: periods,
+            tick_jitter_max_cycles: jitter,
+            tick_restarts: restarts,
             isrs: self.isrs.values().cloned().collect(),
             interrupts_off_max_cycles: self.longest_off.0,
             interrupts_off_max_at: fw
@@ -483,11 +507,15 @@ impl TimingReport {
         );
         let _ = writeln!(
             s,
-            "control tick: period {:.3} / {:.3} / {:.3} ms, jitter max {:.2} us",
+            "control tick: period {:.3} / {:.3} / {:.3} ms, jitter max {:.2} us{}",
             c(self.tick_period_cycles.min) / 1e3,
             self.us(self.tick_period_cycles.mean) / 1e3,
             c(self.tick_period_cycles.max) / 1e3,
-            c(self.tick_jitter_max_cycles)
+            c(self.tick_jitter_max_cycles),
+            match self.tick_restarts {
+                0 => String::new(),
+                n => format!(" ({n} restarts at segment starts left out)"),
+            }
         );
         for i in &self.isrs {
             let _ = write!(

@@ -58,7 +58,7 @@ impl Timing {
         let probe = observer
             .and_then(|o| o.into_any().downcast::<TimingProbe>().ok())
             .context("the timing probe was lost")?;
-        let report = probe.report(&firmware, &function, clock.hz());
+        let report = probe.report(&firmware, &function, clock.hz(), &run.segment_starts());
         let rows = report.check(&budgets);
         let failed: Vec<&str> = rows
             .iter()

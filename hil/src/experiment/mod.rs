@@ -185,6 +185,17 @@ pub struct TestRun {
     pub faults_never_fired: Vec<usize>,
 }
 
+impl TestRun {
+    /// The cycles at which the run's segments (legs and turns) started, in
+    /// order.
+    pub fn segment_starts(&self) -> Vec<u64> {
+        let mut starts: Vec<u64> = self.legs.iter().map(|l| l.start_cycle).collect();
+        starts.extend(self.turns.iter().map(|t| t.start_cycle));
+        starts.sort_unstable();
+        starts
+    }
+}
+
 /// Run `test` from a fresh reset.
 pub fn run_test(
     firmware: Firmware,
