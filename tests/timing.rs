@@ -4,7 +4,6 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::bench::BenchOptions;
 use hil::experiment::{run_test_observed, Test, TestOptions};
 use hil::timing::{Budgets, TimingProbe, TimingReport};
 use std::process::Command;
@@ -16,15 +15,7 @@ fn measure(test: Test, leg_mm: f64) -> (hil::experiment::TestRun, TimingReport) 
     let probe = TimingProbe::new(&fw, "ht_control_tick", 240_000).unwrap();
     let opts = TestOptions {
         leg_mm,
-        bench: BenchOptions::default(),
-        limit_s: None,
-        record: false,
-        faults: Vec::new(),
-        framed: false,
-        params: Vec::new(),
-        hang_after_s: None,
-        tell: Default::default(),
-        description: None,
+        ..Default::default()
     };
     let (run, obs) = run_test_observed(
         fw.clone(),
