@@ -156,8 +156,15 @@ pub fn write_set(dir: &Path, full: &RunSet, report: &Report) -> anyhow::Result<(
         dir.join("umbmark.svg"),
         dir.join("umbmark.png"),
     )?;
+    // The title in the axes' unit; the squares the runs were commanded to drive.
+    let side_cm = full.plan.leg_mm / 10.0;
+    let square = |turn_deg: f64| calib::plot::IdealPath {
+        label: format!("ideal squares, L = {side_cm} cm"),
+        points: calib::plot::ideal_path(4, turn_deg, side_cm),
+    };
     calib::plot::plot_trajectories(
-        &format!("UMBmark trajectories, L = {:.0} mm", full.plan.leg_mm),
+        &format!("UMBmark trajectories, L = {side_cm} cm"),
+        &[square(-90.0), square(90.0)],
         &full.paths(["clockwise", "counter-clockwise"]),
         dir.join("trajectories.svg"),
         dir.join("trajectories.png"),
