@@ -81,7 +81,10 @@ for crate in "${crates[@]}"; do
     opt=(-C "--config=profile.ci.package.$package.opt-level=${MUTANTS_OPT_LEVEL}"
       -C "--config=profile.ci.incremental=true")
   fi
-  cargo mutants --package "$package" --profile ci --jobs "${MUTANTS_JOBS:-1}" \
+  # --jobs only when asked: cargo-mutants refuses it with --in-place.
+  jobs=()
+  [ -n "${MUTANTS_JOBS:-}" ] && jobs=(--jobs "$MUTANTS_JOBS")
+  cargo mutants --package "$package" --profile ci "${jobs[@]}" \
     --output "$out" "${opt[@]}" "${extra[@]}" || status=$?
 done
 exit $status

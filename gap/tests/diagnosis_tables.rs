@@ -1,0 +1,93 @@
+//! The diagnosis's tables agree with the fits they list: ranks, reductions, the winner's
+//! fit and the shrink path are what their docs say they are.
+
+use gap::effects::{COAST, TOE, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO};
+use gap::{
+    diagnose, Dataset, DiagnoseOptions, Diagnosis, EffectParams, Experiment, Firmware, FitOptions,
+    Gap, Group, KinematicModel, Model, ObservedRun, RankedFit, Reference, SplitRule, TestKind,
+};
+
+/// Five runs of each test of `hidden` with two leg lengths; the 1.5 m legs held out.
+fn diagnosis(hidden: &EffectParams, candidates: &[&str]) -> Diagnosis {
+    let reference = Reference {
+        wheelbase_mm: 150.0,
+        mm_per_count: 0.2,
+    };
+    let mut d = Dataset::default();
+    for (name, leg) in [("a", 2000.0), ("b", 1500.0)] {
+        for test in [TestKind::UmbmarkCw, TestKind::UmbmarkCcw, TestKind::Line] {
+            let exp = Experiment {
+                test,
+                firmware: Firmware::nominal(&reference, leg),
+                reference,
+                runs: 5,
+                seed: 1,
+            };
+            let runs = KinematicModel
+                .predict(hidden, &exp)
+                .unwrap()
+                .into_iter()
+                .map(|r| ObservedRun {
+                    x_cm: r.x_cm,
+                    y_cm: Some(r.y_cm),
+                    theta_rad: None,
+                })
+                .collect();
+            d.push(Group::new(name, exp, runs).unwrap()).unwrap();
+        }
+    }
+    let (t, h) = d.split(&SplitRule::LeaveOut(vec!["b".into()])).unwrap();
+    let opts = DiagnoseOptions {
+        fit: FitOptions {
+            bootstrap: 4,
+            ..FitOptions::default()
+        },
+        candidates: Some(candidates.iter().map(|c| (*c).to_owned()).collect()),
+    };
+    diagnose(&KinematicModel, &t, &h, &opts).unwrap()
+}
+
+fn heldout(r: &RankedFit) -> &Gap {
+    r.fit
+        .heldout
+        .as_ref()
+        .expect("every candidate has its held-out gap")
+}
+
+/// Each list is in BIC order with ranks 1, 2, ...; the held-out ranks order the same fits by
+/// their held-out total gap, 1 the smallest; the reductions are 1 − gap / the model's gap.
+fn check_ranks(list: &[RankedFit], before: &Gap) {
+    for (i, r) in list.iter().enumerate() {
+        assert_eq!(r.rank_bic, i + 1, "{:?}", r.fit.effects);
+        if i > 0 {
+            assert!(list[i - 1].fit.bic <= r.fit.bic);
+        }
+        let g = heldout(r);
+        let expect = 1.0 - g.total_cm / before.total_cm;
+        assert!((r.heldout_reduction - expect).abs() < 1e-12, "{r:?}");
+        let expect = 1.0 - g.systematic_cm / before.systematic_cm;
+        assert!(
+            (r.heldout_systematic_reduction - expect).abs() < 1e-12,
+            "{r:?}"
+        );
+    }
+    let mut by_heldout: Vec<&RankedFit> = list.iter().collect();
+    by_heldout.sort_by(|a, b| heldout(a).total_cm.total_cmp(&heldout(b).total_cm));
+    for (i, r) in by_heldout.iter().enumerate() {
+        assert_eq!(r.rank_heldout, i + 1, "{:?}", r.fit.effects);
+    }
+}
+
+#[test]
+fn ranks_and_reductions_follow_the_fits() {
+    let d = diagnosis(
+        &EffectParams::new().with(WHEEL_DIAMETER_RATIO, 1.008),
+        &[WHEEL_DIAMETER_RATIO, COAST, TOE, WHEELBASE_RATIO],
+    );
+    let before = &d.shrink.before;
+    assert_eq!(before, &d.where_.heldout);
+    assert_eq!(d.which.singles.len(), 4);
+    assert_eq!(d.which.pairs.len(), 6);
+    check_ranks(&d.which.singles, before);
+    check_ranks(&d.which.pairs, before);
+}
