@@ -24,6 +24,7 @@ pub mod fwvars;
 pub mod gdb;
 pub mod hang;
 pub mod inject;
+pub mod junit;
 pub mod line;
 pub mod link;
 pub mod output;

@@ -35,9 +35,19 @@ pub struct Step {
     pub last_a_edge: [u64; 2],
 }
 
-/// Sees every step of the CPU.
+/// Sees every step of the CPU, or only the run loop's checks.
 pub trait Observer: std::any::Any {
     fn step(&mut self, step: &Step);
+    /// Whether [`Observer::step`] is wanted: seeing every step costs the
+    /// run loop its speed; an observer of the checks alone does not.
+    fn wants_steps(&self) -> bool {
+        true
+    }
+    /// Called at each of the run loop's checks (every [`CHECK_PERIOD_S`] of
+    /// robot time, on the grid [`Bench::run_until`] describes), before its
+    /// `done`: the same cycles in every run, whatever watches it. The plant
+    /// may lag the CPU there, as for `done`.
+    fn check(&mut self, _bench: &Bench) {}
     /// For taking a concrete observer back out of the bench.
     fn into_any(self: Box<Self>) -> Box<dyn std::any::Any>;
 }
@@ -134,7 +144,8 @@ impl Bench {
         let next_check = |now: u64| ((now / period + 1) * period).min(limit);
         let mut hang_check_at = check_at;
         // Instruction-level detail costs speed: only when someone looks.
-        let watch = self.profile.is_some() || self.observer.is_some();
+        let watch =
+            self.profile.is_some() || self.observer.as_ref().is_some_and(|o| o.wants_steps());
         let mut sleeping = self.avr.state() == CpuState::Sleeping;
         if !watch {
             // The same steps and checks as the loop below, in bursts that
@@ -200,7 +211,7 @@ impl Bench {
                 if let (false, Some(profile)) = (slept, &mut self.profile) {
                     profile[(pc_before / 2) as usize] += now - before;
                 }
-                if self.observer.is_some() {
+                if self.observer.as_ref().is_some_and(|o| o.wants_steps()) {
                     self.observe(pc_before, before, sp_before, i_before, slept);
                 }
             }
@@ -232,6 +243,10 @@ impl Bench {
         ms: u64,
         limit: u64,
     ) -> Result<Option<bool>, BenchError> {
+        if let Some(mut o) = self.observer.take() {
+            o.check(self);
+            self.observer = Some(o);
+        }
         if done(self) {
             return Ok(Some(true));
         }

@@ -16,6 +16,9 @@ mod run;
 mod station;
 mod timing;
 
+// The user's own firmware tests.
+mod test;
+
 #[derive(Parser)]
 #[command(
     name = "hil",
@@ -73,6 +76,11 @@ enum Command {
     /// Board descriptions (which MCU pin each part of the robot is on):
     /// `hil board check FILE`.
     Board(board::BoardCmd),
+
+    /// Run scenario files with expectations as test cases (one each): one
+    /// line per case, pass or FAIL with what was seen; --junit FILE for CI,
+    /// each failed case's VCD and last state saved for triage.
+    Test(test::TestCmd),
 }
 
 impl Command {
@@ -93,6 +101,8 @@ impl Command {
             Command::Serve(c) => c.run(),
             Command::Ui(c) => c.run(),
             Command::Board(c) => c.run(),
+
+            Command::Test(c) => c.run(),
         }
     }
 }

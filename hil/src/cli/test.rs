@@ -1,0 +1,408 @@
+//! `hil test FILE...`: the user's own firmware tests. Each scenario file is
+//! one test case: its faults injected, its `[[expect]]`s judged on the run
+//! (`hil::scenario::eval`); one line per case, a JUnit XML and a JSON report
+//! for CI, and for each failed case its VCD and last state saved for triage.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use hil::bench::BenchOptions;
+use hil::board::Board;
+use hil::experiment::{run_test_observed, Test, TestOptions, TestRun};
+use hil::scenario::eval::{judge, Context as EvalContext, LastState, Outcome, Watch};
+use hil::scenario::Scenario;
+use plant_model::RobotConfig;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::args::{parse_leg, parse_seconds, Build, Json, Target};
+
+#[derive(clap::Args)]
+pub struct TestCmd {
+    /// Scenario files with [[expect]]s (TOML or JSON), one test case each.
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<PathBuf>,
+    /// Run this build instead of the file's `firmware` (default robust).
+    #[arg(long, value_enum)]
+    firmware: Option<Build>,
+    /// Run this ELF instead of the file's build.
+    #[arg(long, value_name = "FILE")]
+    elf: Option<PathBuf>,
+    /// Robot config TOML (default: fixtures/robots/henrytwo.toml).
+    #[arg(long, value_name = "FILE")]
+    robot: Option<PathBuf>,
+    /// Board TOML (default: Henrytwo's). Checked before anything runs.
+    #[arg(long, value_name = "FILE", value_parser = super::board::parse_board)]
+    board: Option<Board>,
+    /// The plant's seed instead of the file's `seed` (default 0).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Leg length instead of the file's `leg_mm` (default 2000).
+    #[arg(long, value_parser = parse_leg, allow_negative_numbers = true)]
+    leg_mm: Option<f64>,
+    /// Robot seconds without progress after which a busy firmware is
+    /// reported hung (its expectations are still judged on what it did).
+    #[arg(long, value_name = "S", default_value_t = hil::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
+    hang_after: f64,
+    /// Parallel cases (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Write a JUnit XML report here.
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
+    /// Save each failed case's VCD and last state here (default: beside
+    /// the JUnit file, in JUNIT-STEM-artifacts/).
+    #[arg(long, value_name = "DIR")]
+    artifacts: Option<PathBuf>,
+    #[command(flatten)]
+    json: Json,
+}
+
+/// One case, checked and ready to run.
+struct Prepared {
+    file: PathBuf,
+    name: String,
+    scenario: Scenario,
+    robot: RobotConfig,
+    firmware: hil::elf::Firmware,
+    test: Test,
+    opts: TestOptions,
+    watch: Watch,
+}
+
+/// What `hil test` reports of one case.
+#[derive(Debug, Serialize)]
+pub struct CaseReport {
+    pub case: String,
+    pub file: PathBuf,
+    pub firmware: String,
+    pub seed: u64,
+    pub test: Test,
+    pub pass: bool,
+    /// `pass`, `fail`, or `incomplete` (the bench stopped the run).
+    pub verdict: &'static str,
+    /// One line: the first failed expectation (which, when, what was seen).
+    pub message: String,
+    pub robot_time_s: f64,
+    pub expectations: Vec<Outcome>,
+    /// Files saved for triage, on a failure.
+    pub artifacts: Vec<PathBuf>,
+}
+
+impl TestCmd {
+    pub fn run(self) -> Result<()> {
+        // Everything checked before anything runs: exit 2 on a bad file.
+        let cases = self
+            .files
+            .iter()
+            .map(|f| self.prepare(f))
+            .collect::<Result<Vec<_>>>()?;
+        let artifacts = self.artifacts.clone().or_else(|| {
+            self.junit.as_ref().map(|j| {
+                let stem = j
+                    .file_stem()
+                    .map_or("junit".into(), |s| s.to_string_lossy());
+                j.with_file_name(format!("{stem}-artifacts"))
+            })
+        });
+        let slugs = slugs(&cases);
+        let board = self.board.unwrap_or_default();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.jobs.unwrap_or(0))
+            .build()
+            .context("starting the worker threads")?;
+        let reports = pool.install(|| {
+            cases
+                .into_par_iter()
+                .zip(slugs)
+                .map(|(c, slug)| run_case(c, &board, artifacts.as_deref(), &slug))
+                .collect::<Result<Vec<_>>>()
+        })?;
+        self.json.emit(&reports, || render(&reports))?;
+        if let Some(path) = &self.junit {
+            let xml = junit(&reports);
+            hil::output::write_atomic(path, xml.as_bytes())
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        let failed = reports.iter().filter(|r| r.verdict == "fail").count();
+        let incomplete = reports.iter().filter(|r| r.verdict == "incomplete").count();
+        if failed > 0 {
+            anyhow::bail!("{failed} of {} test case(s) failed", reports.len());
+        }
+        if incomplete > 0 {
+            return Err(super::Incomplete(format!(
+                "{incomplete} of {} test case(s) did not complete: the bench stopped the run",
+                reports.len()
+            ))
+            .into());
+        }
+        Ok(())
+    }
+
+    fn prepare(&self, file: &Path) -> Result<Prepared> {
+        let scenario = Scenario::load(file).map_err(super::bad_input)?;
+        if scenario.expect.is_empty() {
+            return Err(super::bad_input(anyhow::anyhow!(
+                "the scenario {} has no [[expect]]: hil test has nothing to judge (hil run --scenario runs it)",
+                file.display()
+            )));
+        }
+        let build = self.firmware.unwrap_or(match scenario.firmware.as_deref() {
+            Some("thesis") => Build::Thesis,
+            _ => Build::Robust,
+        });
+        let seed = self.seed.or(scenario.seed).unwrap_or(0);
+        let target = Target {
+            firmware: build,
+            elf: self.elf.clone(),
+            description: None,
+            robot: self.robot.clone(),
+            board: self.board,
+            seed,
+            keep_firmware_params: false,
+            params: Vec::new(),
+        };
+        let (robot, firmware) = target.load()?;
+        let bench = target.bench();
+        let watch = Watch::new(&scenario, &firmware, bench.clock).map_err(|e| {
+            super::bad_input(anyhow::anyhow!("the scenario {}, {e}", file.display()))
+        })?;
+        let test = scenario.test.unwrap_or(Test::Line);
+        let opts = TestOptions {
+            leg_mm: self
+                .leg_mm
+                .or(scenario.leg_mm)
+                .unwrap_or(super::args::DEFAULT_LEG_MM),
+            bench,
+            limit_s: scenario.limit_s,
+            // The VCD of a failed case needs the pins' detail.
+            record: true,
+            faults: scenario.scheduled(),
+            framed: scenario.framed,
+            hang_after_s: Some(self.hang_after),
+            ..Default::default()
+        };
+        let name = scenario.name.clone().unwrap_or_else(|| stem(file));
+        Ok(Prepared {
+            file: file.to_owned(),
+            name,
+            scenario,
+            robot,
+            firmware,
+            test,
+            opts,
+            watch,
+        })
+    }
+}
+
+fn stem(file: &Path) -> String {
+    file.file_stem()
+        .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned())
+}
+
+/// A file name for each case's artifacts: its file's stem, numbered when
+/// two cases share one.
+fn slugs(cases: &[Prepared]) -> Vec<String> {
+    let stems: Vec<String> = cases.iter().map(|c| stem(&c.file)).collect();
+    stems
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            if stems.iter().filter(|t| *t == s).count() > 1 {
+                format!("{s}-{}", i + 1)
+            } else {
+                s.clone()
+            }
+        })
+        .collect()
+}
+
+fn run_case(
+    c: Prepared,
+    board: &Board,
+    artifacts: Option<&Path>,
+    slug: &str,
+) -> Result<CaseReport> {
+    let firmware_name = c.firmware.name();
+    let seed = c.opts.bench.seed;
+    let clock = c.opts.bench.clock;
+    let outcome = run_test_observed(
+        c.firmware,
+        &c.robot,
+        c.test,
+        &c.opts,
+        Some(Box::new(c.watch)),
+    );
+    let base = CaseReport {
+        case: c.name.clone(),
+        file: c.file.clone(),
+        firmware: firmware_name,
+        seed,
+        test: c.test,
+        pass: false,
+        verdict: "incomplete",
+        message: String::new(),
+        robot_time_s: 0.0,
+        expectations: Vec::new(),
+        artifacts: Vec::new(),
+    };
+    let (run, observer) = match outcome {
+        Ok(r) => r,
+        Err(e) => {
+            return Ok(CaseReport {
+                message: format!("the bench stopped the run: {e}"),
+                ..base
+            })
+        }
+    };
+    let watch = observer
+        .and_then(|o| o.into_any().downcast::<Watch>().ok())
+        .context("the run lost its watch")?;
+    let outcomes = judge(
+        &c.scenario,
+        &watch,
+        &EvalContext {
+            run: &run,
+            board,
+            clock,
+        },
+    );
+    let mut failures: Vec<String> = outcomes
+        .iter()
+        .filter(|o| !o.pass)
+        .map(|o| o.message.clone())
+        .collect();
+    for i in &run.faults_never_fired {
+        failures.push(format!(
+            "fault {} never fired in {:.3} s of robot time: nothing was tested",
+            i + 1,
+            run.robot_time_s
+        ));
+    }
+    let pass = failures.is_empty();
+    let mut report = CaseReport {
+        pass,
+        verdict: if pass { "pass" } else { "fail" },
+        message: failures.first().cloned().unwrap_or_default(),
+        robot_time_s: run.robot_time_s,
+        expectations: outcomes,
+        ..base
+    };
+    if !pass {
+        if let Some(dir) = artifacts {
+            report.artifacts = save_artifacts(dir, slug, &run, watch.last_state(), board)?;
+        }
+    }
+    Ok(report)
+}
+
+/// The VCD of `run` and its last state, as `DIR/SLUG.vcd` and
+/// `DIR/SLUG.state.json`: what a failure is triaged with.
+pub(super) fn save_artifacts(
+    dir: &Path,
+    slug: &str,
+    run: &TestRun,
+    last: &LastState,
+    board: &Board,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let vcd = dir.join(format!("{slug}.vcd"));
+    let text = hil::vcd::render(&hil::vcd::VcdInput {
+        clock_hz: BenchOptions::default().clock.hz(),
+        board,
+        edges: &run.edges,
+        drive: &run.drive,
+        uart_tx: &run.uart,
+        uart_rx: &run.uart_rx,
+        samples: &run.trace,
+        pwm_edges: false,
+    });
+    hil::output::write_atomic(&vcd, text.as_bytes())
+        .with_context(|| format!("writing {}", vcd.display()))?;
+    let state = dir.join(format!("{slug}.state.json"));
+    let json = serde_json::json!({
+        "test": run.test,
+        "firmware": run.firmware,
+        "seed": run.seed,
+        "completed": run.completed,
+        "finding": run.finding,
+        "last": last,
+    });
+    hil::output::write_atomic(&state, serde_json::to_string_pretty(&json)?.as_bytes())
+        .with_context(|| format!("writing {}", state.display()))?;
+    Ok(vec![vcd, state])
+}
+
+/// One line a case, then the count.
+fn render(reports: &[CaseReport]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    for r in reports {
+        let head = match r.verdict {
+            "pass" => "pass",
+            "fail" => "FAIL",
+            _ => "INCOMPLETE",
+        };
+        let _ = write!(
+            s,
+            "{head:<5} {} ({}, {:.1} s robot)",
+            r.case,
+            r.file.display(),
+            r.robot_time_s
+        );
+        if !r.pass {
+            let _ = write!(s, ": {}", r.message);
+        }
+        s.push('\n');
+        for a in &r.artifacts {
+            let _ = writeln!(s, "      saved {}", a.display());
+        }
+    }
+    let passed = reports.iter().filter(|r| r.pass).count();
+    let _ = writeln!(s, "{passed} passed, {} failed", reports.len() - passed);
+    s
+}
+
+/// The JUnit report: a suite per case's file (its seed and firmware as
+/// properties), its one test case.
+fn junit(reports: &[CaseReport]) -> String {
+    let suites: Vec<hil::junit::Suite> = reports
+        .iter()
+        .map(|r| {
+            let details: Vec<String> = r
+                .expectations
+                .iter()
+                .map(|o| format!("{} {}", if o.pass { "pass" } else { "FAIL" }, o.message))
+                .collect();
+            hil::junit::Suite {
+                name: format!("hil test {}", r.file.display()),
+                properties: vec![
+                    ("seed".into(), r.seed.to_string()),
+                    ("firmware".into(), r.firmware.clone()),
+                    ("test".into(), r.test.name().into()),
+                    ("file".into(), r.file.display().to_string()),
+                ],
+                cases: vec![hil::junit::Case {
+                    name: r.case.clone(),
+                    classname: format!("hil.test.{}", stem(&r.file)),
+                    time_s: r.robot_time_s,
+                    failure: (!r.pass).then(|| hil::junit::Failure {
+                        message: r.message.clone(),
+                        kind: r.verdict.into(),
+                        text: details.join("\n"),
+                    }),
+                    skipped: None,
+                    system_out: (!r.artifacts.is_empty()).then(|| {
+                        r.artifacts
+                            .iter()
+                            .map(|a| format!("artifact: {}", a.display()))
+                            .collect::<Vec<_>>()
+                            .join("\n")
+                    }),
+                }],
+            }
+        })
+        .collect();
+    hil::junit::render("hil test", &suites)
+}
