@@ -12,7 +12,8 @@ use super::args::Common;
 
 #[derive(clap::Args)]
 pub struct Serve {
-    /// Expose USART1 on a pseudo-terminal (its path is printed).
+    /// Expose the command USART (USART1, the HC-05's) on a pseudo-terminal
+    /// and the USB serial (USART0) on a second one; their paths are printed.
     #[arg(long, required = true)]
     pty: bool,
     /// Robot seconds per wall-clock second.
@@ -31,6 +32,7 @@ impl Serve {
         let options = ServeOptions {
             speed: self.speed,
             bench: target.bench(),
+            usb_pty: true,
             ..Default::default()
         };
         let (robot, firmware) = target.load()?;
@@ -77,22 +79,34 @@ impl Ui {
     }
 }
 
-/// Serve the emulated robot's USART1 on a pty until the emulator stops.
+/// Serve the emulated robot's USARTs on ptys until the emulator stops.
 fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Result<()> {
     let speed = options.speed;
+    let board = options.bench.board;
     let name = firmware.name();
     let emu =
         EmulatedRobot::spawn(firmware, robot, options).context("starting the emulated robot")?;
-    // The path first and alone on stdout, for scripts and tests.
-    println!("pty: {}", emu.path().display());
+    let pty = emu.path().display();
+    let usb = emu
+        .usb_path()
+        .context("the emulated robot serves no USB serial")?
+        .display();
+    // The paths first and alone on stdout, for scripts and tests: the
+    // command pty's line first, as before the USB serial had one.
+    println!("pty: {pty}");
+    println!("usb pty: {usb}");
     let _ = std::io::stdout().flush();
     eprintln!(
         "the emulated robot ({name} firmware) runs at {speed}x real time; its Bluetooth UART \
-         (9600 baud 8N1) is {}: open it with a serial client (screen {} 9600) or \
-         `hil ui --port {}`; Ctrl-C stops it",
-        emu.path().display(),
-        emu.path().display(),
-        emu.path().display()
+         (USART{}, {} baud 8N1) is {pty}: open it with a serial client (screen {pty} {}) or \
+         `hil ui --port {pty}`; its USB serial (USART{}, {} baud) is {usb}; one client at a \
+         time on each, the robot's bytes kept for the next (up to {} KiB); Ctrl-C stops it",
+        board.command_uart.usart,
+        board.command_uart.baud,
+        board.command_uart.baud,
+        board.debug_uart.usart,
+        board.debug_uart.baud,
+        hil::station::emulated::QUEUE_CAP / 1024,
     );
     let mut warned = false;
     while !emu.finished() {

@@ -1,18 +1,21 @@
-//! The emulated robot behind a pseudo-terminal, paced to the wall clock:
+//! The emulated robot behind pseudo-terminals, paced to the wall clock:
 //! `hil serve --pty` and the emulated robots of `hil ui`.
 //!
 //! The bench itself stays a pure function of the ELF, the config and the
 //! seed: it runs in slices of robot time, and only [`Pacer`], outside it,
 //! looks at the host clock and sleeps between slices. What the host writes
-//! to the pty reaches USART1 (the HC-05's UART) at the start of the next
-//! slice, at 9600 baud in robot time; what the firmware sends goes out on
-//! the pty after each slice. Which slice a host byte lands in depends on the
-//! wall clock, so a served session is not reproducible bit for bit; a run of
-//! `hil run` or `hil umbmark` still is.
+//! to a pty reaches its USART (the board's command USART, Henrytwo's USART1
+//! to the HC-05; on a second pty, its USB serial, USART0) at the start of
+//! the next slice, at the line's baud in robot time; what the firmware sends
+//! goes out on the pty after each slice. Which slice a host byte lands in
+//! depends on the wall clock, so a served session is not reproducible bit
+//! for bit; a run of `hil run` or `hil umbmark` still is.
+//!
+//! | file | what |
+//! |---|---|
+//! | `mod.rs` | [`EmulatedRobot`], [`ServeOptions`], [`Pacer`], the slice loop |
+//! | `pty.rs` | one USART on a pty: one client at a time, the robot's bytes queued for the next ([`QUEUE_CAP`]) |
 
-use std::fs::File;
-use std::io::{ErrorKind, Read, Write};
-use std::os::fd::{AsFd, AsRawFd};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -26,12 +29,19 @@ use crate::bench::{Bench, BenchError, BenchOptions};
 use crate::elf::Firmware;
 use crate::line::wait_ready;
 
+mod pty;
+
+use self::pty::PtyPort;
+pub use self::pty::QUEUE_CAP;
+
 #[derive(Debug, Error)]
 pub enum EmulatorError {
     #[error(transparent)]
     Bench(#[from] BenchError),
     #[error("cannot create a pseudo-terminal: {0}; check /dev/ptmx is there and usable")]
     Pty(nix::Error),
+    #[error("cannot watch the pseudo-terminal {} for its clients (inotify): {source}", path.display())]
+    Watch { path: PathBuf, source: nix::Error },
     #[error("the emulator thread ended before the firmware was ready")]
     Lost,
     #[error("speed {0}: give a factor above 0 (1 = real time, 10 = ten times faster)")]
@@ -48,6 +58,9 @@ pub struct ServeOptions {
     /// inter-byte timeout, so a frame written in two pieces is not torn.
     pub slice_s: f64,
     pub bench: BenchOptions,
+    /// Serve the USB serial (the board's debug USART, where the thesis
+    /// build prints) on a second pty.
+    pub usb_pty: bool,
 }
 
 impl Default for ServeOptions {
@@ -56,6 +69,7 @@ impl Default for ServeOptions {
             speed: 1.0,
             slice_s: 0.005,
             bench: BenchOptions::default(),
+            usb_pty: false,
         }
     }
 }
@@ -105,47 +119,19 @@ impl Pacer {
 }
 
 /// An emulated robot running on its own thread (the simulator is not
-/// `Send`), its USART1 on a pseudo-terminal. Stops when dropped.
+/// `Send`), its USARTs on pseudo-terminals. Stops when dropped.
 pub struct EmulatedRobot {
     path: PathBuf,
+    usb_path: Option<PathBuf>,
     view: Arc<Mutex<EmulatorView>>,
     stop: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
 }
 
-/// A pty in raw mode (no echo, no line editing, no CR/LF translation: the
-/// framed protocol is binary): its master, its slave and the slave's path.
-fn open_pty() -> Result<(File, Slave, PathBuf), EmulatorError> {
-    use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
-    let pty = nix::pty::openpty(None, None).map_err(EmulatorError::Pty)?;
-    let mut t = tcgetattr(&pty.slave).map_err(EmulatorError::Pty)?;
-    cfmakeraw(&mut t);
-    tcsetattr(&pty.slave, SetArg::TCSANOW, &t).map_err(EmulatorError::Pty)?;
-    let path = nix::unistd::ttyname(&pty.slave).map_err(EmulatorError::Pty)?;
-    // The slice loop must never block on the host.
-    use nix::fcntl::{fcntl, FcntlArg, OFlag};
-    fcntl(pty.master.as_raw_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK))
-        .map_err(EmulatorError::Pty)?;
-    Ok((File::from(pty.master), Slave(pty.slave), path))
-}
-
-/// The emulator's own handle on the pty's slave side, never read. Holding it
-/// keeps the line settings and lets the emulator undo a client's exclusive
-/// mode: serial libraries open ports with TIOCEXCL, which outlives their
-/// close while the tty lives, so without this the next client (not root)
-/// would get EBUSY and `hil serve` would serve one client only.
-struct Slave(std::os::fd::OwnedFd);
-
-impl Slave {
-    /// Allow the next client to open the slave, whoever opened it last.
-    fn allow_reopen(&self) {
-        // A failure (not a tty) changes nothing and is harmless to ignore.
-        let _ = crate::sys::clear_tty_exclusive(self.0.as_fd());
-    }
-}
-
 impl EmulatedRobot {
-    /// Boot the firmware on the bench and serve its USART1 on a new pty.
+    /// Boot the firmware on the bench and serve its command USART (the
+    /// board's, Henrytwo's USART1) on a new pty, and its USB serial when
+    /// [`ServeOptions::usb_pty`] asks.
     pub fn spawn(
         firmware: Firmware,
         robot: &RobotConfig,
@@ -154,7 +140,16 @@ impl EmulatedRobot {
         if !(options.speed.is_finite() && options.speed > 0.0) {
             return Err(EmulatorError::Speed(options.speed));
         }
-        let (master, slave, path) = open_pty()?;
+        let board = options.bench.board;
+        let command = PtyPort::open("pty")?;
+        let usb = options
+            .usb_pty
+            .then(|| PtyPort::open("usb pty"))
+            .transpose()?;
+        let path = command.path().to_path_buf();
+        let usb_path = usb.as_ref().map(|p| p.path().to_path_buf());
+        let mut ports = vec![(board.command_uart.usart, command)];
+        ports.extend(usb.map(|p| (board.debug_uart.usart, p)));
         let view = Arc::new(Mutex::new(EmulatorView::default()));
         let stop = Arc::new(AtomicBool::new(false));
         let (ready_tx, ready_rx) = std::sync::mpsc::channel();
@@ -185,7 +180,7 @@ impl EmulatedRobot {
                             return;
                         }
                     };
-                    let result = serve_loop(bench, master, &slave, options, &view, &stop);
+                    let result = serve_loop(bench, ports, options, &view, &stop);
                     if let Err(e) = result {
                         if let Ok(mut v) = view.lock() {
                             v.error = Some(e.to_string());
@@ -201,15 +196,21 @@ impl EmulatedRobot {
         }
         Ok(Self {
             path,
+            usb_path,
             view,
             stop,
             thread: Some(thread),
         })
     }
 
-    /// The pty to open as a serial port.
+    /// The pty to open as a serial port: the command USART (the HC-05's).
     pub fn path(&self) -> &std::path::Path {
         &self.path
+    }
+
+    /// The pty of the USB serial (the board's debug USART), when served.
+    pub fn usb_path(&self) -> Option<&std::path::Path> {
+        self.usb_path.as_deref()
     }
 
     /// The latest view of the emulator.
@@ -240,61 +241,51 @@ impl Drop for EmulatedRobot {
     }
 }
 
-/// Bytes from the firmware waiting for the host; beyond this the oldest are
-/// dropped, as a UART without a listener loses them.
-const MAX_PENDING: usize = 4096;
-
+/// Run the bench slice by slice, each port's client bytes into its USART
+/// and the USART's bytes out to the port, until `stop`.
 fn serve_loop(
     mut bench: Bench,
-    mut master: File,
-    slave: &Slave,
+    mut ports: Vec<(u8, PtyPort)>,
     options: ServeOptions,
     view: &Mutex<EmulatorView>,
     stop: &AtomicBool,
 ) -> Result<(), BenchError> {
     let t0 = bench.robot_time_s();
     // A served robot runs for days: the bench keeps nothing of its past
-    // (no trace, no logs), and the firmware's bytes are taken as they come;
-    // those sent before the host came (at boot) are not the host's.
+    // (no trace, no logs), and the firmware's bytes are taken as they come.
     bench.keep_latest_records();
+    // The command USART's bytes at boot answered the bench telling the
+    // robot its parameters: not the host's. The USB serial's (a greeting,
+    // a menu) are what a terminal user opens it for: kept.
+    let usb = (ports.len() > 1).then_some(bench.board().debug_uart.usart);
     for n in 0..4 {
-        bench.take_uart_output(n);
+        let bytes = bench.take_uart_output(n);
+        if Some(n) == usb {
+            ports[1].1.queue(&bytes);
+        }
     }
-    let mut pending: std::collections::VecDeque<u8> = Default::default();
-    let mut buf = [0u8; 256];
+    let mut host = Vec::new();
     let pacer = Pacer::new(options.speed);
     while !stop.load(Ordering::Relaxed) {
-        // Host to robot: everything written since the last slice.
-        loop {
-            match master.read(&mut buf) {
-                Ok(0) => break,
-                Ok(n) => bench.send(1, &buf[..n]),
-                // Nothing waiting (WouldBlock): an idle line.
-                Err(_) => break,
+        // Clients come and go between slices; host to robot: everything
+        // written since the last slice.
+        for (n, port) in &mut ports {
+            port.follow_clients();
+            host.clear();
+            port.take_host_bytes(&mut host);
+            if !host.is_empty() {
+                bench.send(*n, &host);
             }
         }
-        // Clients come and go between slices; one syscall per slice.
-        slave.allow_reopen();
         bench.run_for(options.slice_s)?;
-        pending.extend(bench.take_uart_output(1));
-        // The other USARTs (a debug port) have no listener here.
-        for n in [0, 2, 3] {
-            bench.take_uart_output(n);
-        }
-        while !pending.is_empty() {
-            let (a, _) = pending.as_slices();
-            match master.write(a) {
-                Ok(n) if n > 0 => {
-                    pending.drain(..n);
-                }
-                Ok(_) => break,
-                Err(e) if e.kind() == ErrorKind::Interrupted => continue,
-                Err(_) => break,
+        for n in 0..4 {
+            let bytes = bench.take_uart_output(n);
+            // A USART not served (a debug port of `hil ui`'s robot) has no
+            // listener here.
+            if let Some((_, port)) = ports.iter_mut().find(|(u, _)| *u == n) {
+                port.queue(&bytes);
+                port.deliver();
             }
-        }
-        if pending.len() > MAX_PENDING {
-            let extra = pending.len() - MAX_PENDING;
-            pending.drain(..extra);
         }
         let elapsed = bench.robot_time_s() - t0;
         let pose = bench.core().robot().pose();
