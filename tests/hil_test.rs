@@ -80,3 +80,129 @@ fn a_file_without_expectations_is_refused_before_anything_runs() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no [[expect]]"));
 }
+
+/// The fixture's expectations with each condition turned round: a wrong
+/// test byte in the frame, text the robust build never sends, the LEDs'
+/// levels swapped (the lit one low throughout: it is low at reset), another fault code, the motors driven at the end.
+const SIGNALS: &str = "fixtures/scenarios/line-signals.toml";
+const TURNED: [(&str, &str); 6] = [
+    ("data = [4]", "data = [2]"),
+    (r#"bytes = [0xC0], dir = "tx""#, r#"text = "TEST_DONE""#),
+    (
+        "within_ms = 1000.0\nthat = { on = \"pin\", pin = \"D12\", level = \"high\" }",
+        "throughout = true\nthat = { on = \"pin\", pin = \"D12\", level = \"low\" }",
+    ),
+    (
+        r#"pin = "D10", level = "low""#,
+        r#"pin = "D10", level = "high""#,
+    ),
+    ("eq = 0", "eq = 1"),
+    (r#"state = "off""#, r#"state = "forward""#),
+];
+
+#[test]
+fn frame_uart_pin_var_and_motor_conditions_pass_and_each_fails_turned_round() {
+    let out = hil(&["test", SIGNALS, "--json"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let mut text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(SIGNALS),
+    )
+    .unwrap();
+    for (from, to) in TURNED {
+        assert_eq!(text.matches(from).count(), 1, "{from} once in the fixture");
+        text = text.replace(from, to);
+    }
+    let turned = std::env::temp_dir().join(format!("hil-turned-{}.toml", std::process::id()));
+    std::fs::write(&turned, text).unwrap();
+    let out = hil(&["test", turned.to_str().unwrap(), "--json"]);
+    let _ = std::fs::remove_file(&turned);
+    assert_eq!(out.status.code(), Some(1));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let verdicts = report[0]["expectations"].as_array().unwrap();
+    assert_eq!(verdicts.len(), TURNED.len());
+    for v in verdicts {
+        assert_eq!(v["pass"], false, "turned round, still passes: {v}");
+    }
+}
+
+#[test]
+fn faults_junit_has_a_case_per_fault_and_the_failed_reaction() {
+    let dir = std::env::temp_dir().join(format!("hil-faults-junit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (good, bad) = (dir.join("robust.xml"), dir.join("thesis.xml"));
+    let run = |firmware: &str, junit: &std::path::Path| {
+        hil(&[
+            "faults",
+            "--fault",
+            "encoder-dropout",
+            "--firmware",
+            firmware,
+            "--junit",
+            junit.to_str().unwrap(),
+        ])
+    };
+    assert_eq!(run("robust", &good).status.code(), Some(0));
+    // The thesis build has no encoder-loss watchdog: the reaction fails.
+    assert_eq!(run("thesis", &bad).status.code(), Some(1));
+    let check = r#"
+import sys, xml.etree.ElementTree as ET
+for path, failures in ((sys.argv[1], 0), (sys.argv[2], 1)):
+    root = ET.parse(path).getroot()
+    assert root.get("tests") == "1" and root.get("failures") == str(failures), root.attrib
+    case = root.find("testsuite/testcase")
+    assert case.get("name") == "encoder-dropout" and case.get("classname") == "hil.faults"
+    assert float(case.get("time")) > 3.0
+    props = {p.get("name"): p.get("value") for p in root.findall("testsuite/properties/property")}
+    failure = case.find("failure")
+    if failures:
+        assert "thesis" in props["firmware"], props
+        assert failure.get("type") == "reaction"
+        assert "never all off" in failure.get("message"), failure.get("message")
+    else:
+        assert "robust" in props["firmware"] and failure is None, props
+print("ok")
+"#;
+    let py = Command::new("python3")
+        .args(["-c", check, good.to_str().unwrap(), bad.to_str().unwrap()])
+        .output()
+        .expect("python3 runs");
+    assert!(
+        py.status.success(),
+        "{}",
+        String::from_utf8_lossy(&py.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_report_that_cannot_be_written_is_refused_before_anything_runs() {
+    // A file where a folder should be: nothing can be written below it.
+    let blocker = std::env::temp_dir().join(format!("hil-blocker-{}", std::process::id()));
+    std::fs::write(&blocker, "").unwrap();
+    let report = blocker.join("report.xml");
+    for args in [
+        vec![
+            "faults",
+            "--fault",
+            "encoder-dropout",
+            "--junit",
+            report.to_str().unwrap(),
+        ],
+        vec!["test", PASS, "--junit", report.to_str().unwrap()],
+        vec!["run", "line", "--vcd", report.to_str().unwrap()],
+    ] {
+        let out = hil(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains("is not a folder"), "{err}");
+    }
+    let _ = std::fs::remove_file(&blocker);
+}

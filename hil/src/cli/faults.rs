@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use hil::elf::Firmware;
-use hil::faults::{FaultCase, FaultOptions, Verdict};
+use hil::faults::{FaultCase, FaultOptions, FaultRow, Verdict};
 use rayon::prelude::*;
 
 use super::args::{parse_seconds, Common};
@@ -29,6 +29,11 @@ pub struct Faults {
     /// reported hung, with its PC and symbol.
     #[arg(long, value_name = "S", default_value_t = hil::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
     hang_after: f64,
+    /// Also write the verdicts as JUnit XML to FILE (one test case per
+    /// fault, its robust build's reaction judged; the thesis build's is
+    /// reported in the case's output).
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
     #[command(flatten)]
     common: Common,
 }
@@ -36,6 +41,9 @@ pub struct Faults {
 impl Faults {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("faults")?;
+        if let Some(path) = &self.junit {
+            super::check_writable("--junit", path)?;
+        }
         let options = FaultOptions {
             seed: self.common.target.seed,
             board: self.common.target.bench().board,
@@ -74,6 +82,18 @@ impl Faults {
             .print
             .json
             .emit(&rows, || hil::faults::render(&rows))?;
+        if let Some(path) = &self.junit {
+            let suite = hil::junit::Suite {
+                name: "hil faults".into(),
+                properties: vec![
+                    ("seed".into(), self.common.target.seed.to_string()),
+                    ("firmware".into(), robust.path.display().to_string()),
+                ],
+                cases: rows.iter().map(junit_case).collect(),
+            };
+            hil::output::write_atomic(path, hil::junit::render("hil faults", &[suite]).as_bytes())
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
         let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
         let (failed, not_fired) = (count(Verdict::Fail), count(Verdict::NotFired));
         match (failed, not_fired) {
@@ -104,5 +124,31 @@ impl Faults {
             );
         }
         Ok(selected)
+    }
+}
+
+/// A fault's row as a JUnit case: failed when its verdict fails the command
+/// (a reaction not as expected, a fault that never fired), skipped when it
+/// was run against no expectation (a scenario's faults).
+fn junit_case(row: &FaultRow) -> hil::junit::Case {
+    let out = format!(
+        "fault: {}\nexpected: {}\nrobust: {}\nthesis: {}",
+        row.what, row.expected, row.robust, row.thesis
+    );
+    hil::junit::Case {
+        name: row.fault.clone(),
+        classname: "hil.faults".into(),
+        time_s: row.robust_observed.robot_time_s,
+        failure: row.verdict.failed().then(|| hil::junit::Failure {
+            message: format!("{}: {}", row.verdict.tag(), row.why),
+            kind: match row.verdict {
+                Verdict::NotFired => "not_fired",
+                _ => "reaction",
+            }
+            .into(),
+            text: out.clone(),
+        }),
+        skipped: (row.verdict == Verdict::NotJudged).then(|| row.why.clone()),
+        system_out: Some(out),
     }
 }

@@ -139,6 +139,13 @@ pub fn bad_input(e: impl Into<anyhow::Error>) -> anyhow::Error {
     BadInput(format!("{:#}", e.into())).into()
 }
 
+/// `FLAG PATH` refused before anything runs (exit 2) when a file cannot be
+/// written there, rather than after a long run whose result would be lost.
+pub fn check_writable(flag: &str, path: &std::path::Path) -> Result<()> {
+    hil::output::check_writable(path)
+        .map_err(|e| bad_input(anyhow::anyhow!("{flag} {}: {e}", path.display())))
+}
+
 /// Parse the command line and run it: exit code 0 on success, 1 when the
 /// command fails, 2 for bad arguments or input refused before anything ran,
 /// 3 when it ran but a run did not complete, 4 when another process writes

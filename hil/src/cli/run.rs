@@ -42,6 +42,9 @@ impl Run {
             gdb,
             common,
         } = self;
+        if let Some(path) = &common.trace.vcd {
+            super::check_writable("--vcd", path)?;
+        }
         let (robot, firmware) = common.target.load()?;
         let mut opts = common.test_options(common.leg_mm(leg)?);
         opts.hang_after_s = hang_after;

@@ -92,6 +92,12 @@ pub struct CaseReport {
 impl TestCmd {
     pub fn run(self) -> Result<()> {
         // Everything checked before anything runs: exit 2 on a bad file.
+        if let Some(path) = &self.junit {
+            super::check_writable("--junit", path)?;
+        }
+        if let Some(dir) = &self.artifacts {
+            super::check_writable("--artifacts", &dir.join("probe"))?;
+        }
         let cases = self
             .files
             .iter()

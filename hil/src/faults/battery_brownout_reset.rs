@@ -51,8 +51,12 @@ fn check(o: &Observed) -> Result<String, String> {
             ))
         }
         (t, _) => Err(format!(
-            "expected one brown-out reset from {:.3} to {RELEASE_S:.3} s, the motors off within 1 ms and no completion; saw resets {:?}, motors off after {t:?} s, completed {}, hang {:?}",
-            DIP_S.0, o.brownouts, o.completed, o.hang
+            "expected one brown-out reset from {:.3} to {RELEASE_S:.3} s, the motors off within 1 ms and no completion; saw resets {:?}, the motors {}, {}, {}",
+            DIP_S.0,
+            o.brownouts,
+            super::off_after(t),
+            if o.completed { "the test completed" } else { "no completion" },
+            o.hang.as_ref().map_or("no hang".into(), |h| format!("hung: {h}"))
         )),
     }
 }

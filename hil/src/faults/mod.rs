@@ -147,10 +147,20 @@ pub fn stopped_with_code(o: &Observed, max_s: f64) -> Result<String, String> {
             t * 1e3
         )),
         (t, c) => Err(format!(
-            "expected motors off within {:.0} ms and a fault code; saw {t:?} s and code {c:?}",
-            max_s * 1e3
+            "expected motors off within {:.0} ms and a fault code; saw the motors {}, {}",
+            max_s * 1e3,
+            off_after(t),
+            c.filter(|&c| c != 0)
+                .map_or("no fault code".into(), |c| format!("fault code {c}"))
         )),
     }
+}
+
+/// `off after 218 ms` or `never all off`, for a verdict's message.
+pub(crate) fn off_after(t: Option<f64>) -> String {
+    t.map_or("never all off".into(), |t| {
+        format!("off after {:.0} ms", t * 1e3)
+    })
 }
 
 /// What a faulted run showed.

@@ -41,8 +41,10 @@ fn check(o: &Observed) -> Result<String, String> {
             o.robot_time_s - o.fault_at_s.unwrap_or(0.0)
         )),
         (t, again) => Err(format!(
-            "expected the motors off at once, never driven again, no completion; saw off after {t:?} s, driven again after {again:?} s, completed {}",
-            o.completed
+            "expected the motors off at once, never driven again, no completion; saw the motors {}, {}, {}",
+            super::off_after(t),
+            again.map_or("never driven again".into(), |a| format!("driven again after {:.0} ms", a * 1e3)),
+            if o.completed { "the test completed" } else { "no completion" }
         )),
     }
 }

@@ -48,6 +48,35 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     std::fs::rename(&tmp, path)
 }
 
+/// Whether a file can be written at `path`, checked before a long run so
+/// that its results are not lost at the end: not a folder, below a folder
+/// this process may write in (the nearest one that exists: [`write_atomic`]
+/// creates the missing ones). A probe file is created there and removed.
+pub fn check_writable(path: &Path) -> std::io::Result<()> {
+    use std::io::{Error, ErrorKind};
+    if path.is_dir() {
+        return Err(Error::new(ErrorKind::InvalidInput, "it is a folder"));
+    }
+    let mut dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    while !dir.exists() {
+        dir = dir
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+    }
+    if !dir.is_dir() {
+        let why = format!("{} is not a folder", dir.display());
+        return Err(Error::new(ErrorKind::InvalidInput, why));
+    }
+    let probe = dir.join(format!(".hil-probe{}", std::process::id()));
+    std::fs::File::create(&probe)
+        .map_err(|e| Error::new(e.kind(), format!("cannot write in {}: {e}", dir.display())))?;
+    std::fs::remove_file(&probe)
+}
+
 /// Why a folder of results was not written. [`OutputError::Busy`],
 /// [`OutputError::Foreign`] and [`OutputError::Unusable`] come before anything
 /// runs ([`OutputDir::claim`]).
