@@ -3,7 +3,8 @@
 //! robot's bytes kept while no client is there and delivered to the next,
 //! and the thesis build's USB serial (USART0) readable on the second pty.
 //! The clients here are plain file opens, as `cat` or a script's `open()`
-//! would make: no serial library sets the exclusive mode for them.
+//! would make (no serial library sets the exclusive mode for them), and
+//! Debian's pyserial.
 
 #[path = "support/mod.rs"]
 mod support;
@@ -156,6 +157,49 @@ fn the_thesis_builds_usb_serial_is_on_the_second_pty() {
     bluetooth.write_all(&[1]).unwrap();
     let got = read_until(&mut serial, 10, |b| b.ends_with(b"1\r\n"));
     assert_eq!(got, b"1\r\n", "{}", String::from_utf8_lossy(&got));
+}
+
+/// Debian's pyserial (python3-serial, under the system's python3) as a
+/// script would use it: `serial.Serial(pty, 9600)`, which sets the line up
+/// and flushes its input right after opening, then three PINGs written.
+#[test]
+fn pyserial_gets_its_pings_answered() {
+    let (_serve, pty, _) = serve("robust");
+    let script = r#"
+import sys, time, serial
+port = serial.Serial(sys.argv[1], 9600, timeout=0.1)
+port.write(bytes.fromhex(sys.argv[2]) * 3)
+got, quiet_since = b"", time.time()
+while time.time() - quiet_since < (1.0 if got else 10.0):
+    chunk = port.read(256)
+    if chunk:
+        got, quiet_since = got + chunk, time.time()
+print(got.hex())
+"#;
+    let ping: String = frame(&Cmd::Ping)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let out = Command::new("/usr/bin/python3")
+        .args(["-c", script, &pty, &ping])
+        .output()
+        .expect("the system's python3 runs (tools/setup.sh installs python3-serial)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let hex = String::from_utf8_lossy(&out.stdout);
+    let got: Vec<u8> = (0..hex.trim().len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&hex.trim()[i..i + 2], 16).unwrap())
+        .collect();
+    let r = replies(&got);
+    assert_eq!(r.len(), 3, "{r:?}");
+    assert!(
+        r.iter().all(|r| r.id == Cmd::Ping.id().reply_id() && r.ok),
+        "{r:?}"
+    );
 }
 
 struct Killed(Child);

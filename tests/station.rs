@@ -98,9 +98,9 @@ async fn a_served_robot_answers_on_its_pty_like_a_serial_port() {
 }
 
 /// Clients come and go: one starts a test and leaves, the robot finishes it
-/// and talks to nobody, the next client opens the same pty (serial
-/// libraries open it exclusively) and gets its own replies, not the stale
-/// notification.
+/// while nobody has the pty, the next client opens the same pty (one client
+/// at a time) and gets its own replies; the notification kept for it in
+/// between is passed over by the client (tests/pty.rs checks it arrives).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_second_client_opens_the_pty_after_the_first() {
     let (child, path) = serve("10");

@@ -10,6 +10,8 @@ packages=(gcc-avr avr-libc binutils-avr libelf-dev libclang-dev clang pkg-config
 packages+=(chromium chromium-driver)
 # The VCD trace is checked with a real client: sigrok-cli's VCD input and UART decoder.
 packages+=(sigrok-cli)
+# The pty is checked with a serial library's client: Debian's pyserial (the system's python3).
+packages+=(python3-serial)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

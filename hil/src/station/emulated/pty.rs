@@ -306,3 +306,21 @@ impl Drop for PtyPort {
         self.report_dropped();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_full_queue_drops_the_oldest_bytes_and_counts_them() {
+        let mut port = PtyPort::open("pty").unwrap();
+        let sent: Vec<u8> = (0..QUEUE_CAP + 10).map(|i| (i % 251) as u8).collect();
+        port.queue(&sent[..QUEUE_CAP]);
+        assert_eq!((port.queue.len(), port.dropped), (QUEUE_CAP, 0));
+        port.queue(&sent[QUEUE_CAP..]);
+        assert_eq!((port.queue.len(), port.dropped), (QUEUE_CAP, 10));
+        // The newest kept, in order: what a client reads next starts 10
+        // bytes in.
+        assert!(port.queue.iter().eq(&sent[10..]));
+    }
+}
