@@ -92,9 +92,12 @@ fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Resu
         .context("the emulated robot serves no USB serial")?
         .display();
     // The paths first and alone on stdout, for scripts and tests: the
-    // command pty's line first, as before the USB serial had one.
-    println!("pty: {pty}");
-    println!("usb pty: {usb}");
+    // command pty's line first, as before the USB serial had one. One
+    // write: a reader that takes the first line and closes the pipe must
+    // not kill the robot with the second.
+    let _ = std::io::stdout()
+        .lock()
+        .write_all(format!("pty: {pty}\nusb pty: {usb}\n").as_bytes());
     let _ = std::io::stdout().flush();
     eprintln!(
         "the emulated robot ({name} firmware) runs at {speed}x real time; its Bluetooth UART \
