@@ -12,6 +12,8 @@ packages+=(chromium chromium-driver)
 packages+=(sigrok-cli)
 # The pty is checked with a serial library's client: Debian's pyserial (the system's python3).
 packages+=(python3-serial)
+# The gdb stub is checked with the real avr-gdb in batch mode.
+packages+=(gdb-avr)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

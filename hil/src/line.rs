@@ -133,12 +133,17 @@ pub fn ready_bench(
     leg_mm: f64,
 ) -> Result<(Bench, u16, u64), BenchError> {
     let mut bench = Bench::new(firmware, robot, options)?;
-    wait_ready(&mut bench)?;
+    let (done_before, start_cycle) = make_ready(&mut bench, leg_mm)?;
+    Ok((bench, done_before, start_cycle))
+}
+
+/// [`ready_bench`] on a bench already made (one a debugger drives from
+/// reset): ready, the leg length set; (HT_DONE_COUNT, the cycle) then.
+pub fn make_ready(bench: &mut Bench, leg_mm: f64) -> Result<(u16, u64), BenchError> {
+    wait_ready(bench)?;
     let vars = *bench.vars()?;
     bench.write_f32(vars.leg_length_mm, leg_mm as f32);
-    let done_before = bench.read_u16(vars.done_count);
-    let start_cycle = bench.cycle();
-    Ok((bench, done_before, start_cycle))
+    Ok((bench.read_u16(vars.done_count), bench.cycle()))
 }
 
 pub fn run_line(

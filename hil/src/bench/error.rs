@@ -57,6 +57,9 @@ pub enum BenchError {
     /// The firmware was busy in a test without progress (see [`crate::hang`]).
     #[error("the firmware hung: busy in a test without progress (no wheel motion, no change of state, phase, segment or fault) for {still:.3} s of robot time, {report}", still = .0.still_s, report = .0)]
     Hang(crate::hang::HangReport),
+    /// The debugger ended the run (`kill`, or its connection went away).
+    #[error("the debugger ended the run: {0}")]
+    Debugger(String),
 }
 
 /// An error met inside a callback, with the cycle and PC it happened at.

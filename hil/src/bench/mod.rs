@@ -59,9 +59,10 @@ pub use self::recorder::{
     AnalogEvent, AnalogInput, Cutoff, DriveEvent, LedEvent, Motion, MotionEvent, PinEvent,
     Retained, Sample, Snapshot,
 };
-pub use self::run::{Observer, Step, CHECK_PERIOD_S};
+pub use self::run::{Debugger, Observer, Step, CHECK_PERIOD_S};
 pub use crate::elf::Location;
 
+use self::registers::{MCUSR, MCUSR_EXTRF};
 use crate::board::Board;
 use crate::elf::Firmware;
 use crate::fwvars::FwVars;
@@ -118,6 +119,7 @@ pub struct Bench {
     /// Awake cycles per flash word, when profiling.
     profile: Option<Vec<u64>>,
     observer: Option<Box<dyn Observer>>,
+    debugger: Option<Box<dyn Debugger>>,
     hang: Option<HangWatch>,
     board: Board,
 }
@@ -147,6 +149,7 @@ impl Bench {
             sleep_cycles: 0,
             profile: None,
             observer: None,
+            debugger: None,
             hang: None,
             board: options.board,
         })
@@ -222,6 +225,16 @@ impl Bench {
     /// Take the observer back.
     pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
         self.observer.take()
+    }
+
+    /// Let a debugger drive every run loop from now on (see [`Debugger`]).
+    pub fn set_debugger(&mut self, debugger: Option<Box<dyn Debugger>>) {
+        self.debugger = debugger;
+    }
+
+    /// Take the debugger back (None once it detached).
+    pub fn take_debugger(&mut self) -> Option<Box<dyn Debugger>> {
+        self.debugger.take()
     }
 
     /// From now on, stop with [`BenchError::Hang`] when the firmware is busy
@@ -393,6 +406,14 @@ impl Bench {
     /// Pull the reset line now: the firmware restarts from its reset vector,
     /// the plant carries on. simavr drops its cycle timers on reset, so the
     /// bench's is scheduled again.
+    /// Reset the MCU as its reset pin would (a debugger's `monitor
+    /// reset`): the plant carries on, MCUSR keeps its flags and gains EXTRF.
+    pub fn external_reset(&mut self) {
+        let mcusr = self.avr.data(MCUSR);
+        self.reset_mcu();
+        self.avr.set_data(MCUSR, mcusr | MCUSR_EXTRF);
+    }
+
     pub fn reset_mcu(&mut self) {
         self.avr.reset();
         // The MCU's registers are back at their reset values, the bench's

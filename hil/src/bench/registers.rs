@@ -3,9 +3,10 @@
 //! registers are the timer model's (`crate::pwm`), the PIN registers the
 //! board's (`crate::board::Pin::pin_register`).
 
-/// MCUSR and its brown-out reset flag.
+/// MCUSR, its brown-out and its external reset flags.
 pub(super) const MCUSR: u16 = 0x54;
 pub(super) const MCUSR_BORF: u8 = 1 << 2;
+pub(super) const MCUSR_EXTRF: u8 = 1 << 1;
 
 /// Analog comparator control and status, and its interrupt-enable and
 /// input-capture-enable bits.

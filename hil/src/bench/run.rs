@@ -1,6 +1,6 @@
 //! The run loops: [`Bench::run_until`] and its kin, the checks they make on
 //! a grid of robot time (`done`, the hang watch, the limit), and the
-//! instruction-level [`Observer`] hook.
+//! instruction-level [`Observer`] and [`Debugger`] hooks.
 
 use plant_model::Seconds;
 
@@ -52,6 +52,26 @@ pub trait Observer: std::any::Any {
     fn into_any(self: Box<Self>) -> Box<dyn std::any::Any>;
 }
 
+/// A debugger driving the run loop (`crate::gdb`): told before and after
+/// each step of every run loop, it pauses the run by serving its client
+/// inside [`Debugger::after_step`]. The run loop is the one without a
+/// debugger, step for step, so a run under a debugger that only pauses it
+/// is the run without one.
+pub trait Debugger {
+    /// Before a step, the MCU as the step will find it.
+    fn before_step(&mut self, bench: &Bench);
+    /// After a step (`slept`: no instruction ran, the CPU slept or was
+    /// held in reset). Ok(false): the debugger left, the run goes on
+    /// without it; an error ends the run.
+    fn after_step(&mut self, bench: &mut Bench, slept: bool) -> Result<bool, BenchError>;
+    /// The step crashed or stopped the CPU: the debugger may look before
+    /// the run ends with that error.
+    fn fault(&mut self, bench: &mut Bench);
+    /// The run is over (`completed`: its test completed); the debugger is
+    /// let go after this.
+    fn run_over(&mut self, bench: &Bench, completed: bool);
+}
+
 impl Bench {
     /// Run until `done` holds or `limit_s` of robot time pass; Ok(false) on
     /// the limit. `done` is checked after the first step, then after the
@@ -96,31 +116,6 @@ impl Bench {
         self.run_until(seconds, |_| false).map(|_| ())
     }
 
-    /// Execute one instruction (while asleep or held in reset: jump to the
-    /// next event) with the bench's bookkeeping, for a debugger's step and
-    /// continue. Hang detection and observers are the run loop's, not this.
-    pub fn step_instruction(&mut self) -> Result<(), BenchError> {
-        let before = self.avr.cycle();
-        let held = self.avr.handler().held_in_reset();
-        let state = if held {
-            self.avr.hold_step();
-            CpuState::Sleeping
-        } else {
-            self.avr.step()
-        };
-        if state == CpuState::Sleeping {
-            self.sleep_cycles += self.avr.cycle() - before;
-        }
-        if !matches!(state, CpuState::Running | CpuState::Sleeping) {
-            return Err(self.stop_error(state));
-        }
-        if self.avr.handler().attention() {
-            self.attend()?;
-        }
-        self.sync_plant();
-        Ok(())
-    }
-
     /// Bring the plant (and the statistics) to the current cycle: the run
     /// loop lets them lag between the bench's own events.
     pub(super) fn sync_plant(&mut self) {
@@ -144,8 +139,9 @@ impl Bench {
         let next_check = |now: u64| ((now / period + 1) * period).min(limit);
         let mut hang_check_at = check_at;
         // Instruction-level detail costs speed: only when someone looks.
-        let watch =
-            self.profile.is_some() || self.observer.as_ref().is_some_and(|o| o.wants_steps());
+        let watch = self.profile.is_some()
+            || self.observer.as_ref().is_some_and(|o| o.wants_steps())
+            || self.debugger.is_some();
         let mut sleeping = self.avr.state() == CpuState::Sleeping;
         if !watch {
             // The same steps and checks as the loop below, in bursts that
@@ -189,6 +185,10 @@ impl Bench {
             } else {
                 (0, 0, false)
             };
+            if let Some(mut d) = self.debugger.take() {
+                d.before_step(self);
+                self.debugger = Some(d);
+            }
             // Held in reset by the brown-out detector: no instruction runs,
             // the plant and the bench's events go on.
             let held = self.avr.handler().held_in_reset();
@@ -216,11 +216,20 @@ impl Bench {
                 }
             }
             if !matches!(state, CpuState::Running | CpuState::Sleeping) {
+                if let Some(mut d) = self.debugger.take() {
+                    d.fault(self);
+                    self.debugger = Some(d);
+                }
                 return Err(self.stop_error(state));
             }
             if self.avr.handler().attention() {
                 self.attend()?;
                 sleeping = self.avr.state() == CpuState::Sleeping;
+            }
+            if let Some(mut d) = self.debugger.take() {
+                if d.after_step(self, slept)? {
+                    self.debugger = Some(d);
+                }
             }
             if now >= check_at {
                 check_at = next_check(now);

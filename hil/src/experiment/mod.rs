@@ -22,7 +22,6 @@ use crate::bench::{
 use crate::description::Description;
 use crate::elf::Firmware;
 use crate::firmware_params::{Believed, Tell};
-use crate::line::ready_bench;
 
 mod analyse;
 mod described;
@@ -218,12 +217,25 @@ pub fn run_test_observed(
     if let Some(d) = &opts.description {
         return described::run_described(firmware, robot, test, opts, d, observer);
     }
-    let name = firmware.name();
-    let (mut bench, done_before, start_cycle) =
-        ready_bench(firmware, robot, opts.bench, opts.leg_mm)?;
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    let run = run_on(&mut bench, robot, test, opts, observer)?;
+    Ok((run, bench.take_observer()))
+}
+
+/// [`run_test_observed`]'s run on a bench fresh from reset (one a debugger
+/// may drive: the same run, step for step).
+fn run_on(
+    bench: &mut Bench,
+    robot: &RobotConfig,
+    test: Test,
+    opts: &TestOptions,
+    observer: Option<Box<dyn Observer>>,
+) -> Result<TestRun, BenchError> {
+    let name = bench.firmware().name();
+    let (done_before, start_cycle) = crate::line::make_ready(bench, opts.leg_mm)?;
     let vars = *bench.vars()?;
     bench.set_observer(observer);
-    let told = start(&mut bench, robot, test, opts);
+    let told = start(bench, robot, test, opts);
     let limit = limit_s(test, opts);
     bench.set_hang_after(opts.hang_after_s);
     let outcome = bench.run_until(limit, |b| {
@@ -252,11 +264,10 @@ pub fn run_test_observed(
     if completed {
         bench.run_for(0.1)?;
     }
-    let observer = bench.take_observer();
-    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    let mut run = analyse(bench, test, name, opts, start_cycle, completed, finding);
     run.hang = hang;
     told.apply(&mut run);
-    Ok((run, observer))
+    Ok(run)
 }
 
 /// What the firmware was told before a run: what it then believed, and a
@@ -316,10 +327,9 @@ pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
 }
 
 /// Run `test` under a debugger: the MCU paused at its reset vector until
-/// the debugger continues. The bench plays the host as [`run_test`] does
-/// (the start command once the firmware is idle); after a detach the run
-/// goes on to its end without the debugger. None when the debugger killed
-/// the run.
+/// the debugger continues, then [`run_test`]'s run, step for step (the
+/// debugger only pauses it), the debugger told of the end. None when the
+/// debugger killed the run.
 pub fn run_test_debugged(
     firmware: Firmware,
     robot: &RobotConfig,
@@ -327,59 +337,18 @@ pub fn run_test_debugged(
     opts: &TestOptions,
     server: crate::gdb::GdbServer,
 ) -> Result<Option<TestRun>, crate::gdb::GdbError> {
-    use crate::gdb::{Flow, SessionEnd};
-    let name = firmware.name();
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
-    let vars = *bench.vars()?;
-    let limit = limit_s(test, opts);
-    // (HT_DONE_COUNT before the start, the start's cycle), once started.
-    let mut started: Option<(u16, u64)> = None;
-    let mut told: Option<Told> = None;
-    let mut host = |b: &mut Bench, started: &mut Option<(u16, u64)>| -> Flow {
-        match *started {
-            None if b.is_idle() => {
-                b.write_f32(vars.leg_length_mm, opts.leg_mm as f32);
-                *started = Some((b.read_u16(vars.done_count), b.cycle()));
-                told = Some(start(b, robot, test, opts));
-                Flow::Continue
-            }
-            Some((done_before, at))
-                if (b.read_u16(vars.done_count) != done_before && b.is_idle())
-                    || b.cycle() >= at + b.clock().cycles_in(plant_model::Seconds(limit)) =>
-            {
-                Flow::Finished
-            }
-            _ => Flow::Continue,
-        }
-    };
-    let end = server.serve(&mut bench, &mut |b: &mut Bench| host(b, &mut started))?;
-    if end == SessionEnd::Killed {
+    if !server.attach(&mut bench)? {
         return Ok(None);
     }
-    if end == SessionEnd::Detached {
-        if started.is_none() {
-            crate::line::wait_ready(&mut bench)?;
-            host(&mut bench, &mut started);
+    let run = match run_on(&mut bench, robot, test, opts, None) {
+        Ok(run) => run,
+        Err(BenchError::Debugger(_)) => return Ok(None),
+        Err(e) => {
+            crate::gdb::run_over(&mut bench, false);
+            return Err(e.into());
         }
-        let left = |b: &Bench, at: u64| limit - b.clock().seconds(b.cycle() - at).0;
-        if let Some((done_before, at)) = started {
-            let remaining = left(&bench, at).max(0.0);
-            bench.run_until(remaining, |b| {
-                b.read_u16(vars.done_count) != done_before && b.is_idle()
-            })?;
-        }
-    }
-    let (done_before, start_cycle) = started.unwrap_or((0, bench.cycle()));
-    let completed = bench.read_u16(vars.done_count) != done_before && bench.is_idle();
-    let finding = (!completed).then(|| {
-        format!(
-            "did not complete within {limit:.0} s of robot time; the firmware is {}",
-            bench.location()
-        )
-    });
-    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
-    if let Some(told) = told {
-        told.apply(&mut run);
-    }
+    };
+    crate::gdb::run_over(&mut bench, run.completed);
     Ok(Some(run))
 }

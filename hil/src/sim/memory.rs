@@ -136,6 +136,17 @@ impl<H: Handler> Avr<H> {
         unsafe { (*self.raw()).ramend as u64 }
     }
 
+    /// Bytes of data space (registers, IO, SRAM): RAMEND + 1.
+    pub fn data_size(&self) -> u32 {
+        self.ramend() as u32 + 1
+    }
+
+    /// Bytes of flash.
+    pub fn flash_size(&self) -> u32 {
+        // SAFETY: plain field read.
+        unsafe { (*self.raw()).flashend + 1 }
+    }
+
     /// Bytes of data space (registers, IO, SRAM) from `addr`; None when the
     /// range passes RAMEND.
     pub fn read_data(&self, addr: u32, len: usize) -> Option<Vec<u8>> {
