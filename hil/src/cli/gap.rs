@@ -221,11 +221,7 @@ impl Gap {
     }
 
     fn bench_self_test(&self) -> Result<()> {
-        let bench = BenchModel::new(
-            self.firmware()?,
-            RobotConfig::default(),
-            self.jobs.into(),
-        );
+        let bench = BenchModel::new(self.firmware()?, RobotConfig::default(), self.jobs.into());
         let cases = &DEFAULT_CASES[..usize::from(self.cases)];
         let t = hil::gap_bench::bench_self_test(
             &bench,

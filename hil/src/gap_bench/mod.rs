@@ -160,14 +160,14 @@ impl BenchModel {
         // (request, first job, runs)
         let mut spans = Vec::new();
         for (i, (params, exp)) in requests.iter().enumerate() {
-            let test = match check_params(&self.name(), &specs, params).and_then(|()| self.check(exp))
-            {
-                Ok(t) => t,
-                Err(e) => {
-                    answers.push(Err(e));
-                    continue;
-                }
-            };
+            let test =
+                match check_params(&self.name(), &specs, params).and_then(|()| self.check(exp)) {
+                    Ok(t) => t,
+                    Err(e) => {
+                        answers.push(Err(e));
+                        continue;
+                    }
+                };
             answers.push(Ok(Vec::new()));
             robots.push(apply(&self.nominal, params));
             let fw_params = Self::firmware_params(exp);
@@ -240,7 +240,10 @@ impl BenchModel {
             ..TestOptions::default()
         };
         let run = run_test(self.firmware.clone(), robot, job.test, &opts).map_err(|e| {
-            ModelError::InvalidExperiment(format!("the bench could not run {}: {e}", job.test.name()))
+            ModelError::InvalidExperiment(format!(
+                "the bench could not run {}: {e}",
+                job.test.name()
+            ))
         })?;
         let theta = run.final_pose.theta_deg.to_radians() - job.heading_rad;
         Ok(RunEndpoint {

@@ -43,7 +43,7 @@ impl Default for SelectOptions {
             shortlist: 3,
             grid: 7,
             refine: 8,
-            fold_refine: 5,
+            fold_refine: 4,
             fit: FitOptions::default(),
         }
     }
@@ -155,12 +155,23 @@ impl<'a> Search<'a> {
             .sum()
     }
 
+    /// [`Search::at`], or infinity for a value not evaluated.
+    fn at_or_inf(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
+        if self.seen.contains_key(&v.to_bits()) {
+            self.at(v, keep)
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// The grid over the range, with the neutral value.
     fn grid(&self, n: usize) -> Vec<f64> {
         let s = &self.spec;
         let n = n.max(3);
         let mut g: Vec<f64> = (0..n)
-            .map(|i| s.lower + (s.upper - s.lower) * i as f64 / (n - 1) as f64)
+            .map(|i| {
+                (s.lower + (s.upper - s.lower) * i as f64 / (n - 1) as f64).clamp(s.lower, s.upper)
+            })
             .collect();
         if !g.contains(&s.neutral) {
             g.push(s.neutral);
@@ -186,19 +197,31 @@ impl<'a> Search<'a> {
         );
         let mut found = (grid[best], self.at(grid[best], keep));
         let r = (5f64.sqrt() - 1.0) / 2.0;
-        for _ in 0..steps {
-            let (c, d) = (b - r * (b - a), a + r * (b - a));
+        let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+        if steps > 0 {
             self.eval(&[c, d])?;
-            let (fc, fd) = (self.at(c, keep), self.at(d, keep));
+        }
+        let (mut fc, mut fd) = (self.at_or_inf(c, keep), self.at_or_inf(d, keep));
+        // Each step keeps one of the two inner points: one new bench evaluation per step.
+        for step in 0..steps {
             for (v, f) in [(c, fc), (d, fd)] {
                 if f < found.1 {
                     found = (v, f);
                 }
             }
+            if step + 1 == steps {
+                break;
+            }
             if fc < fd {
-                b = d;
+                (b, d, fd) = (d, c, fc);
+                c = b - r * (b - a);
+                self.eval(&[c])?;
+                fc = self.at(c, keep);
             } else {
-                a = c;
+                (a, c, fc) = (c, d, fd);
+                d = a + r * (b - a);
+                self.eval(&[d])?;
+                fd = self.at(d, keep);
             }
         }
         Ok(found)
@@ -316,8 +339,9 @@ pub fn diagnose_bench(
         let cv_chi2 = if cv {
             let mut total = 0.0;
             for f in &folds {
-                let (v, _) =
-                    search.fit(&grid, opts.fold_refine, &|g| fold_of(g, by_experiment) != *f)?;
+                let (v, _) = search.fit(&grid, opts.fold_refine, &|g| {
+                    fold_of(g, by_experiment) != *f
+                })?;
                 total += search.at(v, &|g| fold_of(g, by_experiment) == *f);
             }
             Some(total)
@@ -371,7 +395,10 @@ pub fn diagnose_bench(
                 notes.push(format!(
                     "{} has the lowest training residual, but {} predicts the left-out {}s \
                      better: {} is chosen",
-                    candidates[0].effect, c.effect, if by_experiment { "experiment" } else { "group" }, c.effect
+                    candidates[0].effect,
+                    c.effect,
+                    if by_experiment { "experiment" } else { "group" },
+                    c.effect
                 ));
             }
             Some((i, c))
@@ -401,7 +428,8 @@ pub fn diagnose_bench(
     let at_noise_level = p_value >= 0.01;
     if !at_noise_level {
         let params = winner.map_or(neutral.clone(), |(_, c)| params_of(c));
-        let train_gap = batched.eval(|m| Scorer::new(m, train, &opts.fit).gap(&params, train.groups()))?;
+        let train_gap =
+            batched.eval(|m| Scorer::new(m, train, &opts.fit).gap(&params, train.groups()))?;
         let worst = train_gap
             .groups
             .iter()

@@ -211,8 +211,5 @@ pub fn bench_self_test(
             diagnosis: d,
         });
     }
-    Ok(BenchSelfTest {
-        leg_mm,
-        cases: out,
-    })
+    Ok(BenchSelfTest { leg_mm, cases: out })
 }
