@@ -37,6 +37,7 @@ pub mod manifest;
 pub mod model;
 pub mod report;
 mod rng;
+pub mod score;
 pub mod selftest;
 pub mod series;
 pub mod stats;
@@ -56,5 +57,6 @@ pub use model::{
     Experiment, Firmware, Model, ModelError, Reference, RunEndpoint, StraightLegs, TestKind,
 };
 pub use report::{plot_svg, render_markdown, render_text};
+pub use score::Scorer;
 pub use selftest::{confusion_table, self_test, ConfusionTable, SelfTestCase};
 pub use series::{motor_holdout, series_gap, LevelSplit, MotorHoldout, SeriesGap, Telemetry};

@@ -21,6 +21,7 @@ pub mod faults;
 pub mod firmware_params;
 pub mod fuzz;
 pub mod fwvars;
+pub mod gap_bench;
 pub mod gdb;
 pub mod hang;
 pub mod inject;

@@ -1,13 +1,16 @@
-//! `hil gap`: the sim-to-real gap of real data, or the diagnosis' self-test.
+//! `hil gap`: the sim-to-real gap of real data, or the diagnosis' self-test; with `--bench`,
+//! the bench itself is the model (see `hil::gap_bench`).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use gap::selftest::{render_cases_with, CaseColumns};
 use gap::SplitRule;
+use hil::elf::Firmware;
+use hil::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES};
 use plant_model::RobotConfig;
 
-use super::args::Json;
+use super::args::{Build, Json};
 
 #[derive(clap::Args)]
 pub struct Gap {
@@ -30,6 +33,37 @@ pub struct Gap {
     /// Write the report as Markdown (with an SVG plot next to it).
     #[arg(long, value_name = "FILE")]
     markdown: Option<PathBuf>,
+    /// The bench as the model: the kinematic diagnosis shortlists, the
+    /// real firmware on the plant (the nominal robot: --model, or the
+    /// manifests' robot_config) fits, cross-validates and predicts the
+    /// held-out data.
+    #[arg(long)]
+    bench: bool,
+    /// With --bench: parallel bench runs (1 to 256).
+    #[arg(long, requires = "bench", default_value_t = 1,
+          value_parser = clap::value_parser!(u16).range(1..=256))]
+    jobs: u16,
+    /// With --bench: how many of the kinematic diagnosis' best effects the
+    /// bench fits, besides every effect the kinematic model cannot represent
+    /// (0 to 7).
+    #[arg(long, requires = "bench", default_value_t = 3,
+          value_parser = clap::value_parser!(u8).range(0..=7))]
+    shortlist: u8,
+    /// With --bench --self-test: how many hidden effects to try, in a fixed
+    /// order (1 to 6).
+    #[arg(long, requires = "bench", default_value_t = 2,
+          value_parser = clap::value_parser!(u8).range(1..=6))]
+    cases: u8,
+    /// With --bench --self-test: leg of every test, mm (100 to 5000).
+    #[arg(long, requires = "bench", default_value_t = 300,
+          value_parser = clap::value_parser!(u16).range(100..=5000))]
+    leg_mm: u16,
+    /// With --bench: which firmware build to run.
+    #[arg(long, requires = "bench", value_enum, default_value_t = Build::Robust)]
+    firmware: Build,
+    /// With --bench: firmware ELF to run instead of the build in firmware/target.
+    #[arg(long, requires = "bench", value_name = "FILE")]
+    elf: Option<PathBuf>,
     #[command(flatten)]
     json: Json,
     #[arg(long, default_value_t = 0)]
@@ -39,6 +73,9 @@ pub struct Gap {
 impl Gap {
     pub fn run(self) -> Result<()> {
         let kinematic = gap::KinematicModel;
+        if self.self_test && self.bench {
+            return self.bench_self_test();
+        }
         if self.self_test {
             let cases = gap::self_test(&kinematic, self.seed);
             return self
@@ -68,6 +105,9 @@ impl Gap {
         } else {
             SplitRule::TrainOnExperiments(self.train.clone())
         };
+        if self.bench {
+            return self.bench_real(&manifests, &rule);
+        }
         let d = gap::diagnose_manifests(
             &kinematic,
             &manifests,
@@ -85,5 +125,112 @@ impl Gap {
             eprintln!("wrote {} and {}", path.display(), svg_path.display());
         }
         self.json.emit(&d, || gap::render_text(&d))
+    }
+
+    /// The ELF of `--elf`, else of the `--firmware` build.
+    fn firmware(&self) -> Result<Firmware> {
+        use clap::ValueEnum;
+        let path = match &self.elf {
+            Some(p) => p.clone(),
+            None => {
+                let build = self.firmware.to_possible_value().context("no such build")?;
+                hil::paths::firmware_elf(build.get_name())
+            }
+        };
+        Firmware::load(&path).map_err(super::bad_input)
+    }
+
+    fn select_options(&self) -> SelectOptions {
+        SelectOptions {
+            shortlist: self.shortlist.into(),
+            ..SelectOptions::default()
+        }
+    }
+
+    /// The nominal robot of the bench: `--model`, else the robot config every manifest
+    /// names (they must name the same robot).
+    fn nominal(&self, manifests: &[gap::LoadedManifest]) -> Result<RobotConfig> {
+        if let Some(m) = &self.model {
+            return RobotConfig::load(m)
+                .with_context(|| format!("model {}", m.display()))
+                .map_err(super::bad_input);
+        }
+        let mut found: Option<(RobotConfig, PathBuf)> = None;
+        for lm in manifests.iter().filter(|m| m.manifest.endpoints.is_some()) {
+            let path = lm.resolve(&lm.manifest.robot_config);
+            let cfg = RobotConfig::load(&path)
+                .with_context(|| {
+                    format!(
+                        "{}: robot_config {} is not a plant configuration the bench can run \
+                         (give --model FILE)",
+                        lm.path.display(),
+                        path.display()
+                    )
+                })
+                .map_err(super::bad_input)?;
+            match &found {
+                Some((c, first)) if *c != cfg => {
+                    return Err(super::bad_input(anyhow::anyhow!(
+                        "{} and {} are different robots: the bench runs one nominal robot \
+                         (give --model FILE)",
+                        first.display(),
+                        path.display()
+                    )))
+                }
+                Some(_) => {}
+                None => found = Some((cfg, path)),
+            }
+        }
+        found
+            .map(|(c, _)| c)
+            .ok_or_else(|| super::bad_input(anyhow::anyhow!("no manifest with end points")))
+    }
+
+    fn bench_real(&self, manifests: &[gap::LoadedManifest], rule: &SplitRule) -> Result<()> {
+        let nominal = self.nominal(manifests)?;
+        let bench = BenchModel::new(self.firmware()?, nominal, self.jobs.into());
+        let with_endpoints: Vec<_> = manifests
+            .iter()
+            .filter(|m| m.manifest.endpoints.is_some())
+            .cloned()
+            .collect();
+        let (data, _) = gap::load_dataset(&with_endpoints)?;
+        let (train, held) = data.split(rule)?;
+        eprintln!("kinematic diagnosis (the shortlist)...");
+        let kin = gap::diagnose(
+            &gap::KinematicModel,
+            &train,
+            &held,
+            &gap::DiagnoseOptions::default(),
+        )?;
+        let shortlist: Vec<String> = kin
+            .which
+            .singles
+            .iter()
+            .flat_map(|r| r.fit.effects.clone())
+            .collect();
+        let d = hil::gap_bench::diagnose_bench(
+            &bench,
+            &shortlist,
+            &train,
+            &held,
+            &self.select_options(),
+            &|line| eprintln!("{line}"),
+        )?;
+        self.json.emit(&d, || d.render())
+    }
+
+    fn bench_self_test(&self) -> Result<()> {
+        let bench = BenchModel::new(self.firmware()?, RobotConfig::default(), self.jobs.into());
+        let cases = &DEFAULT_CASES[..usize::from(self.cases)];
+        let t = hil::gap_bench::bench_self_test(
+            &bench,
+            cases,
+            f64::from(self.leg_mm),
+            self.seed,
+            &self.select_options(),
+            &|line| eprintln!("{line}"),
+        )?;
+        self.json.emit(&t, || t.render())
     }
 }

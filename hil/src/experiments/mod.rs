@@ -34,7 +34,7 @@ mod shard;
 mod triangle;
 mod umbmark;
 
-pub use plan::{Experiment, Plan, RunSpec, Shard};
+pub use plan::{run_seed, Experiment, Plan, RunSpec, Shard};
 pub use rounds::{
     calibrate, table10, Calibration, CalibrationRound, RoundOptions, RoundReport, Stop,
 };

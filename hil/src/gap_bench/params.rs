@@ -1,0 +1,380 @@
+//! The bench's effect parameters: one number per effect of the plant's library, named as
+//! [`gap::effects`] names them, and how each becomes an `[effects.<name>]` table of the
+//! robot config.
+//!
+//! The library's effects have several keys each (left and right, a width, a pack's
+//! voltages); the diagnosis searches one number per effect. Effects with two sides take a
+//! signed value, positive on the left side and negative on the right (a left dead band of
+//! 0.12 is `+0.12`, a right one `-0.12`), so that the search is 1-D and the neutral value 0
+//! sits in the middle of the range; the other keys are fixed at typical values, written in
+//! [`apply`].
+
+use gap::effects::{
+    EffectParams, ParamKind, ParamSpec, BACKLASH, BATTERY_SAG, CASTOR_DRAG, COAST, DEAD_BAND,
+    DISTANCE_SCALE, ENCODER_GLITCHES, ENCODER_MISSED_COUNTS, FLOOR_NOISE, MOTOR_GAIN_ASYMMETRY,
+    STRAIGHT_SLIP, TOE, TURN_SLIP, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO,
+};
+use plant_model::effects as fx;
+use plant_model::motor::MotorModel;
+use plant_model::RobotConfig;
+
+/// A glitch's width, degrees of motor-shaft angle: a short bounce, well inside a
+/// quadrature state of the nominal encoder (60°).
+const GLITCH_WIDTH_MOTOR_DEG: f64 = 5.0;
+/// The castor's contact, as a fraction of the wheelbase off the centre line.
+const CASTOR_OFFSET_OF_WHEELBASE: f64 = 0.25;
+/// A wheel's stall torque at full duty (the identify module's physical fit, see
+/// `plant_model::effects::castor_drag`), N m.
+const WHEEL_STALL_TORQUE_NM: f64 = 0.11;
+/// The pack of the battery effect: a constant open-circuit voltage (the robot's own, so
+/// that a zero internal resistance is the nominal robot), a large capacity (a test does not
+/// drain it), one motor's winding resistance and the electronics' current.
+const MOTOR_RESISTANCE_OHM: f64 = 10.0;
+const IDLE_CURRENT_A: f64 = 0.1;
+
+#[allow(clippy::too_many_arguments)] // one row of the parameter table
+fn spec(
+    name: &str,
+    symbol: &str,
+    unit: &str,
+    (lower, upper): (f64, f64),
+    neutral: f64,
+    scale: f64,
+    kind: ParamKind,
+    description: &str,
+) -> ParamSpec {
+    ParamSpec {
+        name: name.to_owned(),
+        symbol: symbol.to_owned(),
+        unit: unit.to_owned(),
+        lower,
+        upper,
+        neutral,
+        scale,
+        kind,
+        description: description.to_owned(),
+    }
+}
+
+/// Every effect of the plant's library, as the bench applies it (see the module docs).
+pub fn bench_parameters() -> Vec<ParamSpec> {
+    use ParamKind::{Stochastic, Systematic};
+    vec![
+        spec(
+            WHEEL_DIAMETER_RATIO,
+            "Ed",
+            "1",
+            (0.9, 1.1),
+            1.0,
+            0.01,
+            Systematic,
+            "D_R/D_L (right_over_left_ratio)",
+        ),
+        spec(
+            WHEELBASE_RATIO,
+            "Eb",
+            "1",
+            (0.8, 1.25),
+            1.0,
+            0.03,
+            Systematic,
+            "actual wheelbase / nominal (actual_over_nominal_ratio)",
+        ),
+        spec(
+            DISTANCE_SCALE,
+            "Es",
+            "1",
+            (0.9, 1.1),
+            1.0,
+            0.02,
+            Systematic,
+            "odometry distance / actual (odometry_over_actual_ratio)",
+        ),
+        spec(
+            TURN_SLIP,
+            "slip",
+            "1",
+            (0.0, 0.3),
+            0.0,
+            0.03,
+            Systematic,
+            "fraction of each spin's rotation the ground does not see",
+        ),
+        spec(
+            STRAIGHT_SLIP,
+            "sslip",
+            "1",
+            (-0.2, 0.2),
+            0.0,
+            0.01,
+            Systematic,
+            "travel lost in straight legs, left wheel (+) or right (−)",
+        ),
+        spec(
+            COAST,
+            "coast",
+            "s",
+            (0.0, 0.3),
+            0.0,
+            0.03,
+            Systematic,
+            "coast time constant added to both motors' own",
+        ),
+        spec(
+            TOE,
+            "toe",
+            "deg",
+            (-5.0, 5.0),
+            0.0,
+            0.7,
+            Systematic,
+            "crab angle (φ_R − φ_L)/2, left positive: right wheel toed in, left out",
+        ),
+        spec(
+            FLOOR_NOISE,
+            "σ_floor",
+            "deg/√m",
+            (0.0, 5.0),
+            0.0,
+            0.4,
+            Stochastic,
+            "heading random walk along the legs (heading_deg_per_sqrt_m)",
+        ),
+        spec(
+            MOTOR_GAIN_ASYMMETRY,
+            "gain",
+            "1",
+            (-0.3, 0.3),
+            0.0,
+            0.05,
+            Systematic,
+            "left gain ratio 1 + g/2, right 1 − g/2",
+        ),
+        spec(
+            DEAD_BAND,
+            "dead",
+            "duty",
+            (-0.3, 0.3),
+            0.0,
+            0.05,
+            Systematic,
+            "extra dead band of the left motor (+) or the right (−)",
+        ),
+        spec(
+            BATTERY_SAG,
+            "R_int",
+            "ohm",
+            (0.0, 20.0),
+            0.0,
+            2.0,
+            Systematic,
+            "internal resistance of the pack (open-circuit voltage the robot's own)",
+        ),
+        spec(
+            ENCODER_MISSED_COUNTS,
+            "miss",
+            "1",
+            (-0.2, 0.2),
+            0.0,
+            0.01,
+            Systematic,
+            "share of A pulses lost, left encoder (+) or right (−)",
+        ),
+        spec(
+            ENCODER_GLITCHES,
+            "glitch",
+            "1",
+            (-0.5, 0.5),
+            0.0,
+            0.05,
+            Systematic,
+            "share of edges that bounce (5° of motor shaft), left (+) or right (−)",
+        ),
+        spec(
+            CASTOR_DRAG,
+            "castor",
+            "N",
+            (-3.0, 3.0),
+            0.0,
+            0.3,
+            Systematic,
+            "drag at a castor b/4 left of the centre line (+) or right (−)",
+        ),
+        spec(
+            BACKLASH,
+            "play",
+            "deg",
+            (0.0, 20.0),
+            0.0,
+            2.0,
+            Systematic,
+            "gear play of both wheels, degrees of wheel angle",
+        ),
+    ]
+}
+
+/// `value` split into (left, right) by its sign: positive on the left.
+fn sided(value: f64) -> (f64, f64) {
+    if value >= 0.0 {
+        (value, 0.0)
+    } else {
+        (0.0, -value)
+    }
+}
+
+/// `nominal` with the effects `params` switched on (unset or neutral ones left as the
+/// nominal robot has them). The caller has checked the values against
+/// [`bench_parameters`].
+pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
+    let mut c = nominal.clone();
+    let specs = bench_parameters();
+    for (name, v) in params.iter() {
+        if specs.iter().any(|s| s.name == name && s.neutral == v) {
+            continue;
+        }
+        let e = &mut c.effects;
+        match name {
+            WHEEL_DIAMETER_RATIO => {
+                e.wheel_diameter_ratio = Some(fx::WheelDiameterRatio {
+                    right_over_left_ratio: v,
+                })
+            }
+            WHEELBASE_RATIO => {
+                e.wheelbase_ratio = Some(fx::WheelbaseRatio {
+                    actual_over_nominal_ratio: v,
+                })
+            }
+            DISTANCE_SCALE => {
+                e.distance_scale = Some(fx::DistanceScale {
+                    odometry_over_actual_ratio: v,
+                })
+            }
+            TURN_SLIP => e.turn_slip = Some(fx::TurnSlip { fraction: v }),
+            STRAIGHT_SLIP => {
+                let (l, r) = sided(v);
+                e.straight_slip = Some(fx::StraightSlip {
+                    left_fraction: l,
+                    right_fraction: r,
+                })
+            }
+            COAST => {
+                // The effect replaces each motor's coast time constant: the motor's own plus
+                // the extra, and the motor's own key cleared (the config takes one or the
+                // other).
+                let own = |m: &mut MotorModel| {
+                    let MotorModel::FirstOrder(m) = m;
+                    let t = m.coast_tau().0;
+                    m.coast_tau_s = None;
+                    t + v
+                };
+                let left_tau_s = own(&mut c.motor.left);
+                let right_tau_s = own(&mut c.motor.right);
+                c.effects.coast = Some(fx::Coast {
+                    left_tau_s,
+                    right_tau_s,
+                })
+            }
+            TOE => {
+                e.toe = Some(fx::Toe {
+                    left_deg: -v,
+                    right_deg: v,
+                })
+            }
+            FLOOR_NOISE => {
+                e.floor_noise = Some(fx::FloorNoise {
+                    heading_deg_per_sqrt_m: v,
+                    lateral_mm_per_sqrt_m: 0.0,
+                    turn_heading_deg_per_sqrt_m: Some(0.0),
+                    stretch_mm: fx::floor_noise::DEFAULT_STRETCH_MM,
+                })
+            }
+            MOTOR_GAIN_ASYMMETRY => {
+                e.motor_gain_asymmetry = Some(fx::MotorGainAsymmetry {
+                    left_gain_ratio: 1.0 + v / 2.0,
+                    right_gain_ratio: 1.0 - v / 2.0,
+                })
+            }
+            DEAD_BAND => {
+                let (l, r) = sided(v);
+                e.dead_band = Some(fx::DeadBand {
+                    extra_left_duty: l,
+                    extra_right_duty: r,
+                })
+            }
+            BATTERY_SAG => {
+                e.battery_sag = Some(fx::BatterySag {
+                    open_circuit_full_v: nominal.battery.voltage_v,
+                    open_circuit_empty_v: nominal.battery.voltage_v,
+                    capacity_mah: 1e5,
+                    initial_charge_fraction: 1.0,
+                    internal_resistance_ohm: v,
+                    motor_resistance_ohm: MOTOR_RESISTANCE_OHM,
+                    idle_current_a: IDLE_CURRENT_A,
+                    update_interval_s: fx::battery_sag::DEFAULT_UPDATE_INTERVAL_S,
+                })
+            }
+            ENCODER_MISSED_COUNTS => {
+                let (l, r) = sided(v);
+                e.encoder_missed_counts = Some(fx::EncoderMissedCounts {
+                    left_fraction: l,
+                    right_fraction: r,
+                })
+            }
+            ENCODER_GLITCHES => {
+                let (l, r) = sided(v);
+                e.encoder_glitches = Some(fx::EncoderGlitches {
+                    left_fraction: l,
+                    right_fraction: r,
+                    width_motor_deg: GLITCH_WIDTH_MOTOR_DEG,
+                })
+            }
+            CASTOR_DRAG => {
+                let side = if v >= 0.0 { 1.0 } else { -1.0 };
+                e.castor_drag = Some(fx::CastorDrag {
+                    force_n: v.abs(),
+                    lateral_offset_mm: side
+                        * CASTOR_OFFSET_OF_WHEELBASE
+                        * nominal.geometry.wheelbase_mm,
+                    wheel_stall_torque_nm: WHEEL_STALL_TORQUE_NM,
+                })
+            }
+            BACKLASH => {
+                e.backlash = Some(fx::Backlash {
+                    left_wheel_deg: v,
+                    right_wheel_deg: v,
+                })
+            }
+            _ => {}
+        }
+    }
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every library effect is a parameter, and each non-neutral value switches on exactly
+    /// its own table, valid for the plant.
+    #[test]
+    fn every_effect_is_a_parameter_and_switches_on_its_table() {
+        let specs = bench_parameters();
+        let mut names: Vec<&str> = specs.iter().map(|s| s.name.as_str()).collect();
+        names.sort_unstable();
+        let mut all = gap::ALL_EFFECTS.to_vec();
+        all.sort_unstable();
+        assert_eq!(names, all);
+        let nominal = RobotConfig::default();
+        for s in &specs {
+            let v = (s.neutral + s.scale).min(s.upper);
+            let c = apply(&nominal, &EffectParams::new().with(&s.name, v));
+            assert_eq!(c.effects.enabled(), vec![s.name.as_str()], "{}", s.name);
+            c.effects
+                .validate()
+                .unwrap_or_else(|e| panic!("{}: {e}", s.name));
+            plant_model::Robot::new(&c, 1).unwrap_or_else(|e| panic!("{}: {e}", s.name));
+            let neutral = apply(&nominal, &EffectParams::new().with(&s.name, s.neutral));
+            assert!(neutral.effects.is_empty(), "{}", s.name);
+        }
+    }
+}

@@ -1,0 +1,557 @@
+//! The bench-backed diagnosis: the kinematic diagnosis ranks candidates as a fast
+//! surrogate; the bench then fits its shortlist and every effect the kinematic model cannot
+//! represent, each alone by a bounded 1-D search (a grid over the effect's range, then a
+//! golden-section refinement around the best point), ranks them by the bench's training
+//! residual, and chooses by cross-validation inside the training data: leave one experiment
+//! out when there are several, else one group (experiment/test). A candidate whose
+//! cross-validated error is not below the nominal robot's is not taken. The held-out gap
+//! before and after is the bench's.
+//!
+//! Only centroids are scored (the weighted χ² of the end points' means, as [`gap::Scorer`]
+//! weighs them): every candidate here is systematic, and the bench's nominal robot has no
+//! floor noise, so the spreads would add the same constant to every candidate.
+
+use std::collections::BTreeMap;
+
+use gap::data::{Group, HeldOutSet, TrainSet};
+use gap::effects::ParamKind;
+use gap::fit::{FitOptions, Gap};
+use gap::{EffectParams, GapError, Model, ParamSpec, Scorer};
+use serde::Serialize;
+
+use super::{Batched, BenchModel};
+
+/// Options of [`diagnose_bench`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SelectOptions {
+    /// How many of the kinematic diagnosis' best single effects the bench fits (besides
+    /// every effect the kinematic model cannot represent).
+    pub shortlist: usize,
+    /// Points of the grid over each effect's range (the neutral value is added).
+    pub grid: usize,
+    /// Golden-section steps of the fit on all training groups.
+    pub refine: usize,
+    /// Golden-section steps of each cross-validation fold's fit.
+    pub fold_refine: usize,
+    /// Weights and seeds of the scoring (as the kinematic diagnosis').
+    pub fit: FitOptions,
+}
+
+impl Default for SelectOptions {
+    fn default() -> Self {
+        SelectOptions {
+            shortlist: 3,
+            grid: 7,
+            refine: 8,
+            fold_refine: 4,
+            fit: FitOptions::default(),
+        }
+    }
+}
+
+/// One candidate fitted by the bench.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchCandidate {
+    /// The effect.
+    pub effect: String,
+    /// Its symbol and unit.
+    pub symbol: String,
+    pub unit: String,
+    /// Why it is a candidate.
+    pub source: &'static str,
+    /// Fitted on all training groups.
+    pub value: f64,
+    /// Training χ² of the centroids at that value.
+    pub train_chi2: f64,
+    /// Cross-validated χ²: each fold predicted by a fit on the others (None: one group).
+    pub cv_chi2: Option<f64>,
+    /// Held-out systematic gap with it, cm.
+    pub heldout_systematic_cm: f64,
+}
+
+/// The answer of [`diagnose_bench`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchDiagnosis {
+    /// The model.
+    pub model: String,
+    /// The split.
+    pub rule: String,
+    /// Candidates, best training residual first.
+    pub candidates: Vec<BenchCandidate>,
+    /// The nominal bench robot: training χ², its cross-validated χ² (no fit, the same
+    /// folds) and the number of centroid residuals.
+    pub nominal_train_chi2: f64,
+    pub nominal_cv_chi2: Option<f64>,
+    pub residuals: usize,
+    /// What one fold leaves out ("experiment" or "group"), and the folds.
+    pub fold_by: &'static str,
+    pub folds: Vec<String>,
+    /// The chosen effect and its value (None: none taken).
+    pub winner: Option<(String, f64)>,
+    /// Held-out gap of the nominal bench robot, and with the winner.
+    pub heldout_before: Gap,
+    pub heldout_after: Gap,
+    /// Whether the training residual left by the chosen model is at noise level (χ²
+    /// p-value above 1 %), its p-value, and where it sits when it is not.
+    pub at_noise_level: bool,
+    pub p_value: f64,
+    pub notes: Vec<String>,
+    /// Bench runs made.
+    pub bench_runs: usize,
+}
+
+/// The values of one candidate's search, each with every training group's χ².
+struct Search<'a> {
+    batched: &'a Batched<'a>,
+    train: &'a TrainSet,
+    fit: &'a FitOptions,
+    spec: ParamSpec,
+    /// value (bits) -> χ² per training group.
+    seen: BTreeMap<u64, Vec<f64>>,
+}
+
+impl<'a> Search<'a> {
+    fn params(&self, v: f64) -> EffectParams {
+        EffectParams::new().with(&self.spec.name, v)
+    }
+
+    /// Every training group's χ² at each of `values`, in one batch.
+    fn eval(&mut self, values: &[f64]) -> Result<(), GapError> {
+        let todo: Vec<f64> = values
+            .iter()
+            .copied()
+            .filter(|v| !self.seen.contains_key(&v.to_bits()))
+            .collect();
+        if todo.is_empty() {
+            return Ok(());
+        }
+        let groups = self.train.groups();
+        let got = self.batched.eval(|m| -> Result<Vec<Vec<f64>>, GapError> {
+            let sc = Scorer::new(m, self.train, self.fit);
+            todo.iter()
+                .map(|&v| {
+                    groups
+                        .iter()
+                        .map(|g| Ok(chi2(&sc.centroid_residuals(&self.params(v), g)?)))
+                        .collect()
+                })
+                .collect()
+        })?;
+        for (v, c) in todo.into_iter().zip(got) {
+            self.seen.insert(v.to_bits(), c);
+        }
+        Ok(())
+    }
+
+    /// χ² over the groups `keep` selects at `v` (evaluated before).
+    fn at(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
+        let c = &self.seen[&v.to_bits()];
+        self.train
+            .groups()
+            .iter()
+            .zip(c)
+            .filter(|(g, _)| keep(g))
+            .map(|(_, x)| x)
+            .sum()
+    }
+
+    /// [`Search::at`], or infinity for a value not evaluated.
+    fn at_or_inf(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
+        if self.seen.contains_key(&v.to_bits()) {
+            self.at(v, keep)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The grid over the range, with the neutral value.
+    fn grid(&self, n: usize) -> Vec<f64> {
+        let s = &self.spec;
+        let n = n.max(3);
+        let mut g: Vec<f64> = (0..n)
+            .map(|i| {
+                (s.lower + (s.upper - s.lower) * i as f64 / (n - 1) as f64).clamp(s.lower, s.upper)
+            })
+            .collect();
+        if !g.contains(&s.neutral) {
+            g.push(s.neutral);
+        }
+        g.sort_by(f64::total_cmp);
+        g
+    }
+
+    /// The best value for the groups `keep` selects: the best grid point, then `steps` of
+    /// golden section between its neighbours. Returns (value, χ²).
+    fn fit(
+        &mut self,
+        grid: &[f64],
+        steps: usize,
+        keep: &dyn Fn(&Group) -> bool,
+    ) -> Result<(f64, f64), GapError> {
+        let best = (0..grid.len())
+            .min_by(|&a, &b| self.at(grid[a], keep).total_cmp(&self.at(grid[b], keep)))
+            .expect("a grid has points");
+        let (mut a, mut b) = (
+            grid[best.saturating_sub(1)],
+            grid[(best + 1).min(grid.len() - 1)],
+        );
+        let mut found = (grid[best], self.at(grid[best], keep));
+        let r = (5f64.sqrt() - 1.0) / 2.0;
+        let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+        if steps > 0 {
+            self.eval(&[c, d])?;
+        }
+        let (mut fc, mut fd) = (self.at_or_inf(c, keep), self.at_or_inf(d, keep));
+        // Each step keeps one of the two inner points: one new bench evaluation per step.
+        for step in 0..steps {
+            for (v, f) in [(c, fc), (d, fd)] {
+                if f < found.1 {
+                    found = (v, f);
+                }
+            }
+            if step + 1 == steps {
+                break;
+            }
+            if fc < fd {
+                (b, d, fd) = (d, c, fc);
+                c = b - r * (b - a);
+                self.eval(&[c])?;
+                fc = self.at(c, keep);
+            } else {
+                (a, c, fc) = (c, d, fd);
+                d = a + r * (b - a);
+                self.eval(&[d])?;
+                fd = self.at(d, keep);
+            }
+        }
+        Ok(found)
+    }
+}
+
+fn chi2(r: &[f64]) -> f64 {
+    r.iter().map(|x| x * x).sum()
+}
+
+/// The fold a group belongs to.
+fn fold_of(g: &Group, by_experiment: bool) -> String {
+    if by_experiment {
+        g.id.experiment.clone()
+    } else {
+        g.id.to_string()
+    }
+}
+
+/// Runs the bench-backed diagnosis (see the module docs). `shortlist` is the kinematic
+/// diagnosis' ranking of single effects, best first; `progress` gets a line per step.
+pub fn diagnose_bench(
+    bench: &BenchModel,
+    shortlist: &[String],
+    train: &TrainSet,
+    held: &HeldOutSet,
+    opts: &SelectOptions,
+    progress: &dyn Fn(&str),
+) -> Result<BenchDiagnosis, GapError> {
+    let batched = Batched::new(bench);
+    let specs = bench.parameters();
+    let mut names: Vec<(String, &'static str)> = Vec::new();
+    let systematic = |n: &str| {
+        specs
+            .iter()
+            .any(|s| s.name == n && s.kind == ParamKind::Systematic)
+    };
+    for n in shortlist
+        .iter()
+        .filter(|n| systematic(n))
+        .take(opts.shortlist)
+    {
+        names.push((n.clone(), "kinematic shortlist"));
+    }
+    for u in gap::kinematic::kinematic_unsupported() {
+        if systematic(&u.name) && !names.iter().any(|(n, _)| *n == u.name) {
+            names.push((u.name, "not representable by the kinematic model"));
+        }
+    }
+    let mut experiments: Vec<&str> = train
+        .groups()
+        .iter()
+        .map(|g| g.id.experiment.as_str())
+        .collect();
+    experiments.dedup();
+    let by_experiment = experiments.len() >= 2;
+    let mut folds: Vec<String> = train
+        .groups()
+        .iter()
+        .map(|g| fold_of(g, by_experiment))
+        .collect();
+    folds.dedup();
+    let cv = folds.len() >= 2;
+    let mut notes = Vec::new();
+    if !cv {
+        notes.push(
+            "one training group: no cross-validation; the candidates are ranked and chosen \
+             by their training residual alone"
+                .to_owned(),
+        );
+    }
+
+    let neutral = EffectParams::new();
+    let nominal_groups: Vec<f64> = batched.eval(|m| -> Result<Vec<f64>, GapError> {
+        let sc = Scorer::new(m, train, &opts.fit);
+        train
+            .groups()
+            .iter()
+            .map(|g| Ok(chi2(&sc.centroid_residuals(&neutral, g)?)))
+            .collect()
+    })?;
+    let nominal_train_chi2: f64 = nominal_groups.iter().sum();
+    let nominal_cv_chi2 = cv.then_some(nominal_train_chi2);
+    let residuals = batched.eval(|m| -> Result<usize, GapError> {
+        let sc = Scorer::new(m, train, &opts.fit);
+        let mut n = 0;
+        for g in train.groups() {
+            n += sc.centroid_residuals(&neutral, g)?.len();
+        }
+        Ok(n)
+    })?;
+    progress(&format!(
+        "bench: nominal robot, training χ² {nominal_train_chi2:.1} over {residuals} residuals; \
+         fitting {} candidates",
+        names.len()
+    ));
+
+    let mut candidates = Vec::new();
+    for (i, (name, source)) in names.iter().enumerate() {
+        let spec = specs
+            .iter()
+            .find(|s| s.name == *name)
+            .expect("a bench parameter")
+            .clone();
+        let mut search = Search {
+            batched: &batched,
+            train,
+            fit: &opts.fit,
+            spec,
+            seen: BTreeMap::new(),
+        };
+        let grid = search.grid(opts.grid);
+        search.eval(&grid)?;
+        let (value, train_chi2) = search.fit(&grid, opts.refine, &|_| true)?;
+        let cv_chi2 = if cv {
+            let mut total = 0.0;
+            for f in &folds {
+                let (v, _) = search.fit(&grid, opts.fold_refine, &|g| {
+                    fold_of(g, by_experiment) != *f
+                })?;
+                total += search.at(v, &|g| fold_of(g, by_experiment) == *f);
+            }
+            Some(total)
+        } else {
+            None
+        };
+        progress(&format!(
+            "bench: [{}/{}] {name} {value:.4}: training χ² {train_chi2:.1}{} ({} bench runs so \
+             far)",
+            i + 1,
+            names.len(),
+            cv_chi2.map_or(String::new(), |c| format!(", cross-validated {c:.1}")),
+            batched.runs()
+        ));
+        candidates.push(BenchCandidate {
+            effect: name.clone(),
+            symbol: search.spec.symbol.clone(),
+            unit: search.spec.unit.clone(),
+            source,
+            value,
+            train_chi2,
+            cv_chi2,
+            heldout_systematic_cm: f64::NAN,
+        });
+    }
+    candidates.sort_by(|a, b| a.train_chi2.total_cmp(&b.train_chi2));
+
+    // Held out, every candidate and the nominal robot in one batch.
+    let params_of = |c: &BenchCandidate| EffectParams::new().with(&c.effect, c.value);
+    let gaps = batched.eval(|m| -> Result<Vec<Gap>, GapError> {
+        let sc = Scorer::new(m, train, &opts.fit);
+        std::iter::once(neutral.clone())
+            .chain(candidates.iter().map(params_of))
+            .map(|p| sc.gap(&p, held.groups()))
+            .collect()
+    })?;
+    let heldout_before = gaps[0].clone();
+    for (c, g) in candidates.iter_mut().zip(&gaps[1..]) {
+        c.heldout_systematic_cm = g.systematic_cm;
+    }
+
+    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_chi2);
+    let best = candidates
+        .iter()
+        .enumerate()
+        .min_by(|a, b| score(a.1).total_cmp(&score(b.1)));
+    let nominal_score = nominal_cv_chi2.unwrap_or(nominal_train_chi2);
+    let winner = match best {
+        Some((i, c)) if score(c) < nominal_score => {
+            if i > 0 {
+                notes.push(format!(
+                    "{} has the lowest training residual, but {} predicts the left-out {}s \
+                     better: {} is chosen",
+                    candidates[0].effect,
+                    c.effect,
+                    if by_experiment { "experiment" } else { "group" },
+                    c.effect
+                ));
+            }
+            Some((i, c))
+        }
+        Some((_, c)) => {
+            notes.push(format!(
+                "no candidate is taken: the best, {} ({} χ² {:.1}), predicts no better than the \
+                 nominal bench robot ({:.1})",
+                c.effect,
+                if cv { "cross-validated" } else { "training" },
+                score(c),
+                nominal_score
+            ));
+            None
+        }
+        None => None,
+    };
+    let (heldout_after, left_chi2, dof) = match winner {
+        Some((i, c)) => (
+            gaps[i + 1].clone(),
+            c.train_chi2,
+            residuals.saturating_sub(1).max(1),
+        ),
+        None => (heldout_before.clone(), nominal_train_chi2, residuals.max(1)),
+    };
+    let p_value = gap::stats::chi2_sf(left_chi2, dof);
+    let at_noise_level = p_value >= 0.01;
+    if !at_noise_level {
+        let params = winner.map_or(neutral.clone(), |(_, c)| params_of(c));
+        let train_gap =
+            batched.eval(|m| Scorer::new(m, train, &opts.fit).gap(&params, train.groups()))?;
+        let worst = train_gap
+            .groups
+            .iter()
+            .max_by(|a, b| a.systematic_cm.total_cmp(&b.systematic_cm));
+        let place = worst.map_or(String::new(), |g| {
+            format!(
+                "; the largest residual is in {}: x {:+.2} cm{}",
+                g.group,
+                g.residual_x_cm,
+                g.residual_y_cm
+                    .map_or(String::new(), |y| format!(", y {y:+.2} cm"))
+            )
+        });
+        notes.push(format!(
+            "no candidate explains the gap: the training residual left is beyond noise (χ² \
+             {left_chi2:.1} over {dof} degrees of freedom, p = {p_value:.2e}){place}"
+        ));
+    }
+    if heldout_after.systematic_cm > heldout_before.systematic_cm {
+        notes.push(format!(
+            "the chosen effect makes the held-out prediction worse: systematic gap {:.2} cm \
+             before, {:.2} cm after",
+            heldout_before.systematic_cm, heldout_after.systematic_cm
+        ));
+    }
+    Ok(BenchDiagnosis {
+        model: bench.name(),
+        rule: train.rule().to_owned(),
+        winner: winner.map(|(_, c)| (c.effect.clone(), c.value)),
+        candidates,
+        nominal_train_chi2,
+        nominal_cv_chi2,
+        residuals,
+        fold_by: if by_experiment { "experiment" } else { "group" },
+        folds,
+        heldout_before,
+        heldout_after,
+        at_noise_level,
+        p_value,
+        notes,
+        bench_runs: batched.runs(),
+    })
+}
+
+impl BenchDiagnosis {
+    /// The winner's candidate.
+    pub fn winner_candidate(&self) -> Option<&BenchCandidate> {
+        let (name, _) = self.winner.as_ref()?;
+        self.candidates.iter().find(|c| c.effect == *name)
+    }
+
+    /// 1 − held-out systematic gap after / before.
+    pub fn heldout_cut(&self) -> f64 {
+        let (b, a) = (
+            self.heldout_before.systematic_cm,
+            self.heldout_after.systematic_cm,
+        );
+        if b > 0.0 {
+            1.0 - a / b
+        } else {
+            0.0
+        }
+    }
+
+    /// The report as text.
+    pub fn render(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "Bench-backed diagnosis ({}; {})", self.model, self.rule);
+        let _ = writeln!(
+            s,
+            "  nominal bench robot: training χ² {:.1} over {} centroid residuals{}",
+            self.nominal_train_chi2,
+            self.residuals,
+            self.nominal_cv_chi2
+                .map_or(String::new(), |c| format!(", cross-validated {c:.1}"))
+        );
+        let _ = writeln!(
+            s,
+            "  cross-validation: leave one {} out ({})",
+            self.fold_by,
+            self.folds.join(", ")
+        );
+        let _ = writeln!(
+            s,
+            "  {:<3} {:<22} {:>12} {:>10} {:>10} {:>10}  source",
+            "#", "effect", "value", "train χ²", "CV χ²", "held sys"
+        );
+        for (i, c) in self.candidates.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "  {:<3} {:<22} {:>8.4} {:<3} {:>10.1} {:>10} {:>8.2}cm  {}",
+                i + 1,
+                c.effect,
+                c.value,
+                c.unit,
+                c.train_chi2,
+                c.cv_chi2.map_or("-".to_owned(), |v| format!("{v:.1}")),
+                c.heldout_systematic_cm,
+                c.source
+            );
+        }
+        match &self.winner {
+            Some((name, v)) => {
+                let unit = self.winner_candidate().map_or("", |c| c.unit.as_str());
+                let _ = writeln!(s, "  winner: {name} = {v:.4} {unit}");
+            }
+            None => {
+                let _ = writeln!(s, "  winner: none (the nominal bench robot)");
+            }
+        }
+        let _ = writeln!(
+            s,
+            "  held out: systematic gap {:.2} cm before, {:.2} cm after ({:+.0} %)",
+            self.heldout_before.systematic_cm,
+            self.heldout_after.systematic_cm,
+            -100.0 * self.heldout_cut()
+        );
+        for n in &self.notes {
+            let _ = writeln!(s, "  note: {n}");
+        }
+        let _ = writeln!(s, "  {} bench runs", self.bench_runs);
+        s
+    }
+}

@@ -1,0 +1,215 @@
+//! The bench-backed diagnosis' self-test: "real" data made by the bench with one hidden
+//! effect, as a person with a tape measure would record it (5 runs per group, floor noise
+//! 1°/√m), the thesis' protocol (UMBmark both ways and a line for training, the
+//! counter-clockwise triangle held out), diagnosed blind: the kinematic diagnosis' shortlist,
+//! then [`super::diagnose_bench`].
+
+use gap::data::{Dataset, Group, ObservedRun, SplitRule};
+use gap::effects::FLOOR_NOISE;
+use gap::model::{Experiment, Firmware, Model, TestKind};
+use gap::{EffectParams, GapError};
+use serde::Serialize;
+
+use super::{diagnose_bench, BenchDiagnosis, BenchModel, SelectOptions};
+
+/// Runs per group, as the thesis recorded.
+pub const RUNS_PER_GROUP: usize = 5;
+/// The floor's heading noise of the "real" data, degrees per √m.
+pub const FLOOR_NOISE_DEG_PER_SQRT_M: f64 = 1.0;
+
+/// The hidden effects of the self-test, in order (`--cases N` runs the first N): first one
+/// the kinematic model cannot represent (a left dead band) and one it can (a larger
+/// wheelbase), then more of each kind.
+pub const DEFAULT_CASES: [(&str, f64); 6] = [
+    (gap::effects::DEAD_BAND, 0.12),
+    (gap::effects::WHEELBASE_RATIO, 1.05),
+    (gap::effects::MOTOR_GAIN_ASYMMETRY, 0.15),
+    (gap::effects::WHEEL_DIAMETER_RATIO, 1.01),
+    (gap::effects::TURN_SLIP, 0.05),
+    (gap::effects::ENCODER_MISSED_COUNTS, -0.02),
+];
+
+/// One case.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchCase {
+    /// The hidden effect and its value.
+    pub effect: String,
+    pub injected: f64,
+    /// The effect ranked first by the bench's training residual.
+    pub ranked_first: String,
+    /// The chosen one (None: none taken).
+    pub winner: Option<String>,
+    /// The hidden effect's fitted value, and |fitted − injected| / |injected − neutral|, %.
+    pub fitted: Option<f64>,
+    pub value_error_pct: Option<f64>,
+    /// Held-out systematic gap before and after, cm.
+    pub heldout_before_cm: f64,
+    pub heldout_after_cm: f64,
+    /// The diagnosis.
+    #[serde(skip)]
+    pub diagnosis: BenchDiagnosis,
+}
+
+impl BenchCase {
+    /// Ranked first and fitted within 10 %.
+    pub fn passed(&self) -> bool {
+        self.ranked_first == self.effect && self.value_error_pct.is_some_and(|e| e <= 10.0)
+    }
+}
+
+/// The cases run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchSelfTest {
+    /// Leg of every test, mm.
+    pub leg_mm: f64,
+    pub cases: Vec<BenchCase>,
+}
+
+impl BenchSelfTest {
+    /// A table, one line per case.
+    pub fn render(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "Bench self-test: L = {:.0} mm, {RUNS_PER_GROUP} runs per group, floor noise \
+             {FLOOR_NOISE_DEG_PER_SQRT_M}°/√m; train on umbmark_cw, umbmark_ccw, line; hold \
+             out triangle_ccw",
+            self.leg_mm
+        );
+        let _ = writeln!(
+            s,
+            "  {:<22} {:>9} {:<22} {:>9} {:>8} {:>9} {:>9}  verdict",
+            "hidden", "injected", "ranked first", "fitted", "err %", "held bef", "held aft"
+        );
+        for c in &self.cases {
+            let _ = writeln!(
+                s,
+                "  {:<22} {:>9.4} {:<22} {:>9} {:>8} {:>7.2}cm {:>7.2}cm  {}",
+                c.effect,
+                c.injected,
+                c.ranked_first,
+                c.fitted.map_or("-".to_owned(), |v| format!("{v:.4}")),
+                c.value_error_pct
+                    .map_or("-".to_owned(), |v| format!("{v:.1}")),
+                c.heldout_before_cm,
+                c.heldout_after_cm,
+                if c.passed() { "pass" } else { "FAIL" }
+            );
+        }
+        s
+    }
+}
+
+/// The "real" data of one case: every test of the design, [`RUNS_PER_GROUP`] runs each, on
+/// the bench with `hidden` and floor noise.
+fn make_data(
+    bench: &BenchModel,
+    hidden: &EffectParams,
+    leg_mm: f64,
+    seed: u64,
+) -> Result<Dataset, GapError> {
+    let reference = bench.reference();
+    let tests = [
+        TestKind::UmbmarkCw,
+        TestKind::UmbmarkCcw,
+        TestKind::Line,
+        TestKind::TriangleCcw,
+    ];
+    let experiments: Vec<Experiment> = tests
+        .iter()
+        .enumerate()
+        .map(|(i, &test)| Experiment {
+            test,
+            firmware: Firmware::nominal(&reference, leg_mm),
+            reference,
+            runs: RUNS_PER_GROUP,
+            seed: seed.wrapping_add(i as u64 + 1),
+        })
+        .collect();
+    let mut noisy = hidden.clone();
+    noisy.set(FLOOR_NOISE, FLOOR_NOISE_DEG_PER_SQRT_M);
+    let requests: Vec<_> = experiments
+        .iter()
+        .map(|e| (noisy.clone(), e.clone()))
+        .collect();
+    let mut groups = Vec::new();
+    for (exp, runs) in experiments.into_iter().zip(bench.predict_many(&requests)) {
+        let runs = runs?
+            .into_iter()
+            .map(|r| ObservedRun {
+                x_cm: r.x_cm,
+                y_cm: Some(r.y_cm),
+                theta_rad: Some(r.theta_rad),
+            })
+            .collect();
+        groups.push(Group::new("bench", exp, runs)?);
+    }
+    Dataset::new(groups)
+}
+
+/// Runs one case per `(effect, value)` of `cases`.
+pub fn bench_self_test(
+    bench: &BenchModel,
+    cases: &[(&str, f64)],
+    leg_mm: f64,
+    seed: u64,
+    opts: &SelectOptions,
+    progress: &dyn Fn(&str),
+) -> Result<BenchSelfTest, GapError> {
+    let specs = bench.parameters();
+    let mut out = Vec::new();
+    for (k, &(effect, injected)) in cases.iter().enumerate() {
+        let spec = specs
+            .iter()
+            .find(|s| s.name == effect)
+            .ok_or_else(|| GapError::Fit(format!("the bench has no parameter `{effect}`")))?;
+        progress(&format!(
+            "self-test case {}/{}: hidden {effect} = {injected}",
+            k + 1,
+            cases.len()
+        ));
+        let hidden = EffectParams::new().with(effect, injected);
+        let data = make_data(bench, &hidden, leg_mm, seed ^ (k as u64) << 32)?;
+        let rule = SplitRule::TrainOnTests(vec![
+            TestKind::UmbmarkCw,
+            TestKind::UmbmarkCcw,
+            TestKind::Line,
+        ]);
+        let (train, held) = data.split(&rule)?;
+        let kin = gap::diagnose(
+            &gap::KinematicModel,
+            &train,
+            &held,
+            &gap::selftest::self_test_options(),
+        )?;
+        let shortlist: Vec<String> = kin
+            .which
+            .singles
+            .iter()
+            .flat_map(|r| r.fit.effects.clone())
+            .collect();
+        let d = diagnose_bench(bench, &shortlist, &train, &held, opts, progress)?;
+        let fitted = d
+            .candidates
+            .iter()
+            .find(|c| c.effect == effect)
+            .map(|c| c.value);
+        out.push(BenchCase {
+            effect: effect.to_owned(),
+            injected,
+            ranked_first: d
+                .candidates
+                .first()
+                .map_or(String::new(), |c| c.effect.clone()),
+            winner: d.winner.as_ref().map(|w| w.0.clone()),
+            fitted,
+            value_error_pct: fitted
+                .map(|f| 100.0 * (f - injected).abs() / (injected - spec.neutral).abs()),
+            heldout_before_cm: d.heldout_before.systematic_cm,
+            heldout_after_cm: d.heldout_after.systematic_cm,
+            diagnosis: d,
+        });
+    }
+    Ok(BenchSelfTest { leg_mm, cases: out })
+}
