@@ -6,11 +6,17 @@
 //! calib crate's for those points, send them and read the firmware's
 //! parameters back over the protocol; the session survives a reload. The
 //! next round is a Triangular Path: ten line and triangle end points, the
-//! library's factors shown, first order and exact. The screenshots are kept
-//! under target/ as artifacts.
+//! library's factors shown, first order and exact. The charts have axes with
+//! numbers and units: the speeds against robot time, each run on the floor
+//! from the origin of its own start frame with its ideal path, the end points'
+//! scatter to one scale with the library's centroids. The screenshots are
+//! kept under target/ as artifacts.
 
 #[path = "support/mod.rs"]
 mod support;
+
+#[path = "station_ui/charts.rs"]
+mod charts;
 
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
@@ -21,6 +27,7 @@ use calib::{
     triangle_correction, umbmark_correction, Endpoint, LineRuns, Solution, TriangleParams,
     TriangleRuns, UmbmarkParams, UmbmarkRuns,
 };
+use charts::{axis, data, legend, wait_count};
 use fantoccini::{Client, ClientBuilder, Locator};
 
 /// Kills a child process when the test ends, passed or not.
@@ -313,6 +320,40 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     }
     assert_eq!(value_of(&c, "cr").await, Some(want.cr));
     assert_eq!(value_of(&c, "wheelbase").await, Some(want.wheelbase_mm));
+
+    // The scatter: numbered axes in cm to one scale around every point, the
+    // directions in the legend, the ten points and the library's centroids.
+    let (x, y) = (
+        axis(&c, "scatter", "x").await,
+        axis(&c, "scatter", "y").await,
+    );
+    assert!(
+        x.label.contains("(cm)") && y.label.contains("(cm)"),
+        "{x:?} {y:?}"
+    );
+    assert!((x.px_per_unit - y.px_per_unit).abs() < 1e-9, "{x:?} {y:?}");
+    for (px, py) in CW.iter().chain(&CCW) {
+        assert!(
+            x.min < *px && *px < x.max && y.min < *py && *py < y.max,
+            "{x:?} {y:?}"
+        );
+    }
+    let entries = legend(&c, "scatter").await;
+    assert!(
+        entries.iter().any(|e| e == "CW") && entries.iter().any(|e| e == "CCW"),
+        "{entries:?}"
+    );
+    let points = c.find_all(Locator::Css("#scatter .point")).await.unwrap();
+    assert_eq!(points.len(), 10);
+    let centroids = c
+        .find_all(Locator::Css("#scatter .centroid"))
+        .await
+        .unwrap();
+    assert_eq!(centroids.len(), 2);
+    for (e, want) in centroids.iter().zip([want.centroid_cw, want.centroid_ccw]) {
+        let at: (f64, f64) = (data(e, "data-x-cm").await, data(e, "data-y-cm").await);
+        assert_eq!(at, (want.x_cm, want.y_cm));
+    }
     assert_eq!(text(&c, "cl").await, format!("{:.6}", want.cl));
     assert_eq!(text(&c, "cr").await, format!("{:.6}", want.cr));
     assert_eq!(
@@ -489,6 +530,130 @@ async fn the_page_drives_a_robot_on_a_serial_port() {
     // The port vanishes: the page says so.
     drop(serve);
     wait_text(&c, "status", 20, |t| t.contains("is gone")).await;
+    c.close().await.unwrap();
+    let _ = std::fs::remove_dir_all(&sessions);
+}
+
+/// The emulated robot's clock as the page shows it (its pose line), s.
+async fn robot_time(c: &Client) -> f64 {
+    let pose = text(c, "pose").await;
+    let t = pose
+        .split("robot time ")
+        .nth(1)
+        .and_then(|t| t.strip_suffix(" s"));
+    t.and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{pose:?}"))
+}
+
+/// Two lines, the second started where the first ended (30 cm ahead): the
+/// speed chart has robot time and the firmware's speed unit on numbered
+/// axes; on the floor both runs start at the origin of their own start
+/// frame, along x, to one scale, with the ideal line dashed and both end
+/// points marked.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
+    let sessions = std::env::temp_dir().join(format!("station-charts-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&sessions);
+    let (_ui, url) = ui(&sessions, &[]);
+    let (c, _driver) = browser(&sessions.join("chromium-profile")).await;
+    c.goto(&url).await.unwrap();
+    c.wait()
+        .at_most(Duration::from_secs(10))
+        .for_element(Locator::Css(
+            "#robot-select option[value='emulated:henrytwo-ideal']",
+        ))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    // Slow enough for a few telemetry samples per 300 mm line.
+    type_into(&c, "speed", "4").await;
+    click(&c, Locator::Id("connect")).await;
+    wait_text(&c, "status", 30, |t| t.starts_with("connected:")).await;
+    type_into(&c, "leg-mm", "300").await;
+    // The robot's clock past 2 s before the first run: a time axis that
+    // counted samples or wall time from the page's start would begin at 0.
+    let until = Instant::now() + Duration::from_secs(20);
+    while !text(&c, "pose").await.contains("robot time") || robot_time(&c).await < 2.0 {
+        assert!(Instant::now() < until, "{}", text(&c, "pose").await);
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    for n in 1..=2 {
+        click(&c, Locator::Css("button[data-test='line']")).await;
+        let done = n.to_string();
+        wait_text(&c, "tests-done", 60, |t| t == done).await;
+        wait_count(&c, "#floor circle.end", n, 5).await;
+    }
+
+    let runs = wait_count(&c, "#floor path.run", 2, 1).await;
+    let ends = wait_count(&c, "#floor circle.end", 2, 1).await;
+    for (run, end) in runs.iter().zip(&ends) {
+        assert_eq!(
+            run.attr("data-test").await.unwrap().as_deref(),
+            Some("line")
+        );
+        let points: Vec<(f64, f64)> = data(run, "data-points-cm").await;
+        assert_eq!(points[0], (0.0, 0.0), "{points:?}");
+        assert!(points.len() >= 2, "{points:?}");
+        // The ideal robot drives straight along x for one leg, whichever run.
+        for &(x, y) in &points {
+            assert!((-1.0..=32.0).contains(&x) && y.abs() < 1.5, "{points:?}");
+        }
+        let end: (f64, f64) = (data(end, "data-x-cm").await, data(end, "data-y-cm").await);
+        assert!((end.0 - 30.0).abs() < 1.5 && end.1.abs() < 1.5, "{end:?}");
+        assert_eq!(
+            *points.last().unwrap(),
+            end,
+            "the run's trace ends at its end point"
+        );
+    }
+    // The commanded line, dashed, once for both runs.
+    let ideal = wait_count(&c, "#floor path.ideal", 1, 1).await;
+    let path: Vec<(f64, f64)> = data(&ideal[0], "data-points-cm").await;
+    assert_eq!(path, [(0.0, 0.0), (30.0, 0.0)]);
+    let dash = ideal[0].attr("stroke-dasharray").await.unwrap();
+    assert!(
+        dash.is_some_and(|d| d != "none"),
+        "the ideal path is dashed"
+    );
+    let (x, y) = (axis(&c, "floor", "x").await, axis(&c, "floor", "y").await);
+    assert!(
+        x.label.contains("(cm)") && y.label.contains("(cm)"),
+        "{x:?} {y:?}"
+    );
+    assert!((x.px_per_unit - y.px_per_unit).abs() < 1e-9, "{x:?} {y:?}");
+    assert!(x.min < 0.0 && x.max > 30.0, "{x:?}");
+    let entries = legend(&c, "floor").await;
+    for want in ["line", "ideal path", "end point"] {
+        assert!(entries.iter().any(|e| e == want), "{entries:?}");
+    }
+
+    // The speeds against the firmware's clock, in its unit, reaching the
+    // set-point (14.47 thesis RPM).
+    let now = robot_time(&c).await;
+    let (t, v) = (axis(&c, "speeds", "x").await, axis(&c, "speeds", "y").await);
+    assert_eq!(t.label, "robot time (s)");
+    assert!(
+        2.0 <= t.min && t.min < t.max && t.max <= now,
+        "{t:?}, robot time {now}"
+    );
+    assert!(v.label.contains("thesis RPM"), "{v:?}");
+    assert!(v.min <= 0.0 && v.max >= 14.47, "{v:?}");
+    let entries = legend(&c, "speeds").await;
+    for want in ["left", "right", "set-point"] {
+        assert!(entries.iter().any(|e| e == want), "{entries:?}");
+    }
+    let trace = c
+        .find(Locator::Css("#speeds path.series.speed_left"))
+        .await
+        .unwrap()
+        .attr("d")
+        .await
+        .unwrap()
+        .unwrap_or_default();
+    assert!(trace.contains('L'), "the left speed drawn: {trace:?}");
+    screenshot(&c, "station-ui-charts.png").await;
     c.close().await.unwrap();
     let _ = std::fs::remove_dir_all(&sessions);
 }

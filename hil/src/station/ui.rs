@@ -34,10 +34,19 @@ use crate::experiment::Test;
 
 const INDEX_HTML: &str = include_str!("ui/index.html");
 const APP_JS: &str = include_str!("ui/app.js");
+const CHARTS_JS: &str = include_str!("ui/charts.js");
+
+mod floor;
+
+use floor::{end_error, in_start_frame, run_pose, StartPose};
 
 /// Telemetry polling period (wall clock): a GET_TELEMETRY and a GET_STATE
 /// take ~60 ms on the wire at 9600 baud, so 4 Hz leaves room for commands.
 const POLL: Duration = Duration::from_millis(250);
+
+/// The firmware's control tick (timer 1, exactly 15 ms): its telemetry
+/// counts them, the robot's own clock, emulated or real.
+const TICK_S: f64 = 0.015;
 
 #[derive(Debug, Error)]
 pub enum UiError {
@@ -128,22 +137,13 @@ impl Drop for Connection {
     }
 }
 
-/// Where the emulated robot stood when a test started.
-#[derive(Debug, Clone, Copy)]
-struct StartPose {
-    test: Test,
-    leg_mm: f64,
-    x_mm: f64,
-    y_mm: f64,
-    theta_rad: f64,
-}
-
 struct App {
     options: UiOptions,
     conn: Mutex<Option<Connection>>,
     /// The session of the connected robot and its file.
     session: Mutex<Option<(PathBuf, Session)>>,
     start: std::sync::Mutex<Option<StartPose>>,
+    runs: std::sync::atomic::AtomicU64,
     events: broadcast::Sender<String>,
 }
 
@@ -168,11 +168,13 @@ pub async fn serve(
         conn: Mutex::new(None),
         session: Mutex::new(None),
         start: std::sync::Mutex::new(None),
+        runs: std::sync::atomic::AtomicU64::new(0),
         events,
     });
     let router = Router::new()
         .route("/", get(index))
         .route("/app.js", get(app_js))
+        .route("/charts.js", get(charts_js))
         .route("/api/robots", get(robots))
         .route("/api/connect", post(connect))
         .route("/api/disconnect", post(disconnect))
@@ -201,6 +203,13 @@ async fn app_js() -> impl IntoResponse {
     (
         [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
         APP_JS,
+    )
+}
+
+async fn charts_js() -> impl IntoResponse {
+    (
+        [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
+        CHARTS_JS,
     )
 }
 
@@ -379,6 +388,10 @@ async fn poll(
             }
         };
         let view = emulator.as_ref().map(|e| e.view());
+        let started = app.start.lock().ok().and_then(|s| *s);
+        let run = started
+            .zip(view.as_ref())
+            .map(|(s, v)| run_pose(&s, v.x_mm, v.y_mm, v.theta_rad));
         let _ = app.events.send(
             json!({
                 "kind": "telemetry",
@@ -396,7 +409,9 @@ async fn poll(
                 "segment": s.segment,
                 "fault": s.fault,
                 "tests_done": s.tests_done,
+                "time_s": f64::from(t.ticks) * TICK_S,
                 "pose": view,
+                "run": run,
             })
             .to_string(),
         );
@@ -410,11 +425,16 @@ async fn poll(
             let end = start
                 .zip(view.as_ref())
                 .map(|(s, v)| end_error(&s, v.x_mm, v.y_mm));
+            let run_end = start.zip(view.as_ref()).map(|(s, v)| {
+                let (x, y) = in_start_frame(&s, v.x_mm, v.y_mm);
+                json!({ "id": s.run, "x_cm": x / 10.0, "y_cm": y / 10.0 })
+            });
             let _ = app.events.send(
                 json!({
                     "kind": "notice",
                     "notice": n,
                     "end_error_cm": end,
+                    "run_end": run_end,
                     "leg_mm": start.map(|s| s.leg_mm),
                 })
                 .to_string(),
@@ -428,18 +448,6 @@ async fn poll(
             return;
         }
     }
-}
-
-/// The end error of a run in its start frame (x along the first leg, y to
-/// the left), minus the ideal end, cm: what the tape measure says.
-fn end_error(start: &StartPose, x_mm: f64, y_mm: f64) -> [f64; 2] {
-    let (dx, dy) = (x_mm - start.x_mm, y_mm - start.y_mm);
-    let (s, c) = start.theta_rad.sin_cos();
-    let (ix, iy) = start.test.ideal_end(start.leg_mm);
-    [
-        (dx * c + dy * s - ix) / 10.0,
-        (-dx * s + dy * c - iy) / 10.0,
-    ]
 }
 
 async fn link_of(app: &App) -> Result<(Arc<Mutex<Link>>, Option<Arc<EmulatedRobot>>), UiError> {
@@ -482,6 +490,7 @@ async fn start(
     if let Some(v) = emulator.as_ref().map(|e| e.view()) {
         if let Ok(mut s) = app.start.lock() {
             *s = Some(StartPose {
+                run: app.runs.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
                 test: req.test,
                 leg_mm,
                 x_mm: v.x_mm,
@@ -659,27 +668,5 @@ mod tests {
             ["b", "a"]
         );
         let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn end_errors_are_in_the_start_frame() {
-        // Started at (1000, 500) heading +90 degrees; ended 30 mm further
-        // along the heading and 20 mm to its right.
-        let start = StartPose {
-            test: Test::UmbmarkCw,
-            leg_mm: 2000.0,
-            x_mm: 1000.0,
-            y_mm: 500.0,
-            theta_rad: std::f64::consts::FRAC_PI_2,
-        };
-        let [x, y] = end_error(&start, 1000.0 + 20.0, 500.0 + 30.0);
-        assert!((x - 3.0).abs() < 1e-9 && (y + 2.0).abs() < 1e-9, "{x} {y}");
-        let line = StartPose {
-            test: Test::Line,
-            theta_rad: 0.0,
-            ..start
-        };
-        let [x, _] = end_error(&line, 1000.0 + 1990.0, 500.0);
-        assert!((x + 1.0).abs() < 1e-9, "{x}");
     }
 }

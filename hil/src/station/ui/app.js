@@ -7,8 +7,9 @@ const $ = (id) => document.getElementById(id);
 let session = null;      // the session as the server saved it (plus local edits)
 let evaluation = null;   // the server's evaluation of it
 let saving = false, dirty = false;
-const speeds = [];       // recent telemetry for the chart
-const trail = [];        // emulated robot's pose trail (mm)
+const speeds = [];       // recent telemetry for the chart; null: the robot stood still
+const runs = [];         // the emulated robot's recent runs, each in its start frame (cm)
+let heading = 0;         // the emulated robot's heading in its last run's frame (rad)
 
 async function api(method, path, body) {
   const r = await fetch(path, {
@@ -74,8 +75,10 @@ async function connect() {
     $("session-file").textContent = r.session_file;
     $("leg-mm").value = r.leg_mm;
     showRobotParams(r.params);
-    trail.length = 0;
+    runs.length = 0;
     speeds.length = 0;
+    showSpeeds();
+    showFloor();
     setSession(r.session, r.evaluation);
   } catch (e) {
     status(e.message, true);
@@ -235,7 +238,7 @@ function showEvaluation(ev) {
   $("warnings").textContent = r ? r.warnings.join(" ") : tri
     ? `${cur.complete_line} of the line and ${cur.complete_triangle} of the triangle runs complete`
     : `${cur.complete_cw} of CW and ${cur.complete_ccw} of CCW runs complete`;
-  drawScatter();
+  showScatter();
   showRounds();
 }
 
@@ -293,101 +296,28 @@ async function apply() {
   }
 }
 
-// --- drawing ----------------------------------------------------------------
+// --- drawing (charts.js draws) -----------------------------------------------
 
-function drawScatter() {
-  const c = $("scatter"), g = c.getContext("2d");
-  g.clearRect(0, 0, c.width, c.height);
+// The unit of the firmware's speeds (the protocol's telemetry).
+const SPEED_UNIT = "thesis RPM = wheel RPM / 6";
+
+function showScatter() {
   if (!session) return;
   const k = lastRound();
   const round = session.rounds[k];
   const groups = groupsOf(round);
   const pts = (dir) => round[dir].map((p) => [parseFloat(String(p.x).replace(",", ".")), parseFloat(String(p.y).replace(",", "."))])
     .filter(([x, y]) => isFinite(x) && isFinite(y));
-  const cw = pts(groups[0][0]), ccw = pts(groups[1][0]);
   const ev = evaluation && evaluation.rounds[k];
   const r = ev && ev.result, t = ev && ev.triangle;
   // A triangle centroid without y (not measured) is not drawn.
-  const cents = r ? [[r.centroid_cw.x_cm, r.centroid_cw.y_cm], [r.centroid_ccw.x_cm, r.centroid_ccw.y_cm]]
-    : t ? [[t.line_centroid.x_cm, t.line_centroid.y_cm], [t.triangle_centroid.x_cm, t.triangle_centroid.y_cm]] : [];
-  const all = [[0, 0], ...cw, ...ccw, ...cents.filter(([, y]) => y !== null && y !== undefined)];
-  let span = 5;
-  for (const [x, y] of all) span = Math.max(span, Math.abs(x), Math.abs(y));
-  span *= 1.15;
-  const s = Math.min(c.width, c.height) / (2 * span);
-  const X = (x) => c.width / 2 + x * s, Y = (y) => c.height / 2 - y * s;
-  g.strokeStyle = "#bbb";
-  g.beginPath(); g.moveTo(0, Y(0)); g.lineTo(c.width, Y(0)); g.moveTo(X(0), 0); g.lineTo(X(0), c.height); g.stroke();
-  g.fillStyle = "#777";
-  g.font = "12px sans-serif";
-  g.fillText(`x (cm), ±${span.toFixed(1)} cm`, c.width - 120, Y(0) - 4);
-  g.fillText("y (cm)", X(0) + 4, 12);
-  g.lineWidth = 2;
-  for (const [x, y] of cw) { g.strokeStyle = "#c81e1e"; g.beginPath(); g.arc(X(x), Y(y), 5, 0, 7); g.stroke(); }
-  for (const [x, y] of ccw) {
-    g.strokeStyle = "#000"; g.beginPath();
-    g.moveTo(X(x) - 5, Y(y) - 5); g.lineTo(X(x) + 5, Y(y) + 5); g.moveTo(X(x) + 5, Y(y) - 5); g.lineTo(X(x) - 5, Y(y) + 5); g.stroke();
-  }
-  // Centroids and the vectors from the start to them, as the thesis GUI drew them.
-  cents.forEach(([x, y], i) => {
-    if (y === null || y === undefined) return;
-    g.strokeStyle = i === 0 ? "#c81e1e" : "#000";
-    g.setLineDash([6, 4]);
-    g.beginPath(); g.moveTo(X(0), Y(0)); g.lineTo(X(x), Y(y)); g.stroke();
-    g.setLineDash([]);
-    g.fillStyle = g.strokeStyle;
-    g.beginPath(); g.arc(X(x), Y(y), 4, 0, 7); g.fill();
-    g.fillText(groups[i][1] + " centroid", X(x) + 6, Y(y) - 6);
-  });
-  g.lineWidth = 1;
+  const cents = r ? [r.centroid_cw, r.centroid_ccw] : t ? [t.line_centroid, t.triangle_centroid] : [null, null];
+  drawScatter($("scatter"), groups.map(([dir, label]) => ({ label, points: pts(dir) })),
+    cents.map((c) => (c && c.y_cm !== null && c.y_cm !== undefined ? [c.x_cm, c.y_cm] : null)));
 }
 
-function drawSpeeds() {
-  const c = $("speeds"), g = c.getContext("2d");
-  g.clearRect(0, 0, c.width, c.height);
-  if (!speeds.length) return;
-  let top = 5;
-  for (const t of speeds) top = Math.max(top, Math.abs(t.speed_left), Math.abs(t.speed_right), t.setpoint_left, t.setpoint_right);
-  top *= 1.2;
-  const X = (i) => (i / 119) * c.width, Y = (v) => c.height / 2 - (v / top) * (c.height / 2 - 4);
-  g.strokeStyle = "#ddd"; g.beginPath(); g.moveTo(0, Y(0)); g.lineTo(c.width, Y(0)); g.stroke();
-  const line = (key, color, dash) => {
-    g.strokeStyle = color; g.setLineDash(dash); g.beginPath();
-    speeds.forEach((t, i) => (i ? g.lineTo(X(i), Y(t[key])) : g.moveTo(X(i), Y(t[key]))));
-    g.stroke(); g.setLineDash([]);
-  };
-  line("setpoint_left", "#1f6feb", [5, 4]);
-  line("setpoint_right", "#d9480f", [5, 4]);
-  line("speed_left", "#1f6feb", []);
-  line("speed_right", "#d9480f", []);
-  g.fillStyle = "#1f6feb"; g.fillText("left", 6, 12);
-  g.fillStyle = "#d9480f"; g.fillText("right (dashed: set-points)", 40, 12);
-}
-
-function drawFloor(pose) {
-  const c = $("floor"), g = c.getContext("2d");
-  g.clearRect(0, 0, c.width, c.height);
-  if (!trail.length) return;
-  let x0 = -300, x1 = 300, y0 = -300, y1 = 300;
-  for (const [x, y] of trail) { x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y); }
-  const pad = 150;
-  const s = Math.min(c.width / (x1 - x0 + 2 * pad), c.height / (y1 - y0 + 2 * pad));
-  const X = (x) => (x - x0 + pad) * s, Y = (y) => c.height - (y - y0 + pad) * s;
-  g.strokeStyle = "#eee";
-  for (let gx = Math.ceil(x0 / 500) * 500; gx <= x1; gx += 500) { g.beginPath(); g.moveTo(X(gx), 0); g.lineTo(X(gx), c.height); g.stroke(); }
-  for (let gy = Math.ceil(y0 / 500) * 500; gy <= y1; gy += 500) { g.beginPath(); g.moveTo(0, Y(gy)); g.lineTo(c.width, Y(gy)); g.stroke(); }
-  g.strokeStyle = "#1f6feb"; g.beginPath();
-  trail.forEach(([x, y], i) => (i ? g.lineTo(X(x), Y(y)) : g.moveTo(X(x), Y(y))));
-  g.stroke();
-  const r = 130 * s; // the robot, about its wheelbase across
-  const th = pose.theta_rad;
-  g.fillStyle = "#283845"; g.beginPath();
-  g.moveTo(X(pose.x_mm) + Math.cos(th) * r, Y(pose.y_mm) - Math.sin(th) * r);
-  g.lineTo(X(pose.x_mm) + Math.cos(th + 2.5) * r * 0.7, Y(pose.y_mm) - Math.sin(th + 2.5) * r * 0.7);
-  g.lineTo(X(pose.x_mm) + Math.cos(th - 2.5) * r * 0.7, Y(pose.y_mm) - Math.sin(th - 2.5) * r * 0.7);
-  g.fill();
-  g.fillStyle = "#777"; g.fillText("grid 500 mm", 6, 12);
-}
+const showSpeeds = () => drawSpeeds($("speeds"), speeds, SPEED_UNIT);
+const showFloor = () => drawFloor($("floor"), runs, heading);
 
 // --- live telemetry -----------------------------------------------------------
 
@@ -407,27 +337,31 @@ function onEvent(ev) {
     $("state").textContent = `${STATES[ev.state] || ev.state} / ${PHASES[ev.phase] || ev.phase}` +
       (ev.test ? `, ${TESTS[ev.test] || ev.test} segment ${ev.segment}` : "") + (ev.fault ? `, FAULT ${ev.fault}` : "");
     $("tests-done").textContent = ev.tests_done;
+    // The chart changes only while the robot moves: at rest it ends its
+    // lines once (a gap before the next run) and stays as it is.
     if (ev.state === IDLE) {
       clearLive();
+      if (speeds.length && speeds[speeds.length - 1]) {
+        speeds.push(null);
+        showSpeeds();
+      }
     } else {
       $("pwm-left").textContent = ev.duty_left;
       $("pwm-right").textContent = ev.duty_right;
       $("speed-left").textContent = fmt(ev.speed_left, 2);
       $("speed-right").textContent = fmt(ev.speed_right, 2);
       speeds.push(ev);
-      if (speeds.length > 120) speeds.shift();
-      drawSpeeds();
+      while (speeds.length > 120 || !speeds[0]) speeds.shift();
+      showSpeeds();
     }
+    if (ev.run) onRunPose(ev.run);
     if (ev.pose) {
-      const last = trail[trail.length - 1];
-      if (!last || Math.hypot(last[0] - ev.pose.x_mm, last[1] - ev.pose.y_mm) > 2) trail.push([ev.pose.x_mm, ev.pose.y_mm]);
-      if (trail.length > 5000) trail.shift();
       $("pose").textContent = `x ${fmt(ev.pose.x_mm, 0)} mm, y ${fmt(ev.pose.y_mm, 0)} mm, heading ${fmt(wrapDeg(ev.pose.theta_rad * 180 / Math.PI), 1)}°, robot time ${fmt(ev.pose.robot_time_s, 1)} s`;
-      drawFloor(ev.pose);
     }
   } else if (ev.kind === "notice") {
     const n = ev.notice;
     if (n.kind === "test_done") {
+      if (ev.run_end) onRunEnd(ev.run_end);
       let text = `${TESTS[n.test] || n.test} done`;
       if (ev.end_error_cm && session) {
         const [x, y] = ev.end_error_cm;
@@ -441,6 +375,31 @@ function onEvent(ev) {
   } else if (ev.kind === "error") {
     status(ev.message, true);
   }
+}
+
+// A run is drawn from the origin of its start frame, where the server's
+// poses of it are given; the last ten runs stay on the floor.
+function onRunPose(p) {
+  let run = runs.find((r) => r.id === p.id);
+  if (!run) {
+    run = { id: p.id, test: p.test, leg_mm: p.leg_mm, ideal_cm: p.ideal_cm, points_cm: [[0, 0]], end_cm: null };
+    runs.push(run);
+    if (runs.length > 10) runs.shift();
+  }
+  const last = run.points_cm[run.points_cm.length - 1];
+  if (Math.hypot(last[0] - p.x_cm, last[1] - p.y_cm) > 0.2) run.points_cm.push([p.x_cm, p.y_cm]);
+  if (run.points_cm.length > 5000) run.points_cm.splice(1, 1);
+  heading = p.theta_rad;
+  showFloor();
+}
+
+function onRunEnd(e) {
+  const run = runs.find((r) => r.id === e.id);
+  if (!run) return;
+  run.end_cm = [e.x_cm, e.y_cm];
+  const last = run.points_cm[run.points_cm.length - 1];
+  if (last[0] !== e.x_cm || last[1] !== e.y_cm) run.points_cm.push(run.end_cm);
+  showFloor();
 }
 
 // The emulated robot's end point goes into the next empty row of its
@@ -499,6 +458,8 @@ async function stop() {
 }
 
 window.addEventListener("load", () => {
+  showSpeeds();
+  showFloor();
   $("connect").onclick = connect;
   for (const b of document.querySelectorAll("button[data-test]")) b.onclick = () => startTest(b.dataset.test);
   $("stop").onclick = stop;
