@@ -22,6 +22,7 @@ pub mod firmware_params;
 pub mod fuzz;
 pub mod fwvars;
 pub mod gdb;
+pub mod golden;
 pub mod hang;
 pub mod inject;
 pub mod junit;
