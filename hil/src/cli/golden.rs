@@ -172,7 +172,7 @@ struct Conditions {
 impl RunArgs {
     /// These options over `recorded` (a check's) or over the defaults.
     fn resolve(&self, recorded: Option<&InForce>) -> Result<Conditions> {
-        let path = |s: &String| PathBuf::from(s);
+        let path = |s: &String| from_golden(s);
         // A build given replaces a recorded ELF, as an ELF given does.
         let elf = self.elf.clone().or_else(|| {
             self.firmware
@@ -240,6 +240,30 @@ impl RunArgs {
     }
 }
 
+/// `path` as a golden file records it: relative to the repository when it
+/// is inside (a golden file committed there checks in any checkout and from
+/// any folder), else absolute.
+fn for_golden(path: &Path) -> String {
+    let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let abs = abs.canonicalize().unwrap_or(abs);
+    let root = hil::paths::workspace_root();
+    let root = root.canonicalize().unwrap_or(root);
+    match abs.strip_prefix(&root) {
+        Ok(inside) => inside.display().to_string(),
+        Err(_) => abs.display().to_string(),
+    }
+}
+
+/// A path a golden file recorded, as [`for_golden`] wrote it.
+fn from_golden(recorded: &str) -> PathBuf {
+    let p = PathBuf::from(recorded);
+    if p.is_relative() {
+        hil::paths::workspace_root().join(p)
+    } else {
+        p
+    }
+}
+
 /// A golden run's measurement: the run, what was in force, the quantities.
 struct Measured {
     run: TestRun,
@@ -276,9 +300,16 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
     let (run, observer) = run_test_observed(firmware.clone(), &robot, test, &opts, probe)?;
     let report = observer
         .and_then(|o| o.into_any().downcast::<TimingProbe>().ok())
-        .map(|p| p.report(&firmware, CONTROL_FUNCTION, clock.hz()));
+        .map(|p| {
+            p.report(
+                &firmware,
+                CONTROL_FUNCTION,
+                clock.hz(),
+                &run.segment_starts(),
+            )
+        });
     let quantities = hil::golden::measure(&run, report.as_ref(), clock);
-    let shown = |p: &Path| p.display().to_string();
+    let shown = |p: &Path| for_golden(p);
     let in_force = InForce {
         firmware: match &target.elf {
             Some(_) => firmware.name(),

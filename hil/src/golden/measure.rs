@@ -21,13 +21,7 @@ pub fn measure(run: &TestRun, timing: Option<&TimingReport>, clock: Clock) -> Ve
     };
     let t = |cycle: u64| clock.seconds(cycle).0;
     // A leg is at rest when the next leg or turn starts, or at the end.
-    let mut starts: Vec<u64> = run
-        .legs
-        .iter()
-        .map(|l| l.start_cycle)
-        .chain(run.turns.iter().map(|t| t.start_cycle))
-        .collect();
-    starts.sort_unstable();
+    let starts = run.segment_starts();
     for (k, leg) in run.legs.iter().enumerate() {
         let n = k + 1;
         let rest = starts.iter().find(|&&s| s > leg.start_cycle).copied();
