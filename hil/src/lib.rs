@@ -23,6 +23,7 @@ pub mod fuzz;
 pub mod fwvars;
 pub mod gap_bench;
 pub mod gdb;
+pub mod golden;
 pub mod hang;
 pub mod inject;
 pub mod junit;

@@ -147,16 +147,20 @@ impl Target {
     /// The robot config asked for, else the best estimate of the thesis
     /// robot, else the ideal one.
     pub fn robot(&self) -> Result<RobotConfig> {
-        let path = self.robot.clone().unwrap_or_else(|| {
+        // The loader's errors name the file.
+        RobotConfig::load(self.robot_path()).map_err(super::bad_input)
+    }
+
+    /// The path of the robot config [`Target::robot`] reads.
+    pub fn robot_path(&self) -> PathBuf {
+        self.robot.clone().unwrap_or_else(|| {
             let best = hil::paths::robot_config("henrytwo");
             if best.exists() {
                 best
             } else {
                 hil::paths::robot_config("henrytwo-ideal")
             }
-        });
-        // The loader's errors name the file.
-        RobotConfig::load(&path).map_err(super::bad_input)
+        })
     }
 
     /// The ELF of `--elf`, else the one the test description names, else

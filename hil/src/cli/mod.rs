@@ -17,6 +17,7 @@ mod station;
 mod timing;
 
 // The user's own firmware tests.
+mod golden;
 mod test;
 
 #[derive(Parser)]
@@ -81,6 +82,11 @@ enum Command {
     /// line per case, pass or FAIL with what was seen; --junit FILE for CI,
     /// each failed case's VCD and last state saved for triage.
     Test(test::TestCmd),
+
+    /// Golden runs: `hil golden record TEST --out FILE.json` writes a run's
+    /// quantities once; `hil golden check FILE.json` compares a later run
+    /// to them within tolerances and prints what moved.
+    Golden(golden::GoldenCmd),
 }
 
 impl Command {
@@ -103,6 +109,7 @@ impl Command {
             Command::Board(c) => c.run(),
 
             Command::Test(c) => c.run(),
+            Command::Golden(c) => c.run(),
         }
     }
 }
