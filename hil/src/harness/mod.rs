@@ -25,7 +25,7 @@
 
 use plant_model::RobotConfig;
 
-use crate::bench::{Bench, ScheduledFault, Trigger};
+use crate::bench::Bench;
 use crate::scenario::eval::motor_state;
 
 mod builder;
@@ -35,8 +35,9 @@ mod until;
 
 pub use self::builder::HarnessBuilder;
 pub use self::error::HarnessError;
-/// What a test names, from where it is defined, in one place.
-pub use crate::bench::Action;
+// What a test names, re-exported from where each is defined, so that a
+// test crate needs `hil::harness` alone.
+pub use crate::bench::{Action, ScheduledFault, Trigger};
 pub use crate::experiment::Test;
 pub use crate::inject::{Channel, EncoderFault, LinkFault};
 pub use crate::link::{frame, Command, Param, Received};
