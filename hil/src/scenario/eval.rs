@@ -438,7 +438,7 @@ fn throughout(t: &Timeline, open: u64, close: u64) -> Result<u64, (u64, String)>
 
 /// The first cycle in `[open, close]` at which `pattern` has arrived whole
 /// on USART `n` (all its bytes at or after `open`); else what came.
-fn find_pattern(
+pub(crate) fn find_pattern(
     log: &[(u64, u8, u8)],
     n: u8,
     pattern: &[u8],
@@ -484,7 +484,7 @@ fn shown(b: &[u8]) -> String {
 /// The first frame the firmware sent on USART `n` in `[open, close]` with
 /// that id (and status, and data prefix); else the ids it did send.
 #[allow(clippy::too_many_arguments)]
-fn find_frame(
+pub(crate) fn find_frame(
     log: &[(u64, u8, u8)],
     n: u8,
     id: u8,
@@ -522,7 +522,7 @@ fn find_frame(
 }
 
 /// A condition in a message's words.
-fn describe(c: &Condition) -> String {
+pub(crate) fn describe(c: &Condition) -> String {
     match c {
         Condition::Uart {
             text,
@@ -603,7 +603,7 @@ fn describe(c: &Condition) -> String {
 }
 
 /// A motor's state and drive duty from its inputs (DRV8833 terms).
-fn motor_state((in1, in2): (f64, f64)) -> (MotorState, f64) {
+pub(crate) fn motor_state((in1, in2): (f64, f64)) -> (MotorState, f64) {
     let drive = in1 - in2;
     let state = if drive > 0.0 {
         MotorState::Forward
@@ -617,7 +617,7 @@ fn motor_state((in1, in2): (f64, f64)) -> (MotorState, f64) {
     (state, drive.abs())
 }
 
-fn state_is(want: MotorState, got: MotorState) -> bool {
+pub(crate) fn state_is(want: MotorState, got: MotorState) -> bool {
     want == got || (want == MotorState::Off && matches!(got, MotorState::Coast | MotorState::Brake))
 }
 

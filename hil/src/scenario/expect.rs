@@ -267,7 +267,7 @@ impl Expectation {
 }
 
 impl Condition {
-    fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), String> {
         let usart = |u: &Option<u8>| match u {
             Some(n) if *n > 3 => Err(format!(
                 "usart = {n}: give 0 to 3 (the ATmega2560's USARTs)"
