@@ -96,6 +96,31 @@ pub struct ParamSpec {
 }
 
 impl ParamSpec {
+    /// One row of a model's parameter table.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        name: &str,
+        symbol: &str,
+        unit: &str,
+        (lower, upper): (f64, f64),
+        neutral: f64,
+        scale: f64,
+        kind: ParamKind,
+        description: &str,
+    ) -> Self {
+        Self {
+            name: name.to_owned(),
+            symbol: symbol.to_owned(),
+            unit: unit.to_owned(),
+            lower,
+            upper,
+            neutral,
+            scale,
+            kind,
+            description: description.to_owned(),
+        }
+    }
+
     /// Whether `v` lies within the bounds.
     pub fn contains(&self, v: f64) -> bool {
         v.is_finite() && v >= self.lower && v <= self.upper

@@ -64,35 +64,11 @@ type Pose = plant_model::Pose<World>;
 #[derive(Debug, Clone, Copy, Default)]
 pub struct KinematicModel;
 
-#[allow(clippy::too_many_arguments)] // one row of the parameter table
-fn spec(
-    name: &str,
-    symbol: &str,
-    unit: &str,
-    (lower, upper): (f64, f64),
-    neutral: f64,
-    scale: f64,
-    kind: ParamKind,
-    description: &str,
-) -> ParamSpec {
-    ParamSpec {
-        name: name.to_owned(),
-        symbol: symbol.to_owned(),
-        unit: unit.to_owned(),
-        lower,
-        upper,
-        neutral,
-        scale,
-        kind,
-        description: description.to_owned(),
-    }
-}
-
 /// The parameters of [`KinematicModel`].
 pub fn kinematic_parameters() -> Vec<ParamSpec> {
     use ParamKind::{Stochastic, Systematic};
     vec![
-        spec(
+        ParamSpec::new(
             WHEEL_DIAMETER_RATIO,
             "Ed",
             "1",
@@ -102,7 +78,7 @@ pub fn kinematic_parameters() -> Vec<ParamSpec> {
             Systematic,
             "D_R/D_L: curves every leg (left when > 1)",
         ),
-        spec(
+        ParamSpec::new(
             WHEELBASE_RATIO,
             "Eb",
             "1",
@@ -112,7 +88,7 @@ pub fn kinematic_parameters() -> Vec<ParamSpec> {
             Systematic,
             "actual wheelbase / reference: every spin turns by 1/Eb of its target",
         ),
-        spec(
+        ParamSpec::new(
             DISTANCE_SCALE,
             "Es",
             "1",
@@ -122,7 +98,7 @@ pub fn kinematic_parameters() -> Vec<ParamSpec> {
             Systematic,
             "odometry distance / actual distance: legs are L/Es long, spins 1/Es too large",
         ),
-        spec(
+        ParamSpec::new(
             TURN_SLIP,
             "slip",
             "1",
@@ -132,7 +108,7 @@ pub fn kinematic_parameters() -> Vec<ParamSpec> {
             Systematic,
             "fraction of each spin's rotation lost",
         ),
-        spec(
+        ParamSpec::new(
             COAST,
             "coast",
             "deg",
@@ -142,7 +118,7 @@ pub fn kinematic_parameters() -> Vec<ParamSpec> {
             Systematic,
             "rotation after the motors are cut at the end of each spin",
         ),
-        spec(
+        ParamSpec::new(
             TOE,
             "toe",
             "deg",
@@ -152,7 +128,7 @@ pub fn kinematic_parameters() -> Vec<ParamSpec> {
             Systematic,
             "crab angle of straight legs (left positive): legs shift sideways, heading kept",
         ),
-        spec(
+        ParamSpec::new(
             FLOOR_NOISE,
             "σ_floor",
             "deg/√m",

@@ -32,35 +32,11 @@ const WHEEL_STALL_TORQUE_NM: f64 = 0.11;
 const MOTOR_RESISTANCE_OHM: f64 = 10.0;
 const IDLE_CURRENT_A: f64 = 0.1;
 
-#[allow(clippy::too_many_arguments)] // one row of the parameter table
-fn spec(
-    name: &str,
-    symbol: &str,
-    unit: &str,
-    (lower, upper): (f64, f64),
-    neutral: f64,
-    scale: f64,
-    kind: ParamKind,
-    description: &str,
-) -> ParamSpec {
-    ParamSpec {
-        name: name.to_owned(),
-        symbol: symbol.to_owned(),
-        unit: unit.to_owned(),
-        lower,
-        upper,
-        neutral,
-        scale,
-        kind,
-        description: description.to_owned(),
-    }
-}
-
 /// Every effect of the plant's library, as the bench applies it (see the module docs).
 pub fn bench_parameters() -> Vec<ParamSpec> {
     use ParamKind::{Stochastic, Systematic};
     vec![
-        spec(
+        ParamSpec::new(
             WHEEL_DIAMETER_RATIO,
             "Ed",
             "1",
@@ -70,7 +46,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "D_R/D_L (right_over_left_ratio)",
         ),
-        spec(
+        ParamSpec::new(
             WHEELBASE_RATIO,
             "Eb",
             "1",
@@ -80,7 +56,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "actual wheelbase / nominal (actual_over_nominal_ratio)",
         ),
-        spec(
+        ParamSpec::new(
             DISTANCE_SCALE,
             "Es",
             "1",
@@ -90,7 +66,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "odometry distance / actual (odometry_over_actual_ratio)",
         ),
-        spec(
+        ParamSpec::new(
             TURN_SLIP,
             "slip",
             "1",
@@ -100,7 +76,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "fraction of each spin's rotation the ground does not see",
         ),
-        spec(
+        ParamSpec::new(
             STRAIGHT_SLIP,
             "sslip",
             "1",
@@ -110,7 +86,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "travel lost in straight legs, left wheel (+) or right (−)",
         ),
-        spec(
+        ParamSpec::new(
             COAST,
             "coast",
             "s",
@@ -120,7 +96,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "coast time constant added to both motors' own",
         ),
-        spec(
+        ParamSpec::new(
             TOE,
             "toe",
             "deg",
@@ -130,7 +106,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "crab angle (φ_R − φ_L)/2, left positive: right wheel toed in, left out",
         ),
-        spec(
+        ParamSpec::new(
             FLOOR_NOISE,
             "σ_floor",
             "deg/√m",
@@ -140,7 +116,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Stochastic,
             "heading random walk along the legs (heading_deg_per_sqrt_m)",
         ),
-        spec(
+        ParamSpec::new(
             MOTOR_GAIN_ASYMMETRY,
             "gain",
             "1",
@@ -150,7 +126,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "left gain ratio 1 + g/2, right 1 − g/2",
         ),
-        spec(
+        ParamSpec::new(
             DEAD_BAND,
             "dead",
             "duty",
@@ -160,7 +136,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "extra dead band of the left motor (+) or the right (−)",
         ),
-        spec(
+        ParamSpec::new(
             BATTERY_SAG,
             "R_int",
             "ohm",
@@ -170,7 +146,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "internal resistance of the pack (open-circuit voltage the robot's own)",
         ),
-        spec(
+        ParamSpec::new(
             ENCODER_MISSED_COUNTS,
             "miss",
             "1",
@@ -180,7 +156,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "share of A pulses lost, left encoder (+) or right (−)",
         ),
-        spec(
+        ParamSpec::new(
             ENCODER_GLITCHES,
             "glitch",
             "1",
@@ -190,7 +166,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "share of edges that bounce (5° of motor shaft), left (+) or right (−)",
         ),
-        spec(
+        ParamSpec::new(
             CASTOR_DRAG,
             "castor",
             "N",
@@ -200,7 +176,7 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
             Systematic,
             "drag at a castor b/4 left of the centre line (+) or right (−)",
         ),
-        spec(
+        ParamSpec::new(
             BACKLASH,
             "play",
             "deg",

@@ -9,7 +9,9 @@ use plant_model::Side;
 
 use crate::bench::Bench;
 use crate::board::Pin;
-use crate::scenario::eval::{describe, find_frame, find_pattern, motor_state, state_is};
+use crate::scenario::eval::{
+    describe, find_frame, find_pattern, motor_holds, pose_holds, var_holds,
+};
 use crate::scenario::{Condition, Direction, Level, VarType};
 
 /// A condition resolved against the bench: its pin, its variable's address.
@@ -123,11 +125,10 @@ impl<'c> Probe<'c> {
                 let mut seen = Vec::new();
                 for s in side.sides() {
                     let (a, b) = core.robot().bridge_inputs(*s);
-                    let (got, duty) = motor_state((a.get(), b.get()));
-                    holds &= state_is(*state, got)
-                        && duty_min.is_none_or(|m| duty >= m)
-                        && duty_max.is_none_or(|m| duty <= m);
-                    seen.push(format!("{s:?} {got:?} duty {duty:.3}").to_lowercase());
+                    let (h, what) =
+                        motor_holds(*state, *duty_min, *duty_max, *s, (a.get(), b.get()));
+                    holds &= h;
+                    seen.push(what);
                 }
                 self.seen = seen.join(", ");
                 holds
@@ -140,50 +141,20 @@ impl<'c> Probe<'c> {
                 self.seen = format!("{name} {}", if high { "high" } else { "low" });
                 high == (*level == Level::High)
             }
-            Condition::Var {
-                symbol,
-                eq,
-                ne,
-                min,
-                max,
-                ..
-            } => {
+            Condition::Var { symbol, .. } => {
                 let Some((addr, ty)) = self.var else {
                     return false;
                 };
                 let v = read_var(bench, addr, ty);
                 self.seen = format!("{symbol} = {v}");
-                eq.is_none_or(|e| v == e)
-                    && ne.is_none_or(|e| v != e)
-                    && min.is_none_or(|m| v >= m)
-                    && max.is_none_or(|m| v <= m)
+                var_holds(self.condition, v)
             }
-            Condition::Pose {
-                x_mm,
-                y_mm,
-                distance_mm,
-                heading_deg,
-                tol_mm,
-                tol_pct,
-                tol_deg,
-            } => {
+            Condition::Pose { .. } => {
                 let pose = core.robot().pose();
-                let (x, y) = (pose.x().0, pose.y().0);
-                let d = x.hypot(y);
-                let heading = pose.theta().0.to_degrees();
-                let near = |want: f64, got: f64| {
-                    let tol = tol_mm.unwrap_or_else(|| want.abs() * tol_pct.unwrap_or(0.0) / 100.0);
-                    (got - want).abs() <= tol
-                };
-                self.seen =
-                    format!("x {x:.1} mm, y {y:.1} mm, distance {d:.1} mm, heading {heading:.2}°");
-                x_mm.is_none_or(|v| near(v, x))
-                    && y_mm.is_none_or(|v| near(v, y))
-                    && distance_mm.is_none_or(|v| near(v, d))
-                    && heading_deg.zip(*tol_deg).is_none_or(|(h, t)| {
-                        // The nearest turn of the heading to the one asked for.
-                        ((heading - h + 180.0).rem_euclid(360.0) - 180.0).abs() <= t
-                    })
+                let (holds, seen) =
+                    pose_holds(self.condition, pose.x().0, pose.y().0, pose.theta().0);
+                self.seen = seen;
+                holds
             }
         }
     }

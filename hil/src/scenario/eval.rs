@@ -603,6 +603,72 @@ pub(crate) fn describe(c: &Condition) -> String {
 }
 
 /// A motor's state and drive duty from its inputs (DRV8833 terms).
+/// One motor against a `motor` condition's state and duty bounds, from
+/// its bridge inputs: whether it holds, and what was seen.
+pub(crate) fn motor_holds(
+    want: MotorState,
+    duty_min: Option<f64>,
+    duty_max: Option<f64>,
+    side: Side,
+    inputs: (f64, f64),
+) -> (bool, String) {
+    let (got, duty) = motor_state(inputs);
+    let holds = state_is(want, got)
+        && duty_min.is_none_or(|m| duty >= m)
+        && duty_max.is_none_or(|m| duty <= m);
+    (
+        holds,
+        format!("{side:?} {got:?} duty {duty:.3}").to_lowercase(),
+    )
+}
+
+/// A `var` condition's comparisons of the value `v` (false for any other
+/// condition).
+pub(crate) fn var_holds(c: &Condition, v: f64) -> bool {
+    let Condition::Var {
+        eq, ne, min, max, ..
+    } = c
+    else {
+        return false;
+    };
+    eq.is_none_or(|e| v == e)
+        && ne.is_none_or(|e| v != e)
+        && min.is_none_or(|m| v >= m)
+        && max.is_none_or(|m| v <= m)
+}
+
+/// A `pose` condition on the pose `x`, `y` (mm), `theta` (radians): whether
+/// it holds (false for any other condition), and what was seen.
+pub(crate) fn pose_holds(c: &Condition, x: f64, y: f64, theta: f64) -> (bool, String) {
+    let d = x.hypot(y);
+    let heading = theta.to_degrees();
+    let seen = format!("x {x:.1} mm, y {y:.1} mm, distance {d:.1} mm, heading {heading:.2}°");
+    let Condition::Pose {
+        x_mm,
+        y_mm,
+        distance_mm,
+        heading_deg,
+        tol_mm,
+        tol_pct,
+        tol_deg,
+    } = c
+    else {
+        return (false, seen);
+    };
+    let near = |want: f64, got: f64| {
+        let tol = tol_mm.unwrap_or_else(|| want.abs() * tol_pct.unwrap_or(0.0) / 100.0);
+        (got - want).abs() <= tol
+    };
+    let holds = x_mm.is_none_or(|v| near(v, x))
+        && y_mm.is_none_or(|v| near(v, y))
+        && distance_mm.is_none_or(|v| near(v, d))
+        && heading_deg.zip(*tol_deg).is_none_or(|(h, t)| {
+            // The nearest turn of the heading to the one asked for.
+            ((heading - h + 180.0).rem_euclid(360.0) - 180.0).abs() <= t
+        });
+    (holds, seen)
+}
+
 pub(crate) fn motor_state((in1, in2): (f64, f64)) -> (MotorState, f64) {
     let drive = in1 - in2;
     let state = if drive > 0.0 {
@@ -622,8 +688,8 @@ pub(crate) fn state_is(want: MotorState, got: MotorState) -> bool {
 }
 
 /// The condition's timeline from the watch's logs.
-fn timeline(c: &Condition, w: &Watch) -> Timeline {
-    match c {
+fn timeline(cond: &Condition, w: &Watch) -> Timeline {
+    match cond {
         Condition::Motor {
             side,
             state,
@@ -649,11 +715,9 @@ fn timeline(c: &Condition, w: &Watch) -> Timeline {
                             holds = false;
                             continue;
                         };
-                        let (got, duty) = motor_state(*inputs);
-                        holds &= state_is(*state, got)
-                            && duty_min.is_none_or(|m| duty >= m)
-                            && duty_max.is_none_or(|m| duty <= m);
-                        seen.push(format!("{s:?} {got:?} duty {duty:.3}").to_lowercase());
+                        let (h, what) = motor_holds(*state, *duty_min, *duty_max, *s, *inputs);
+                        holds &= h;
+                        seen.push(what);
                     }
                     (c, holds, seen.join(", "))
                 })
@@ -677,14 +741,7 @@ fn timeline(c: &Condition, w: &Watch) -> Timeline {
                 })
                 .collect()
         }
-        Condition::Var {
-            symbol,
-            eq,
-            ne,
-            min,
-            max,
-            ..
-        } => {
+        Condition::Var { symbol, .. } => {
             let k = w
                 .vars
                 .iter()
@@ -692,52 +749,18 @@ fn timeline(c: &Condition, w: &Watch) -> Timeline {
                 .expect("the watch has every var");
             w.var_log[k]
                 .iter()
-                .map(|(c, v)| {
-                    let holds = eq.is_none_or(|e| *v == e)
-                        && ne.is_none_or(|e| *v != e)
-                        && min.is_none_or(|m| *v >= m)
-                        && max.is_none_or(|m| *v <= m);
-                    (*c, holds, format!("{symbol} = {v}"))
-                })
+                .map(|(c, v)| (*c, var_holds(cond, *v), format!("{symbol} = {v}")))
                 .collect()
         }
-        Condition::Pose {
-            x_mm,
-            y_mm,
-            distance_mm,
-            heading_deg,
-            tol_mm,
-            tol_pct,
-            tol_deg,
-        } => {
-            let near = |want: f64, got: f64| {
-                let tol = tol_mm.unwrap_or_else(|| want.abs() * tol_pct.unwrap_or(0.0) / 100.0);
-                (got - want).abs() <= tol
-            };
-            w.pose_log
-                .iter()
-                .flatten()
-                .map(|(c, (x, y, theta))| {
-                    let d = x.hypot(*y);
-                    let heading = theta.to_degrees();
-                    let holds = x_mm.is_none_or(|v| near(v, *x))
-                        && y_mm.is_none_or(|v| near(v, *y))
-                        && distance_mm.is_none_or(|v| near(v, d))
-                        && heading_deg.zip(*tol_deg).is_none_or(|(h, t)| {
-                            // The nearest turn of the heading to the one asked for.
-                            let diff = (heading - h + 180.0).rem_euclid(360.0) - 180.0;
-                            diff.abs() <= t
-                        });
-                    (
-                        *c,
-                        holds,
-                        format!(
-                            "x {x:.1} mm, y {y:.1} mm, distance {d:.1} mm, heading {heading:.2}°"
-                        ),
-                    )
-                })
-                .collect()
-        }
+        Condition::Pose { .. } => w
+            .pose_log
+            .iter()
+            .flatten()
+            .map(|(c, (x, y, theta))| {
+                let (holds, seen) = pose_holds(cond, *x, *y, *theta);
+                (*c, holds, seen)
+            })
+            .collect(),
         Condition::Uart { .. } | Condition::Frame { .. } => Vec::new(),
     }
 }
