@@ -197,18 +197,8 @@ impl Gap {
         let (data, _) = gap::load_dataset(&with_endpoints)?;
         let (train, held) = data.split(rule)?;
         eprintln!("kinematic diagnosis (the shortlist)...");
-        let kin = gap::diagnose(
-            &gap::KinematicModel,
-            &train,
-            &held,
-            &gap::DiagnoseOptions::default(),
-        )?;
-        let shortlist: Vec<String> = kin
-            .which
-            .singles
-            .iter()
-            .flat_map(|r| r.fit.effects.clone())
-            .collect();
+        let shortlist =
+            hil::gap_bench::kinematic_shortlist(&train, &held, &gap::DiagnoseOptions::default())?;
         let d = hil::gap_bench::diagnose_bench(
             &bench,
             &shortlist,

@@ -32,7 +32,9 @@ mod selftest;
 
 pub use batch::Batched;
 pub use params::{apply, bench_parameters};
-pub use select::{diagnose_bench, BenchCandidate, BenchDiagnosis, SelectOptions};
+pub use select::{
+    diagnose_bench, kinematic_shortlist, BenchCandidate, BenchDiagnosis, SelectOptions,
+};
 pub use selftest::{bench_self_test, BenchCase, BenchSelfTest, DEFAULT_CASES};
 
 /// Robot time without progress after which a run is ended as hung, s.

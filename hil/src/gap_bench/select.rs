@@ -241,6 +241,22 @@ fn fold_of(g: &Group, by_experiment: bool) -> String {
     }
 }
 
+/// The kinematic diagnosis' ranking of single effects, best first: the
+/// shortlist [`diagnose_bench`] fits on the bench.
+pub fn kinematic_shortlist(
+    train: &TrainSet,
+    held: &HeldOutSet,
+    opts: &gap::DiagnoseOptions,
+) -> Result<Vec<String>, GapError> {
+    let kin = gap::diagnose(&gap::KinematicModel, train, held, opts)?;
+    Ok(kin
+        .which
+        .singles
+        .iter()
+        .flat_map(|r| r.fit.effects.clone())
+        .collect())
+}
+
 /// Runs the bench-backed diagnosis (see the module docs). `shortlist` is the kinematic
 /// diagnosis' ranking of single effects, best first; `progress` gets a line per step.
 pub fn diagnose_bench(

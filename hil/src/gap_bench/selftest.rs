@@ -10,7 +10,7 @@ use gap::model::{Experiment, Firmware, Model, TestKind};
 use gap::{EffectParams, GapError};
 use serde::Serialize;
 
-use super::{diagnose_bench, BenchDiagnosis, BenchModel, SelectOptions};
+use super::{diagnose_bench, kinematic_shortlist, BenchDiagnosis, BenchModel, SelectOptions};
 
 /// Runs per group, as the thesis recorded.
 pub const RUNS_PER_GROUP: usize = 5;
@@ -177,18 +177,7 @@ pub fn bench_self_test(
             TestKind::Line,
         ]);
         let (train, held) = data.split(&rule)?;
-        let kin = gap::diagnose(
-            &gap::KinematicModel,
-            &train,
-            &held,
-            &gap::selftest::self_test_options(),
-        )?;
-        let shortlist: Vec<String> = kin
-            .which
-            .singles
-            .iter()
-            .flat_map(|r| r.fit.effects.clone())
-            .collect();
+        let shortlist = kinematic_shortlist(&train, &held, &gap::selftest::self_test_options())?;
         let d = diagnose_bench(bench, &shortlist, &train, &held, opts, progress)?;
         let fitted = d
             .candidates

@@ -26,7 +26,7 @@
 use plant_model::RobotConfig;
 
 use crate::bench::Bench;
-use crate::scenario::eval::motor_state;
+use crate::scenario::judge::motor_state;
 
 mod builder;
 mod conditions;

@@ -9,7 +9,7 @@ use plant_model::Side;
 
 use crate::bench::Bench;
 use crate::board::Pin;
-use crate::scenario::eval::{
+use crate::scenario::judge::{
     describe, find_frame, find_pattern, motor_holds, pose_holds, var_holds,
 };
 use crate::scenario::{Condition, Direction, Level, VarType};

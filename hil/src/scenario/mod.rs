@@ -83,6 +83,7 @@ use crate::experiment::Test;
 pub mod eval;
 mod expect;
 mod faults;
+pub(crate) mod judge;
 mod load;
 #[cfg(test)]
 mod tests;
