@@ -1,8 +1,8 @@
 //! The bench-backed diagnosis' self-test, small enough for CI: "real" data made by the bench
-//! with one hidden effect (a left dead band the kinematic model cannot represent, a 5 %
-//! larger wheelbase it can), 5 runs per group, floor noise 1°/√m, UMBmark both ways and a
-//! line for training, the triangle held out. The hidden effect must be ranked first, fitted
-//! within 10 %, and the held-out gap must shrink.
+//! with one hidden effect (a left dead band the kinematic model cannot represent, coasting
+//! it can), 5 runs per group, floor noise 1°/√m, UMBmark both ways and a
+//! line for training, the triangle held out. The hidden effect must be named first, fitted
+//! within 10 %, and the held-out gap must shrink by three quarters at least.
 
 #[path = "support/mod.rs"]
 mod support;
@@ -24,19 +24,15 @@ fn the_hidden_effect_is_found_by_the_bench() {
     .unwrap();
     eprint!("{}", t.render());
     for c in &t.cases {
-        assert!(c.passed(), "{}: {}", c.effect, t.render());
-        assert_eq!(
-            c.winner.as_deref(),
-            Some(c.effect.as_str()),
-            "{}",
-            t.render()
-        );
+        assert!(c.named_first(), "{}: {}", c.effect, t.render());
+        assert!(c.value_close(), "{}: {}", c.effect, t.render());
         assert!(
-            c.heldout_after_cm < 0.5 * c.heldout_before_cm,
+            c.heldout_cut_pct() >= 75.0,
             "{}: held-out gap {:.2} -> {:.2} cm",
             c.effect,
             c.heldout_before_cm,
             c.heldout_after_cm
         );
+        assert!(!c.grew_unreported(), "{}", t.render());
     }
 }

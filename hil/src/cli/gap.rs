@@ -39,20 +39,21 @@ pub struct Gap {
     /// held-out data.
     #[arg(long)]
     bench: bool,
-    /// With --bench: parallel bench runs (1 to 256).
-    #[arg(long, requires = "bench", default_value_t = 1,
+    /// With --bench: parallel bench runs (1 to 256; default: the machine's
+    /// cores). The answer is the same for any count.
+    #[arg(long, requires = "bench",
           value_parser = clap::value_parser!(u16).range(1..=256))]
-    jobs: u16,
+    jobs: Option<u16>,
     /// With --bench: how many of the kinematic diagnosis' best effects the
     /// bench fits, besides every effect the kinematic model cannot represent
-    /// (0 to 7).
-    #[arg(long, requires = "bench", default_value_t = 3,
+    /// (0 to 7; 7, the default, is every effect of the library).
+    #[arg(long, requires = "bench", default_value_t = 7,
           value_parser = clap::value_parser!(u8).range(0..=7))]
     shortlist: u8,
     /// With --bench --self-test: how many hidden effects to try, in a fixed
-    /// order (1 to 6).
+    /// order (1 to 14: every effect of the library but the floor noise).
     #[arg(long, requires = "bench", default_value_t = 2,
-          value_parser = clap::value_parser!(u8).range(1..=6))]
+          value_parser = clap::value_parser!(u8).range(1..=DEFAULT_CASES.len() as i64))]
     cases: u8,
     /// With --bench --self-test: leg of every test, mm (100 to 5000).
     #[arg(long, requires = "bench", default_value_t = 300,
@@ -140,6 +141,14 @@ impl Gap {
         Firmware::load(&path).map_err(super::bad_input)
     }
 
+    /// `--jobs`, or the machine's cores.
+    fn jobs(&self) -> usize {
+        self.jobs.map_or_else(
+            || std::thread::available_parallelism().map_or(1, |n| n.get()),
+            usize::from,
+        )
+    }
+
     fn select_options(&self) -> SelectOptions {
         SelectOptions {
             shortlist: self.shortlist.into(),
@@ -188,7 +197,7 @@ impl Gap {
 
     fn bench_real(&self, manifests: &[gap::LoadedManifest], rule: &SplitRule) -> Result<()> {
         let nominal = self.nominal(manifests)?;
-        let bench = BenchModel::new(self.firmware()?, nominal, self.jobs.into());
+        let bench = BenchModel::new(self.firmware()?, nominal, self.jobs());
         let with_endpoints: Vec<_> = manifests
             .iter()
             .filter(|m| m.manifest.endpoints.is_some())
@@ -211,7 +220,7 @@ impl Gap {
     }
 
     fn bench_self_test(&self) -> Result<()> {
-        let bench = BenchModel::new(self.firmware()?, RobotConfig::default(), self.jobs.into());
+        let bench = BenchModel::new(self.firmware()?, RobotConfig::default(), self.jobs());
         let cases = &DEFAULT_CASES[..usize::from(self.cases)];
         let t = hil::gap_bench::bench_self_test(
             &bench,

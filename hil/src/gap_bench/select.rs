@@ -1,6 +1,6 @@
 //! The bench-backed diagnosis: the kinematic diagnosis ranks candidates as a fast
-//! surrogate; the bench then fits its shortlist and every effect the kinematic model cannot
-//! represent, each alone by a bounded 1-D search (a grid over the effect's range, then a
+//! surrogate; the bench then fits its shortlist (by default every effect it has) and every
+//! effect the kinematic model cannot represent, each alone by a bounded 1-D search (a grid over the effect's range, then a
 //! golden-section refinement around the best point), ranks them by the bench's training
 //! residual, and chooses by cross-validation inside the training data: leave one experiment
 //! out when there are several, else one group (experiment/test). A candidate whose
@@ -25,7 +25,10 @@ use super::{Batched, BenchModel};
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SelectOptions {
     /// How many of the kinematic diagnosis' best single effects the bench fits (besides
-    /// every effect the kinematic model cannot represent).
+    /// every effect the kinematic model cannot represent); 7, the default, is all of them,
+    /// so that every effect of the library is a candidate: the kinematic ranking is
+    /// unreliable exactly where the bench is needed (it takes the nominal firmware's turn
+    /// overshoot for an effect). A smaller number trades candidates for time.
     pub shortlist: usize,
     /// Points of the grid over each effect's range (the neutral value is added).
     pub grid: usize,
@@ -40,7 +43,7 @@ pub struct SelectOptions {
 impl Default for SelectOptions {
     fn default() -> Self {
         SelectOptions {
-            shortlist: 3,
+            shortlist: 7,
             grid: 7,
             refine: 8,
             fold_refine: 4,
@@ -88,6 +91,11 @@ pub struct BenchDiagnosis {
     pub folds: Vec<String>,
     /// The chosen effect and its value (None: none taken).
     pub winner: Option<(String, f64)>,
+    /// The candidates these data cannot tell from the winner (see [`alike`]), and the
+    /// held-out systematic gap predicted with each of them and the winner: (least, most),
+    /// cm (None: no such candidate).
+    pub alike: Vec<String>,
+    pub heldout_after_range_cm: Option<(f64, f64)>,
     /// Held-out gap of the nominal bench robot, and with the winner.
     pub heldout_before: Gap,
     pub heldout_after: Gap,
@@ -228,6 +236,39 @@ impl<'a> Search<'a> {
     }
 }
 
+/// Residual vectors closer than this (Euclidean, in standard errors over all training
+/// centroids) are the same prediction of the training data, as the kinematic diagnosis
+/// calls two effects alike.
+const ALIKE_SE: f64 = 2.0;
+/// A candidate "improves markedly" on the nominal robot when its training χ² is at least
+/// this much lower, and at most [`MARKED_FRACTION`] of the nominal's (the kinematic
+/// diagnosis' thresholds).
+const MARKED_CHI2: f64 = 6.0;
+const MARKED_FRACTION: f64 = 0.75;
+
+/// The candidates (indices) the training data cannot tell from `winner`: each improves
+/// markedly on the nominal robot, and its fitted prediction of the training centroids
+/// (`vectors`, weighted residuals in [`Scorer::centroid_residuals`]' order) lies within
+/// [`ALIKE_SE`] of the winner's.
+fn alike(
+    winner: usize,
+    candidates: &[BenchCandidate],
+    vectors: &[Vec<f64>],
+    nominal_chi2: f64,
+) -> Vec<usize> {
+    let marked = |c: &BenchCandidate| {
+        nominal_chi2 - c.train_chi2 >= MARKED_CHI2 && c.train_chi2 <= MARKED_FRACTION * nominal_chi2
+    };
+    (0..candidates.len())
+        .filter(|&j| j != winner && marked(&candidates[j]))
+        .filter(|&j| chi2(&difference(&vectors[winner], &vectors[j])).sqrt() < ALIKE_SE)
+        .collect()
+}
+
+fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
 fn chi2(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
@@ -282,7 +323,20 @@ pub fn diagnose_bench(
     {
         names.push((n.clone(), "kinematic shortlist"));
     }
-    for u in gap::kinematic::kinematic_unsupported() {
+    // The kinematic ranking lists the singles it fitted; the rest of its effects follow
+    // in the library's order, up to the same number.
+    let unsupported = gap::kinematic::kinematic_unsupported();
+    for s in &specs {
+        let kinematic = !unsupported.iter().any(|u| u.name == s.name);
+        if names.len() < opts.shortlist
+            && kinematic
+            && systematic(&s.name)
+            && !names.iter().any(|(n, _)| *n == s.name)
+        {
+            names.push((s.name.clone(), "kinematic model, unranked"));
+        }
+    }
+    for u in unsupported {
         if systematic(&u.name) && !names.iter().any(|(n, _)| *n == u.name) {
             names.push((u.name, "not representable by the kinematic model"));
         }
@@ -432,6 +486,48 @@ pub fn diagnose_bench(
         }
         None => None,
     };
+    // Each candidate's prediction of the training centroids at its value (answered
+    // before: no new runs).
+    let vectors = batched.eval(|m| -> Result<Vec<Vec<f64>>, GapError> {
+        let sc = Scorer::new(m, train, &opts.fit);
+        candidates
+            .iter()
+            .map(|c| {
+                let mut v = Vec::new();
+                for g in train.groups() {
+                    v.extend(sc.centroid_residuals(&params_of(c), g)?);
+                }
+                Ok(v)
+            })
+            .collect()
+    })?;
+    let alike_ix = winner.map_or(Vec::new(), |(i, _)| {
+        alike(i, &candidates, &vectors, nominal_train_chi2)
+    });
+    let heldout_after_range_cm = winner.filter(|_| !alike_ix.is_empty()).map(|(i, _)| {
+        let all = || {
+            std::iter::once(i)
+                .chain(alike_ix.iter().copied())
+                .map(|j| candidates[j].heldout_systematic_cm)
+        };
+        (
+            all().fold(f64::INFINITY, f64::min),
+            all().fold(f64::NEG_INFINITY, f64::max),
+        )
+    });
+    if let (Some((_, w)), Some((lo, hi))) = (winner, heldout_after_range_cm) {
+        notes.push(format!(
+            "{} cannot be told apart from {} by these data (fitted alone, their predictions \
+             of the training centroids differ by less than {ALIKE_SE} standard errors in \
+             total); predicted with each, the held-out systematic gap is {lo:.2} to {hi:.2} cm",
+            w.effect,
+            alike_ix
+                .iter()
+                .map(|&j| candidates[j].effect.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
     let (heldout_after, left_chi2, dof) = match winner {
         Some((i, c)) => (
             gaps[i + 1].clone(),
@@ -475,6 +571,11 @@ pub fn diagnose_bench(
         model: bench.name(),
         rule: train.rule().to_owned(),
         winner: winner.map(|(_, c)| (c.effect.clone(), c.value)),
+        alike: alike_ix
+            .iter()
+            .map(|&j| candidates[j].effect.clone())
+            .collect(),
+        heldout_after_range_cm,
         candidates,
         nominal_train_chi2,
         nominal_cv_chi2,
@@ -559,15 +660,65 @@ impl BenchDiagnosis {
         }
         let _ = writeln!(
             s,
-            "  held out: systematic gap {:.2} cm before, {:.2} cm after ({:+.0} %)",
+            "  held out: systematic gap {:.2} cm before, {:.2} cm after ({:+.0} %){}",
             self.heldout_before.systematic_cm,
             self.heldout_after.systematic_cm,
-            -100.0 * self.heldout_cut()
+            -100.0 * self.heldout_cut(),
+            self.heldout_after_range_cm
+                .map_or(String::new(), |(lo, hi)| format!(
+                    "; {lo:.2} to {hi:.2} cm with the candidates alike to the winner ({})",
+                    self.alike.join(", ")
+                ))
         );
         for n in &self.notes {
             let _ = writeln!(s, "  note: {n}");
         }
         let _ = writeln!(s, "  {} bench runs", self.bench_runs);
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn candidate(effect: &str, train_chi2: f64) -> BenchCandidate {
+        BenchCandidate {
+            effect: effect.to_owned(),
+            symbol: String::new(),
+            unit: String::new(),
+            source: "test",
+            value: 0.0,
+            train_chi2,
+            cv_chi2: None,
+            heldout_systematic_cm: 0.0,
+        }
+    }
+
+    /// Alike to the winner: a marked improvement on the nominal robot (χ² 100 here) and a
+    /// prediction within 2 standard errors of the winner's. Candidates predicting the same
+    /// but improving too little (by less than 6, or to more than three quarters of the
+    /// nominal's χ²), and one improving as much but predicting otherwise, are not.
+    #[test]
+    fn alike_needs_a_marked_improvement_and_the_same_prediction() {
+        let candidates = [
+            candidate("winner", 3.0),
+            candidate("close", 4.0),
+            candidate("far", 5.0),
+            candidate("weak", 96.0),
+            candidate("modest", 90.0),
+        ];
+        let vectors = [
+            vec![1.0, 0.0],
+            vec![2.0, 1.0],
+            vec![1.0, 3.0],
+            vec![1.0, 0.0],
+            vec![1.0, 0.0],
+        ];
+        assert_eq!(alike(0, &candidates, &vectors, 100.0), vec![1]);
+        // To half the nominal's χ², but by 3 only: not marked; by 6: marked.
+        let few = [candidate("winner", 1.0), candidate("close", 3.0)];
+        assert_eq!(alike(0, &few, &vectors[..2], 6.0), Vec::<usize>::new());
+        assert_eq!(alike(0, &few, &vectors[..2], 9.0), vec![1]);
     }
 }
