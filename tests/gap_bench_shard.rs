@@ -186,6 +186,6 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
     assert!(speed.speedups[0].is_finite() && speed.speedups[0] > 0.0);
     assert_eq!(speed.two_jobs_wall_s, Some(speed.timed[1].wall_s));
     assert!(speed.within_budget.is_some());
-    assert!(text.contains("2 jobs over 1"), "{text}");
+    assert!(text.contains("speed-up with 2 jobs"), "{text}");
     assert!(text.contains("budget 600 s on 2 cores"), "{text}");
 }

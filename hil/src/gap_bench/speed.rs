@@ -183,7 +183,11 @@ impl DiagnosisSpeed {
             );
         }
         for (t, r) in self.timed[1..].iter().zip(&self.speedups) {
-            let _ = writeln!(s, "  {} jobs over 1: {r:.2}x faster", t.jobs);
+            let _ = writeln!(
+                s,
+                "  speed-up with {} jobs: {r:.2}x (the wall time with 1 job over theirs)",
+                t.jobs
+            );
         }
         match (self.two_jobs_wall_s, self.within_budget) {
             (Some(t), Some(ok)) => {
