@@ -6,7 +6,7 @@
 //! way, and the fits only accept a [`TrainSet`]. The training side cannot see a held-out
 //! run.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::model::{Experiment, TestKind};
 use crate::GapError;
@@ -97,7 +97,7 @@ impl Group {
 }
 
 /// Mean and spread of a set of runs (cm).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Stats {
     /// Number of runs.
     pub n: usize,

@@ -37,7 +37,7 @@
 //! what the model itself misses.
 
 use nalgebra::{DMatrix, DVector};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::data::{Group, Stats, TrainSet};
 use crate::effects::{EffectParams, ParamKind, ParamSpec};
@@ -46,7 +46,7 @@ use crate::rng::Rng;
 use crate::GapError;
 
 /// Options of the fits.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitOptions {
     /// Runs predicted per group when a stochastic parameter is fitted.
     pub prediction_runs: usize,
@@ -83,7 +83,7 @@ impl Default for FitOptions {
 }
 
 /// A model's centroid and spread for one group.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Predicted {
     /// Mean x, cm.
     pub mean_x: f64,
@@ -98,7 +98,7 @@ pub struct Predicted {
 }
 
 /// The gap of one group.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GroupGap {
     /// The group (`experiment/test`).
     pub group: String,
@@ -123,7 +123,7 @@ pub struct GroupGap {
 }
 
 /// The gap over a set of groups.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Gap {
     /// RMS over groups of the centroid distance, cm.
     pub systematic_cm: f64,

@@ -35,6 +35,19 @@ pub struct Bench {
     /// Time each run this many times, interleaved; the fastest counts.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     repeats: u32,
+    /// Time the bench-backed diagnosis instead (`hil gap --bench`): a
+    /// dataset of 5 runs of each test (UMBmark CW and CCW, line, triangle)
+    /// made by the bench with a hidden dead band, diagnosed with 1 job and
+    /// with --jobs; says whether 10 minutes on 2 cores held. The nominal
+    /// robot: --robot, else the ideal one of `hil gap --self-test --bench`.
+    #[arg(long, conflicts_with_all = ["test", "without_thesis", "without_sketch",
+          "without_simavr_pwm", "repeats"])]
+    diagnosis: bool,
+    /// With --diagnosis: the parallel bench runs to compare with 1 job
+    /// (default: the machine's cores, at least 2; 2 to 256).
+    #[arg(long, requires = "diagnosis",
+          value_parser = clap::value_parser!(u16).range(2..=256))]
+    jobs: Option<u16>,
     #[command(flatten)]
     common: Common,
 }
@@ -43,6 +56,9 @@ impl Bench {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("bench")?;
         let (robot, firmware) = self.common.target.load()?;
+        if self.diagnosis {
+            return self.diagnosis(robot, firmware);
+        }
         let thesis_path = hil::paths::firmware_elf("thesis");
         let thesis = if !self.without_thesis && thesis_path.exists() {
             Some(Firmware::load(&thesis_path)?)
@@ -76,6 +92,41 @@ impl Bench {
         spinner.finish_and_clear();
         let report = report?;
         self.common.print.json.emit(&report, || report.render())
+    }
+}
+
+impl Bench {
+    /// `--diagnosis`: the bench-backed diagnosis timed with 1 job and with N (and with 2,
+    /// the budget's, when N is more).
+    fn diagnosis(&self, robot: plant_model::RobotConfig, firmware: Firmware) -> Result<()> {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let n = self.jobs.map_or(cores.max(2), usize::from);
+        let mut jobs = vec![n];
+        if n > 2 {
+            jobs.insert(0, 2);
+        }
+        // The default robot has floor noise and effects of its own: a nominal bench robot
+        // is noiseless.
+        let robot = match self.common.target.robot {
+            Some(_) => robot,
+            None => plant_model::RobotConfig::default(),
+        };
+        let bench = hil::gap_bench::BenchModel::new(firmware, robot, 1);
+        let spinner = indicatif::ProgressBar::new_spinner();
+        spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+        let speed = hil::gap_bench::measure_diagnosis(&hil::gap_bench::SpeedPlan {
+            bench: &bench,
+            hidden: hil::gap_bench::DEFAULT_CASES[0],
+            leg_mm: self.common.leg_mm(self.leg)?,
+            runs_per_group: hil::gap_bench::RUNS_PER_GROUP,
+            seed: self.common.target.seed,
+            jobs,
+            opts: &hil::gap_bench::SelectOptions::default(),
+            progress: &|what: &str| spinner.set_message(what.to_string()),
+        });
+        spinner.finish_and_clear();
+        let speed = speed?;
+        self.common.print.json.emit(&speed, || speed.render())
     }
 }
 

@@ -203,6 +203,16 @@ impl Merge {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("reading {}", p.display()))
                 .map_err(super::bad_input)?;
+            let kind = serde_json::from_str::<serde_json::Value>(&text)
+                .ok()
+                .and_then(|v| v["kind"].as_str().map(str::to_owned));
+            if kind.as_deref() == Some(hil::gap_bench::PARTIAL_KIND) {
+                return Err(super::BadInput(format!(
+                    "{} is a partial result of `hil gap --bench --shard`: merge it with `hil gap --merge`",
+                    p.display()
+                ))
+                .into());
+            }
             let part: Partial = serde_json::from_str(&text)
                 .with_context(|| {
                     format!(

@@ -8,6 +8,7 @@ use gap::selftest::{render_cases_with, CaseColumns};
 use gap::SplitRule;
 use hil::elf::Firmware;
 use hil::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES};
+use hil::umbmark::Shard;
 use plant_model::RobotConfig;
 
 use super::args::{Build, Json};
@@ -65,6 +66,21 @@ pub struct Gap {
     /// With --bench: firmware ELF to run instead of the build in firmware/target.
     #[arg(long, requires = "bench", value_name = "FILE")]
     elf: Option<PathBuf>,
+    /// With --bench: fit only the candidates of shard K of N (K/N, dealt
+    /// round robin over the candidate list) and write the partial result
+    /// to --out, for `hil gap --merge`.
+    #[arg(long, requires = "bench", requires = "out", conflicts_with_all = ["self_test", "json"],
+          value_name = "K/N")]
+    shard: Option<Shard>,
+    /// With --shard: the folder the partial result goes in
+    /// (gap-bench-shard-K-of-N.json).
+    #[arg(long, requires = "shard", value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Merge the partial results of `hil gap --bench --shard` (every shard
+    /// of one plan) and print the report one machine prints.
+    #[arg(long, value_name = "FILE", num_args = 1..,
+          conflicts_with_all = ["real", "self_test", "bench", "model", "train", "markdown"])]
+    merge: Vec<PathBuf>,
     #[command(flatten)]
     json: Json,
     #[arg(long, default_value_t = 0)]
@@ -74,6 +90,9 @@ pub struct Gap {
 impl Gap {
     pub fn run(self) -> Result<()> {
         let kinematic = gap::KinematicModel;
+        if !self.merge.is_empty() {
+            return self.merge_shards();
+        }
         if self.self_test && self.bench {
             return self.bench_self_test();
         }
@@ -208,6 +227,29 @@ impl Gap {
         eprintln!("kinematic diagnosis (the shortlist)...");
         let shortlist =
             hil::gap_bench::kinematic_shortlist(&train, &held, &gap::DiagnoseOptions::default())?;
+        if let (Some(shard), Some(dir)) = (self.shard, &self.out) {
+            // The folder is held before anything runs, as `hil umbmark --shard` holds it.
+            let _shared = hil::output::share(dir)?;
+            let partial = hil::gap_bench::run_shard(
+                &bench,
+                &shortlist,
+                &train,
+                &held,
+                &self.select_options(),
+                shard,
+                &|line| eprintln!("{line}"),
+            )?;
+            let path = hil::gap_bench::partial_path(dir, shard);
+            hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
+            eprintln!(
+                "wrote {} ({} of {} candidates, {} bench runs)",
+                path.display(),
+                partial.candidates.len(),
+                partial.plan.fit.candidates.len(),
+                partial.nominal.bench_runs + partial.bench_runs
+            );
+            return Ok(());
+        }
         let d = hil::gap_bench::diagnose_bench(
             &bench,
             &shortlist,
@@ -216,6 +258,28 @@ impl Gap {
             &self.select_options(),
             &|line| eprintln!("{line}"),
         )?;
+        self.json.emit(&d, || d.render())
+    }
+
+    /// `--merge`: the partials' diagnosis. Partials that do not make one diagnosis are
+    /// refused (exit 2) on one line naming the file or the shard.
+    fn merge_shards(&self) -> Result<()> {
+        let mut parts = Vec::new();
+        for p in &self.merge {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("reading {}", p.display()))
+                .map_err(super::bad_input)?;
+            let part: hil::gap_bench::Partial = serde_json::from_str(&text)
+                .with_context(|| {
+                    format!(
+                        "{} is not a partial result of `hil gap --bench --shard`",
+                        p.display()
+                    )
+                })
+                .map_err(super::bad_input)?;
+            parts.push((p.display().to_string(), part));
+        }
+        let d = hil::gap_bench::merge(parts).map_err(super::bad_input)?;
         self.json.emit(&d, || d.render())
     }
 

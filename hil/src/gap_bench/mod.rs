@@ -10,6 +10,8 @@
 //! | `params.rs` | one number per library effect, and its `[effects.<name>]` table |
 //! | `batch.rs` | many predictions asked for at once, run in one parallel batch |
 //! | `select.rs` | the bench-backed diagnosis: 1-D fits, cross-validation, held-out gap |
+//! | `shard.rs` | the diagnosis' candidates split over machines, and the merge of the shards |
+//! | `speed.rs` | the diagnosis timed with one job and with N (`hil bench --diagnosis`) |
 //! | `selftest.rs` | "real" data made by the bench with one hidden effect, diagnosed blind |
 
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -29,13 +31,18 @@ mod batch;
 mod params;
 mod select;
 mod selftest;
+mod shard;
+mod speed;
 
 pub use batch::Batched;
 pub use params::{apply, bench_parameters};
 pub use select::{
-    diagnose_bench, kinematic_shortlist, BenchCandidate, BenchDiagnosis, SelectOptions,
+    choose, diagnose_bench, fit_candidates, fit_nominal, kinematic_shortlist, BenchCandidate,
+    BenchDiagnosis, FitPlan, FittedCandidate, NominalFit, SelectOptions,
 };
-pub use selftest::{bench_self_test, BenchCase, BenchSelfTest, DEFAULT_CASES};
+pub use selftest::{bench_self_test, BenchCase, BenchSelfTest, DEFAULT_CASES, RUNS_PER_GROUP};
+pub use shard::{merge, partial_path, run_shard, MergeError, Partial, ShardPlan, PARTIAL_KIND};
+pub use speed::{measure_diagnosis, DiagnosisSpeed, SpeedPlan, Timed, BUDGET_S};
 
 /// Robot time without progress after which a run is ended as hung, s.
 const HANG_AFTER_S: f64 = 5.0;
@@ -77,6 +84,11 @@ impl BenchModel {
     /// The nominal robot.
     pub fn nominal(&self) -> &RobotConfig {
         &self.nominal
+    }
+
+    /// The firmware it runs.
+    pub fn firmware(&self) -> &Firmware {
+        &self.firmware
     }
 
     /// The physical reference of the nominal robot, as the manifests state it.

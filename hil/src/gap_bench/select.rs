@@ -17,12 +17,12 @@ use gap::data::{Group, HeldOutSet, TrainSet};
 use gap::effects::ParamKind;
 use gap::fit::{FitOptions, Gap};
 use gap::{EffectParams, GapError, Model, ParamSpec, Scorer};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Batched, BenchModel};
 
 /// Options of [`diagnose_bench`].
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SelectOptions {
     /// How many of the kinematic diagnosis' best single effects the bench fits (besides
     /// every effect the kinematic model cannot represent); 7, the default, is all of them,
@@ -53,7 +53,7 @@ impl Default for SelectOptions {
 }
 
 /// One candidate fitted by the bench.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BenchCandidate {
     /// The effect.
     pub effect: String,
@@ -61,7 +61,7 @@ pub struct BenchCandidate {
     pub symbol: String,
     pub unit: String,
     /// Why it is a candidate.
-    pub source: &'static str,
+    pub source: String,
     /// Fitted on all training groups.
     pub value: f64,
     /// Training χ² of the centroids at that value.
@@ -298,6 +298,119 @@ pub fn kinematic_shortlist(
         .collect())
 }
 
+/// What [`diagnose_bench`] fits and how it cross-validates: it follows from the data, the
+/// shortlist and the options alone, so every machine of a sharded diagnosis makes the same.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitPlan {
+    /// The model.
+    pub model: String,
+    /// The split.
+    pub rule: String,
+    /// The candidates in the order they are fitted: (effect, why it is one).
+    pub candidates: Vec<(String, String)>,
+    /// Whether a fold leaves out an experiment (else a group), and the folds.
+    pub by_experiment: bool,
+    pub folds: Vec<String>,
+}
+
+impl FitPlan {
+    /// The plan of `bench` on `train` (see [`diagnose_bench`] for `shortlist`).
+    pub fn new(
+        bench: &BenchModel,
+        shortlist: &[String],
+        train: &TrainSet,
+        opts: &SelectOptions,
+    ) -> Self {
+        let specs = bench.parameters();
+        let mut names: Vec<(String, String)> = Vec::new();
+        let systematic = |n: &str| {
+            specs
+                .iter()
+                .any(|s| s.name == n && s.kind == ParamKind::Systematic)
+        };
+        for n in shortlist
+            .iter()
+            .filter(|n| systematic(n))
+            .take(opts.shortlist)
+        {
+            names.push((n.clone(), "kinematic shortlist".to_owned()));
+        }
+        // The kinematic ranking lists the singles it fitted; the rest of its effects
+        // follow in the library's order, up to the same number.
+        let unsupported = gap::kinematic::kinematic_unsupported();
+        for s in &specs {
+            let kinematic = !unsupported.iter().any(|u| u.name == s.name);
+            if names.len() < opts.shortlist
+                && kinematic
+                && systematic(&s.name)
+                && !names.iter().any(|(n, _)| *n == s.name)
+            {
+                names.push((s.name.clone(), "kinematic model, unranked".to_owned()));
+            }
+        }
+        for u in unsupported {
+            if systematic(&u.name) && !names.iter().any(|(n, _)| *n == u.name) {
+                names.push((
+                    u.name,
+                    "not representable by the kinematic model".to_owned(),
+                ));
+            }
+        }
+        let mut experiments: Vec<&str> = train
+            .groups()
+            .iter()
+            .map(|g| g.id.experiment.as_str())
+            .collect();
+        experiments.dedup();
+        let by_experiment = experiments.len() >= 2;
+        let mut folds: Vec<String> = train
+            .groups()
+            .iter()
+            .map(|g| fold_of(g, by_experiment))
+            .collect();
+        folds.dedup();
+        FitPlan {
+            model: bench.name(),
+            rule: train.rule().to_owned(),
+            candidates: names,
+            by_experiment,
+            folds,
+        }
+    }
+
+    /// Whether there is more than one fold to cross-validate with.
+    fn cv(&self) -> bool {
+        self.folds.len() >= 2
+    }
+}
+
+/// The nominal bench robot's numbers: training χ² (its cross-validated χ² is the same, as
+/// nothing is fitted), centroid residuals, the gap on training and held-out data.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NominalFit {
+    pub train_chi2: f64,
+    pub residuals: usize,
+    pub train_gap: Gap,
+    pub heldout: Gap,
+    /// Bench runs these took.
+    pub bench_runs: usize,
+}
+
+/// One candidate fitted completely: its search, folds and held-out gap.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FittedCandidate {
+    /// Its place in [`FitPlan::candidates`].
+    pub index: usize,
+    pub candidate: BenchCandidate,
+    /// The gap at its fitted value on the training data (where a residual beyond noise
+    /// sits) and on the held-out data.
+    pub train_gap: Gap,
+    pub heldout: Gap,
+    /// Its prediction of the training centroids at its value: the weighted residuals of
+    /// [`Scorer::centroid_residuals`], group after group (what [`alike`] compares).
+    pub train_residuals: Vec<f64>,
+}
+
 /// Runs the bench-backed diagnosis (see the module docs). `shortlist` is the kinematic
 /// diagnosis' ranking of single effects, best first; `progress` gets a line per step.
 pub fn diagnose_bench(
@@ -309,72 +422,35 @@ pub fn diagnose_bench(
     progress: &dyn Fn(&str),
 ) -> Result<BenchDiagnosis, GapError> {
     let batched = Batched::new(bench);
-    let specs = bench.parameters();
-    let mut names: Vec<(String, &'static str)> = Vec::new();
-    let systematic = |n: &str| {
-        specs
-            .iter()
-            .any(|s| s.name == n && s.kind == ParamKind::Systematic)
-    };
-    for n in shortlist
-        .iter()
-        .filter(|n| systematic(n))
-        .take(opts.shortlist)
-    {
-        names.push((n.clone(), "kinematic shortlist"));
-    }
-    // The kinematic ranking lists the singles it fitted; the rest of its effects follow
-    // in the library's order, up to the same number.
-    let unsupported = gap::kinematic::kinematic_unsupported();
-    for s in &specs {
-        let kinematic = !unsupported.iter().any(|u| u.name == s.name);
-        if names.len() < opts.shortlist
-            && kinematic
-            && systematic(&s.name)
-            && !names.iter().any(|(n, _)| *n == s.name)
-        {
-            names.push((s.name.clone(), "kinematic model, unranked"));
-        }
-    }
-    for u in unsupported {
-        if systematic(&u.name) && !names.iter().any(|(n, _)| *n == u.name) {
-            names.push((u.name, "not representable by the kinematic model"));
-        }
-    }
-    let mut experiments: Vec<&str> = train
-        .groups()
-        .iter()
-        .map(|g| g.id.experiment.as_str())
-        .collect();
-    experiments.dedup();
-    let by_experiment = experiments.len() >= 2;
-    let mut folds: Vec<String> = train
-        .groups()
-        .iter()
-        .map(|g| fold_of(g, by_experiment))
-        .collect();
-    folds.dedup();
-    let cv = folds.len() >= 2;
-    let mut notes = Vec::new();
-    if !cv {
-        notes.push(
-            "one training group: no cross-validation; the candidates are ranked and chosen \
-             by their training residual alone"
-                .to_owned(),
-        );
-    }
+    let plan = FitPlan::new(bench, shortlist, train, opts);
+    let nominal = fit_nominal(&batched, &plan, train, held, opts, progress)?;
+    let all: Vec<usize> = (0..plan.candidates.len()).collect();
+    let fitted = fit_candidates(&batched, &plan, &all, train, held, opts, progress)?;
+    Ok(choose(&plan, &nominal, fitted, batched.runs()))
+}
 
+/// The nominal bench robot on the training and the held-out data, in one batch (so that
+/// no candidate's count of runs includes one of the nominal robot's).
+pub fn fit_nominal(
+    batched: &Batched,
+    plan: &FitPlan,
+    train: &TrainSet,
+    held: &HeldOutSet,
+    opts: &SelectOptions,
+    progress: &dyn Fn(&str),
+) -> Result<NominalFit, GapError> {
     let neutral = EffectParams::new();
-    let nominal_groups: Vec<f64> = batched.eval(|m| -> Result<Vec<f64>, GapError> {
+    let before = batched.runs();
+    let (nominal_groups, heldout) = batched.eval(|m| -> Result<(Vec<f64>, Gap), GapError> {
         let sc = Scorer::new(m, train, &opts.fit);
-        train
+        let groups = train
             .groups()
             .iter()
             .map(|g| Ok(chi2(&sc.centroid_residuals(&neutral, g)?)))
-            .collect()
+            .collect::<Result<_, GapError>>()?;
+        Ok((groups, sc.gap(&neutral, held.groups())?))
     })?;
     let nominal_train_chi2: f64 = nominal_groups.iter().sum();
-    let nominal_cv_chi2 = cv.then_some(nominal_train_chi2);
     let residuals = batched.eval(|m| -> Result<usize, GapError> {
         let sc = Scorer::new(m, train, &opts.fit);
         let mut n = 0;
@@ -383,21 +459,45 @@ pub fn diagnose_bench(
         }
         Ok(n)
     })?;
+    let train_gap =
+        batched.eval(|m| Scorer::new(m, train, &opts.fit).gap(&neutral, train.groups()))?;
     progress(&format!(
         "bench: nominal robot, training χ² {nominal_train_chi2:.1} over {residuals} residuals; \
          fitting {} candidates",
-        names.len()
+        plan.candidates.len()
     ));
+    Ok(NominalFit {
+        train_chi2: nominal_train_chi2,
+        residuals,
+        train_gap,
+        heldout,
+        bench_runs: batched.runs() - before,
+    })
+}
 
+/// Fits the candidates `which` (places in `plan.candidates`) completely: each one's search
+/// and folds, then all their held-out gaps in one batch.
+pub fn fit_candidates(
+    batched: &Batched,
+    plan: &FitPlan,
+    which: &[usize],
+    train: &TrainSet,
+    held: &HeldOutSet,
+    opts: &SelectOptions,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<FittedCandidate>, GapError> {
+    let specs = batched.parameters();
+    let (by_experiment, folds, cv) = (plan.by_experiment, &plan.folds, plan.cv());
     let mut candidates = Vec::new();
-    for (i, (name, source)) in names.iter().enumerate() {
+    for &i in which {
+        let (name, source) = &plan.candidates[i];
         let spec = specs
             .iter()
             .find(|s| s.name == *name)
             .expect("a bench parameter")
             .clone();
         let mut search = Search {
-            batched: &batched,
+            batched,
             train,
             fit: &opts.fit,
             spec,
@@ -408,7 +508,7 @@ pub fn diagnose_bench(
         let (value, train_chi2) = search.fit(&grid, opts.refine, &|_| true)?;
         let cv_chi2 = if cv {
             let mut total = 0.0;
-            for f in &folds {
+            for f in folds {
                 let (v, _) = search.fit(&grid, opts.fold_refine, &|g| {
                     fold_of(g, by_experiment) != *f
                 })?;
@@ -422,7 +522,7 @@ pub fn diagnose_bench(
             "bench: [{}/{}] {name} {value:.4}: training χ² {train_chi2:.1}{} ({} bench runs so \
              far)",
             i + 1,
-            names.len(),
+            plan.candidates.len(),
             cv_chi2.map_or(String::new(), |c| format!(", cross-validated {c:.1}")),
             batched.runs()
         ));
@@ -430,28 +530,79 @@ pub fn diagnose_bench(
             effect: name.clone(),
             symbol: search.spec.symbol.clone(),
             unit: search.spec.unit.clone(),
-            source,
+            source: source.clone(),
             value,
             train_chi2,
             cv_chi2,
             heldout_systematic_cm: f64::NAN,
         });
     }
-    candidates.sort_by(|a, b| a.train_chi2.total_cmp(&b.train_chi2));
 
-    // Held out, every candidate and the nominal robot in one batch.
+    // Held out, every candidate in one batch; the training gap at each fitted value comes
+    // from the search's runs.
     let params_of = |c: &BenchCandidate| EffectParams::new().with(&c.effect, c.value);
-    let gaps = batched.eval(|m| -> Result<Vec<Gap>, GapError> {
+    let gaps = batched.eval(|m| -> Result<Vec<(Gap, Gap, Vec<f64>)>, GapError> {
         let sc = Scorer::new(m, train, &opts.fit);
-        std::iter::once(neutral.clone())
-            .chain(candidates.iter().map(params_of))
-            .map(|p| sc.gap(&p, held.groups()))
+        candidates
+            .iter()
+            .map(|c| {
+                let mut residuals = Vec::new();
+                for g in train.groups() {
+                    residuals.extend(sc.centroid_residuals(&params_of(c), g)?);
+                }
+                Ok((
+                    sc.gap(&params_of(c), held.groups())?,
+                    sc.gap(&params_of(c), train.groups())?,
+                    residuals,
+                ))
+            })
             .collect()
     })?;
-    let heldout_before = gaps[0].clone();
-    for (c, g) in candidates.iter_mut().zip(&gaps[1..]) {
-        c.heldout_systematic_cm = g.systematic_cm;
+    Ok(which
+        .iter()
+        .zip(candidates)
+        .zip(gaps)
+        .map(
+            |((&index, mut candidate), (heldout, train_gap, train_residuals))| {
+                candidate.heldout_systematic_cm = heldout.systematic_cm;
+                FittedCandidate {
+                    index,
+                    candidate,
+                    train_gap,
+                    heldout,
+                    train_residuals,
+                }
+            },
+        )
+        .collect())
+}
+
+/// The choice over fitted candidates (every candidate of `plan`, in any order): they are
+/// ranked by training χ², chosen by cross-validated χ² against the nominal robot's, and
+/// the report's notes say why. `bench_runs`: the runs the whole diagnosis made.
+pub fn choose(
+    plan: &FitPlan,
+    nominal: &NominalFit,
+    mut fitted: Vec<FittedCandidate>,
+    bench_runs: usize,
+) -> BenchDiagnosis {
+    // Plan order first, so that candidates with equal χ² rank as on one machine.
+    fitted.sort_by_key(|f| f.index);
+    let (by_experiment, cv) = (plan.by_experiment, plan.cv());
+    let mut notes = Vec::new();
+    if !cv {
+        notes.push(
+            "one training group: no cross-validation; the candidates are ranked and chosen \
+             by their training residual alone"
+                .to_owned(),
+        );
     }
+    let nominal_train_chi2 = nominal.train_chi2;
+    let nominal_cv_chi2 = cv.then_some(nominal_train_chi2);
+    let residuals = nominal.residuals;
+    fitted.sort_by(|a, b| a.candidate.train_chi2.total_cmp(&b.candidate.train_chi2));
+    let candidates: Vec<BenchCandidate> = fitted.iter().map(|f| f.candidate.clone()).collect();
+    let heldout_before = nominal.heldout.clone();
 
     let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_chi2);
     let best = candidates
@@ -486,21 +637,7 @@ pub fn diagnose_bench(
         }
         None => None,
     };
-    // Each candidate's prediction of the training centroids at its value (answered
-    // before: no new runs).
-    let vectors = batched.eval(|m| -> Result<Vec<Vec<f64>>, GapError> {
-        let sc = Scorer::new(m, train, &opts.fit);
-        candidates
-            .iter()
-            .map(|c| {
-                let mut v = Vec::new();
-                for g in train.groups() {
-                    v.extend(sc.centroid_residuals(&params_of(c), g)?);
-                }
-                Ok(v)
-            })
-            .collect()
-    })?;
+    let vectors: Vec<Vec<f64>> = fitted.iter().map(|f| f.train_residuals.clone()).collect();
     let alike_ix = winner.map_or(Vec::new(), |(i, _)| {
         alike(i, &candidates, &vectors, nominal_train_chi2)
     });
@@ -530,7 +667,7 @@ pub fn diagnose_bench(
     }
     let (heldout_after, left_chi2, dof) = match winner {
         Some((i, c)) => (
-            gaps[i + 1].clone(),
+            fitted[i].heldout.clone(),
             c.train_chi2,
             residuals.saturating_sub(1).max(1),
         ),
@@ -539,9 +676,7 @@ pub fn diagnose_bench(
     let p_value = gap::stats::chi2_sf(left_chi2, dof);
     let at_noise_level = p_value >= 0.01;
     if !at_noise_level {
-        let params = winner.map_or(neutral.clone(), |(_, c)| params_of(c));
-        let train_gap =
-            batched.eval(|m| Scorer::new(m, train, &opts.fit).gap(&params, train.groups()))?;
+        let train_gap = winner.map_or(&nominal.train_gap, |(i, _)| &fitted[i].train_gap);
         let worst = train_gap
             .groups
             .iter()
@@ -567,9 +702,9 @@ pub fn diagnose_bench(
             heldout_before.systematic_cm, heldout_after.systematic_cm
         ));
     }
-    Ok(BenchDiagnosis {
-        model: bench.name(),
-        rule: train.rule().to_owned(),
+    BenchDiagnosis {
+        model: plan.model.clone(),
+        rule: plan.rule.clone(),
         winner: winner.map(|(_, c)| (c.effect.clone(), c.value)),
         alike: alike_ix
             .iter()
@@ -581,14 +716,14 @@ pub fn diagnose_bench(
         nominal_cv_chi2,
         residuals,
         fold_by: if by_experiment { "experiment" } else { "group" },
-        folds,
+        folds: plan.folds.clone(),
         heldout_before,
         heldout_after,
         at_noise_level,
         p_value,
         notes,
-        bench_runs: batched.runs(),
-    })
+        bench_runs,
+    }
 }
 
 impl BenchDiagnosis {

@@ -181,13 +181,14 @@ impl BenchSelfTest {
     }
 }
 
-/// The "real" data of one case: every test of the design, [`RUNS_PER_GROUP`] runs each, on
-/// the bench with `hidden` and floor noise.
-fn make_data(
+/// The "real" data of one case: every test of the design, `runs_per_group` runs each (the
+/// self-test's [`RUNS_PER_GROUP`]), on the bench with `hidden` and floor noise.
+pub(super) fn make_data(
     bench: &BenchModel,
     hidden: &EffectParams,
     leg_mm: f64,
     seed: u64,
+    runs_per_group: usize,
 ) -> Result<Dataset, GapError> {
     let reference = bench.reference();
     let tests = [
@@ -203,7 +204,7 @@ fn make_data(
             test,
             firmware: Firmware::nominal(&reference, leg_mm),
             reference,
-            runs: RUNS_PER_GROUP,
+            runs: runs_per_group,
             seed: seed.wrapping_add(i as u64 + 1),
         })
         .collect();
@@ -228,6 +229,16 @@ fn make_data(
     Dataset::new(groups)
 }
 
+/// The self-test's split: UMBmark both ways and the line for training, the triangle held
+/// out.
+pub(super) fn split_rule() -> SplitRule {
+    SplitRule::TrainOnTests(vec![
+        TestKind::UmbmarkCw,
+        TestKind::UmbmarkCcw,
+        TestKind::Line,
+    ])
+}
+
 /// Runs one case per `(effect, value)` of `cases`.
 pub fn bench_self_test(
     bench: &BenchModel,
@@ -250,13 +261,14 @@ pub fn bench_self_test(
             cases.len()
         ));
         let hidden = EffectParams::new().with(effect, injected);
-        let data = make_data(bench, &hidden, leg_mm, seed ^ (k as u64) << 32)?;
-        let rule = SplitRule::TrainOnTests(vec![
-            TestKind::UmbmarkCw,
-            TestKind::UmbmarkCcw,
-            TestKind::Line,
-        ]);
-        let (train, held) = data.split(&rule)?;
+        let data = make_data(
+            bench,
+            &hidden,
+            leg_mm,
+            seed ^ (k as u64) << 32,
+            RUNS_PER_GROUP,
+        )?;
+        let (train, held) = data.split(&split_rule())?;
         let shortlist = kinematic_shortlist(&train, &held, &gap::selftest::self_test_options())?;
         let d = diagnose_bench(bench, &shortlist, &train, &held, opts, progress)?;
         let fitted = d

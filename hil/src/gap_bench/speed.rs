@@ -1,0 +1,212 @@
+//! The bench-backed diagnosis' speed (`hil bench --diagnosis`): a dataset as the thesis
+//! recorded one (UMBmark 5 CW + 5 CCW, 5 lines, 5 counter-clockwise triangles) made by the
+//! bench with a hidden effect (as the self-test makes its data), then the whole diagnosis of
+//! it with one job and with N, timed in one run: both wall times, bench runs per second and
+//! their ratio, and whether the budget (10 minutes on 2 cores) held.
+//!
+//! Wall time is read from the host clock around whole diagnoses, never inside a simulation.
+//! Every job count must give the same diagnosis (run `i`'s seed does not depend on it), or
+//! the times would not compare: a difference is an error.
+
+use std::time::Instant;
+
+use gap::{EffectParams, GapError};
+use serde::Serialize;
+
+use super::selftest::{make_data, split_rule};
+use super::{diagnose_bench, kinematic_shortlist, BenchDiagnosis, BenchModel, SelectOptions};
+
+/// The budget of one diagnosis on 2 cores, s.
+pub const BUDGET_S: f64 = 600.0;
+
+/// What to time.
+pub struct SpeedPlan<'a> {
+    /// The nominal bench (its `jobs` is not used: each timing sets its own).
+    pub bench: &'a BenchModel,
+    /// The hidden effect of the data, and its value.
+    pub hidden: (&'a str, f64),
+    pub leg_mm: f64,
+    /// Runs of each of the four tests.
+    pub runs_per_group: usize,
+    pub seed: u64,
+    /// The job counts to time besides 1 (the budget is judged on 2).
+    pub jobs: Vec<usize>,
+    pub opts: &'a SelectOptions,
+    /// Told what is being timed.
+    pub progress: &'a dyn Fn(&str),
+}
+
+/// One timed diagnosis.
+#[derive(Debug, Clone, Serialize)]
+pub struct Timed {
+    pub jobs: usize,
+    pub wall_s: f64,
+    pub bench_runs: usize,
+    pub runs_per_s: f64,
+}
+
+/// What `hil bench --diagnosis` prints.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiagnosisSpeed {
+    pub leg_mm: f64,
+    pub runs_per_group: usize,
+    /// The hidden effect and what the diagnosis chose.
+    pub hidden: String,
+    pub winner: Option<String>,
+    pub candidates: usize,
+    /// Bench runs of the data, and the wall time they took (with the job count timed last).
+    pub data_runs: usize,
+    pub data_wall_s: f64,
+    /// Cores the machine offers.
+    pub cores: usize,
+    /// Job count 1 first, then the others.
+    pub timed: Vec<Timed>,
+    /// Wall time with one job over each other job count's, in `timed` order after the first.
+    pub speedups: Vec<f64>,
+    pub budget_s: f64,
+    /// The wall time with 2 jobs, and whether it is within the budget.
+    pub two_jobs_wall_s: Option<f64>,
+    pub within_budget: Option<bool>,
+}
+
+/// Times the plan (see the module docs).
+pub fn measure_diagnosis(plan: &SpeedPlan) -> Result<DiagnosisSpeed, GapError> {
+    let mut jobs: Vec<usize> = vec![1];
+    for &j in &plan.jobs {
+        if !jobs.contains(&j.max(1)) {
+            jobs.push(j.max(1));
+        }
+    }
+    let with_jobs = |n: usize| BenchModel {
+        jobs: n,
+        ..plan.bench.clone()
+    };
+    let (effect, value) = plan.hidden;
+    let hidden = EffectParams::new().with(effect, value);
+    let data_jobs = *jobs.last().expect("job 1 at least");
+    (plan.progress)(&format!(
+        "making the data: {} runs of each test, {data_jobs} jobs",
+        plan.runs_per_group
+    ));
+    let clock = Instant::now();
+    let data = make_data(
+        &with_jobs(data_jobs),
+        &hidden,
+        plan.leg_mm,
+        plan.seed,
+        plan.runs_per_group,
+    )?;
+    let data_wall_s = clock.elapsed().as_secs_f64();
+    let data_runs = data.groups().iter().map(|g| g.runs.len()).sum();
+    let (train, held) = data.split(&split_rule())?;
+    let shortlist = kinematic_shortlist(&train, &held, &gap::selftest::self_test_options())?;
+    let mut timed = Vec::new();
+    let mut first: Option<BenchDiagnosis> = None;
+    for &n in &jobs {
+        (plan.progress)(&format!("timing the diagnosis with {n} jobs"));
+        let bench = with_jobs(n);
+        let clock = Instant::now();
+        let d = diagnose_bench(&bench, &shortlist, &train, &held, plan.opts, &|_| {})?;
+        let wall_s = clock.elapsed().as_secs_f64();
+        timed.push(Timed {
+            jobs: n,
+            wall_s,
+            bench_runs: d.bench_runs,
+            runs_per_s: d.bench_runs as f64 / wall_s.max(1e-9),
+        });
+        match &first {
+            Some(f) if json(f) != json(&d) => {
+                return Err(GapError::Fit(format!(
+                    "the diagnosis with {n} jobs differs from the one with 1 job: the job \
+                     count changed a result (a bug in the bench's pool)"
+                )))
+            }
+            Some(_) => {}
+            None => first = Some(d),
+        }
+    }
+    let d = first.expect("one timing at least");
+    let one = timed[0].wall_s;
+    let two = timed.iter().find(|t| t.jobs == 2).map(|t| t.wall_s);
+    Ok(DiagnosisSpeed {
+        leg_mm: plan.leg_mm,
+        runs_per_group: plan.runs_per_group,
+        hidden: format!("{effect} = {value}"),
+        winner: d.winner.map(|(w, _)| w),
+        candidates: d.candidates.len(),
+        data_runs,
+        data_wall_s,
+        cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        speedups: timed[1..]
+            .iter()
+            .map(|t| one / t.wall_s.max(1e-9))
+            .collect(),
+        timed,
+        budget_s: BUDGET_S,
+        two_jobs_wall_s: two,
+        within_budget: two.map(|t| t <= BUDGET_S),
+    })
+}
+
+fn json<T: Serialize>(v: &T) -> Option<serde_json::Value> {
+    serde_json::to_value(v).ok()
+}
+
+impl DiagnosisSpeed {
+    /// The report as text.
+    pub fn render(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "speed of the bench-backed diagnosis: {} runs per test (UMBmark CW and CCW, line, \
+             triangle), L = {:.0} mm, hidden {}; {} bench runs of data in {:.1} s",
+            self.runs_per_group, self.leg_mm, self.hidden, self.data_runs, self.data_wall_s
+        );
+        let _ = writeln!(
+            s,
+            "  {} candidates, winner {}; this machine offers {} cores",
+            self.candidates,
+            self.winner.as_deref().unwrap_or("none"),
+            self.cores
+        );
+        let _ = writeln!(
+            s,
+            "  {:<8} {:>10} {:>11} {:>10}",
+            "jobs", "wall s", "bench runs", "runs/s"
+        );
+        for t in &self.timed {
+            let _ = writeln!(
+                s,
+                "  {:<8} {:>10.1} {:>11} {:>10.2}",
+                t.jobs, t.wall_s, t.bench_runs, t.runs_per_s
+            );
+        }
+        for (t, r) in self.timed[1..].iter().zip(&self.speedups) {
+            let _ = writeln!(
+                s,
+                "  speed-up with {} jobs: {r:.2}x (the wall time with 1 job over theirs)",
+                t.jobs
+            );
+        }
+        match (self.two_jobs_wall_s, self.within_budget) {
+            (Some(t), Some(ok)) => {
+                let _ = writeln!(
+                    s,
+                    "  budget {:.0} s on 2 cores: {} ({t:.1} s with 2 jobs{})",
+                    self.budget_s,
+                    if ok { "held" } else { "NOT held" },
+                    if self.cores < 2 {
+                        "; this machine has 1 core, so not a 2-core figure"
+                    } else {
+                        ""
+                    }
+                );
+            }
+            _ => {
+                let _ = writeln!(s, "  budget on 2 cores: not judged (2 jobs not timed)");
+            }
+        }
+        s
+    }
+}
