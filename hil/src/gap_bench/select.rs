@@ -822,7 +822,7 @@ mod tests {
             effect: effect.to_owned(),
             symbol: String::new(),
             unit: String::new(),
-            source: "test",
+            source: "test".to_owned(),
             value: 0.0,
             train_chi2,
             cv_chi2: None,
