@@ -216,3 +216,27 @@ pub fn format_table10(rows: &[(&str, Round)], style: TableStyle) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wheelbase correction is the size of the change in % of the wheelbase before,
+    /// whichever way it went: 130 → 122.6 mm and 130 → 137.4 mm are both 5.69 %.
+    #[test]
+    fn a_correction_is_the_size_of_the_change_in_percent_of_before() {
+        for after in [122.6, 137.4] {
+            let pct = pct_change(130.0, after);
+            assert!((pct - 740.0 / 130.0).abs() < 1e-9, "{after}: {pct}");
+        }
+    }
+
+    /// Truncation toward zero keeps a value whose decimal digits f64 cannot hold exactly
+    /// (0.29 · 100 = 28.999999999999996): the printed 0.29, not 0.28.
+    #[test]
+    fn truncation_keeps_the_digits_a_value_was_written_with() {
+        assert_eq!(truncate(0.29, 2), 0.29);
+        assert_eq!(truncate(3.456, 2), 3.45);
+        assert_eq!(truncate(-3.456, 2), -3.45);
+    }
+}

@@ -129,3 +129,60 @@ fn end_points_exactly_on_the_axis_are_solved() {
         assert!(end.x_cm.abs() < 1e-9, "{dir:?}: {d} gives {end:?}");
     }
 }
+
+/// The model's leg is an arc of the length driven, so its curvature is the bend over that
+/// length: a quarter circle of radius 100 cm (β = π/2 over 50π cm) has 1/100 per cm, a bend
+/// the other way the opposite sign. Borenstein's reads the length as the chord,
+/// 2 sin(β/2)/L: the same to first order, 10 % more here.
+#[test]
+fn the_curvature_of_a_leg_is_its_bend_over_its_length() {
+    let (b, l) = (std::f64::consts::FRAC_PI_2, 50.0 * std::f64::consts::PI);
+    assert!((Solution::Exact.curvature(b, l) - 0.01).abs() < 1e-15);
+    assert!((Solution::Exact.curvature(-b, l) + 0.01).abs() < 1e-15);
+    let chord = 2.0 * (b / 2.0).sin() / l;
+    assert!((Solution::FirstOrder.curvature(b, l) - chord).abs() < 1e-15);
+}
+
+/// Turns that miss by more than the solvers accept (0.6 rad) are fitted at the edge of that
+/// range, never past it, and the fit says what it leaves unexplained.
+#[test]
+fn fits_stay_within_the_range_the_solvers_accept() {
+    let t = 2.0 * std::f64::consts::FRAC_PI_3;
+    let q = std::f64::consts::FRAC_PI_2;
+    for d in [0.64, -0.64] {
+        for dir in [Direction::Cw, Direction::Ccw] {
+            let end = polygon_end(d, 0.0, L, t, dir, 3);
+            let fit = triangle_delta(end.x_cm, Some(end.y_cm), L, 0.0, dir).expect("a best fit");
+            assert!(fit.params[0].abs() <= 0.6, "{d} {dir:?}: {fit:?}");
+            assert!(fit.rms_cm > 1.0, "{d} {dir:?}: {fit:?}");
+        }
+        let cw = polygon_end(d, 0.0, L, q, Direction::Cw, 4);
+        let ccw = polygon_end(d, 0.0, L, q, Direction::Ccw, 4);
+        let fit = umbmark_alpha_beta(cw, ccw, L).expect("a best fit");
+        assert!(fit.params[0].abs() <= 0.6, "{d}: {fit:?}");
+        assert!(fit.rms_cm > 1.0, "{d}: {fit:?}");
+    }
+}
+
+/// A triangle's rms is over the components measured: x alone when y was not recorded, x
+/// and y otherwise (an end point no turn error reaches, so neither is zero).
+#[test]
+fn a_triangle_fit_reports_the_rms_of_the_components_measured() {
+    let t = 2.0 * std::f64::consts::FRAC_PI_3;
+    let (x, y, beta) = (3.0 * L, 10.0, 0.05);
+    for dir in [Direction::Cw, Direction::Ccw] {
+        let fit = triangle_delta(x, None, L, beta, dir).expect("a best fit");
+        let p = polygon_end(fit.params[0], beta, L, t, dir, 3);
+        assert!(
+            (fit.rms_cm - (p.x_cm - x).abs()).abs() < 1e-9,
+            "{dir:?}: {fit:?}"
+        );
+        let fit = triangle_delta(x, Some(y), L, beta, dir).expect("a best fit");
+        let p = polygon_end(fit.params[0], beta, L, t, dir, 3);
+        let want = (((p.x_cm - x).powi(2) + (p.y_cm - y).powi(2)) / 2.0).sqrt();
+        assert!(
+            (fit.rms_cm - want).abs() < 1e-9,
+            "{dir:?}: {fit:?} vs {want}"
+        );
+    }
+}
