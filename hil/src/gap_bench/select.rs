@@ -10,9 +10,22 @@
 //! Only centroids are scored (the weighted χ² of the end points' means, as [`gap::Scorer`]
 //! weighs them): every candidate here is systematic, and the bench's nominal robot has no
 //! floor noise, so the spreads would add the same constant to every candidate.
+//!
+//! When training groups carry telemetry (one run logged every control period) and
+//! [`SelectOptions::series`] is on, every bench run of a group's centroid records its series
+//! too (the same run, no extra one), and each value's score is the centroid χ² plus the
+//! series χ² of [`super::series_chi2`]: per group, four residuals per segment kind (both
+//! wheels' mean real − bench speed and duty over the segment), each over its standard error
+//! σ/√n, σ the real series' own noise ([`super::series_noise`]: the long-run deviation of
+//! its steady legs, by batch means). The fits, the cross-validation (a left-out
+//! group's series is predicted too), the ranking and the comparison with the nominal robot
+//! all use that sum, so a candidate that fits the end points but not the speeds ranks below
+//! one that fits both. The p-value stays the end points' alone. Without telemetry nothing
+//! changes.
 
 use std::collections::BTreeMap;
 
+use super::series::SeriesScore;
 use gap::data::{Group, HeldOutSet, TrainSet};
 use gap::effects::ParamKind;
 use gap::fit::{FitOptions, Gap};
@@ -20,6 +33,9 @@ use gap::{EffectParams, GapError, Model, ParamSpec, Scorer};
 use serde::Serialize;
 
 use super::{Batched, BenchModel};
+
+mod telemetry;
+use telemetry::{scores_series, series_total};
 
 /// Options of [`diagnose_bench`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -35,6 +51,8 @@ pub struct SelectOptions {
     pub fold_refine: usize,
     /// Weights and seeds of the scoring (as the kinematic diagnosis').
     pub fit: FitOptions,
+    /// Score the training groups' telemetry too, when they have it (see the module docs).
+    pub series: bool,
 }
 
 impl Default for SelectOptions {
@@ -45,6 +63,7 @@ impl Default for SelectOptions {
             refine: 8,
             fold_refine: 4,
             fit: FitOptions::default(),
+            series: true,
         }
     }
 }
@@ -67,6 +86,10 @@ pub struct BenchCandidate {
     pub cv_chi2: Option<f64>,
     /// Held-out systematic gap with it, cm.
     pub heldout_systematic_cm: f64,
+    /// Training series χ² at that value, and the RMS of real − bench speed over every
+    /// telemetry sample, thesis RPM (None: no telemetry scored).
+    pub series_chi2: Option<f64>,
+    pub series_rms_rpm: Option<f64>,
 }
 
 /// The answer of [`diagnose_bench`].
@@ -98,6 +121,21 @@ pub struct BenchDiagnosis {
     pub notes: Vec<String>,
     /// Bench runs made.
     pub bench_runs: usize,
+    /// With telemetry: the nominal robot's training series χ² and RMS (thesis RPM), the
+    /// number of series residuals, and the chosen model's per-segment gap of each training
+    /// group with telemetry.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nominal_series_chi2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nominal_series_rms_rpm: Option<f64>,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub series_residuals: usize,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub series: Vec<SeriesScore>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// The values of one candidate's search, each with every training group's χ².
@@ -108,6 +146,8 @@ struct Search<'a> {
     spec: ParamSpec,
     /// value (bits) -> χ² per training group.
     seen: BTreeMap<u64, Vec<f64>>,
+    /// value (bits) -> series χ² per training group (empty: no telemetry scored).
+    series: BTreeMap<u64, Vec<f64>>,
 }
 
 impl<'a> Search<'a> {
@@ -137,22 +177,24 @@ impl<'a> Search<'a> {
                 })
                 .collect()
         })?;
-        for (v, c) in todo.into_iter().zip(got) {
+        for (v, c) in todo.iter().zip(got) {
             self.seen.insert(v.to_bits(), c);
         }
-        Ok(())
+        self.eval_series(&todo)
     }
 
     /// χ² over the groups `keep` selects at `v` (evaluated before).
     fn at(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
         let c = &self.seen[&v.to_bits()];
-        self.train
+        let ends = self
+            .train
             .groups()
             .iter()
             .zip(c)
             .filter(|(g, _)| keep(g))
             .map(|(_, x)| x)
-            .sum()
+            .sum();
+        self.series_at(v, keep).map_or(ends, |s| ends + s)
     }
 
     /// [`Search::at`], or infinity for a value not evaluated.
@@ -267,7 +309,7 @@ pub fn diagnose_bench(
     opts: &SelectOptions,
     progress: &dyn Fn(&str),
 ) -> Result<BenchDiagnosis, GapError> {
-    let batched = Batched::new(bench);
+    let batched = Batched::with_series(bench, scores_series(train, opts));
     let specs = bench.parameters();
     let mut names: Vec<(String, &'static str)> = Vec::new();
     let systematic = |n: &str| {
@@ -320,7 +362,11 @@ pub fn diagnose_bench(
             .collect()
     })?;
     let nominal_train_chi2: f64 = nominal_groups.iter().sum();
-    let nominal_cv_chi2 = cv.then_some(nominal_train_chi2);
+    let nominal_series = series_total(&batched, train, &opts.fit, &neutral)?;
+    let nominal_score = nominal_series
+        .as_ref()
+        .map_or(nominal_train_chi2, |s| nominal_train_chi2 + s.chi2);
+    let nominal_cv_chi2 = cv.then_some(nominal_score);
     let residuals = batched.eval(|m| -> Result<usize, GapError> {
         let sc = Scorer::new(m, train, &opts.fit);
         let mut n = 0;
@@ -348,10 +394,12 @@ pub fn diagnose_bench(
             fit: &opts.fit,
             spec,
             seen: BTreeMap::new(),
+            series: BTreeMap::new(),
         };
         let grid = search.grid(opts.grid);
         search.eval(&grid)?;
-        let (value, train_chi2) = search.fit(&grid, opts.refine, &|_| true)?;
+        let (value, _) = search.fit(&grid, opts.refine, &|_| true)?;
+        let (train_chi2, series_chi2) = search.parts(value);
         let cv_chi2 = if cv {
             let mut total = 0.0;
             for f in &folds {
@@ -365,10 +413,11 @@ pub fn diagnose_bench(
             None
         };
         progress(&format!(
-            "bench: [{}/{}] {name} {value:.4}: training χ² {train_chi2:.1}{} ({} bench runs so \
-             far)",
+            "bench: [{}/{}] {name} {value:.4}: training χ² {train_chi2:.1}{}{} ({} bench runs \
+             so far)",
             i + 1,
             names.len(),
+            series_chi2.map_or(String::new(), |c| format!(" + series {c:.1}")),
             cv_chi2.map_or(String::new(), |c| format!(", cross-validated {c:.1}")),
             batched.runs()
         ));
@@ -381,9 +430,12 @@ pub fn diagnose_bench(
             train_chi2,
             cv_chi2,
             heldout_systematic_cm: f64::NAN,
+            series_chi2,
+            series_rms_rpm: series_total(&batched, train, &opts.fit, &search.params(value))?
+                .map(|t| t.rms_rpm),
         });
     }
-    candidates.sort_by(|a, b| a.train_chi2.total_cmp(&b.train_chi2));
+    candidates.sort_by(|a, b| a.train_score().total_cmp(&b.train_score()));
 
     // Held out, every candidate and the nominal robot in one batch.
     let params_of = |c: &BenchCandidate| EffectParams::new().with(&c.effect, c.value);
@@ -399,12 +451,11 @@ pub fn diagnose_bench(
         c.heldout_systematic_cm = g.systematic_cm;
     }
 
-    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_chi2);
+    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_score());
     let best = candidates
         .iter()
         .enumerate()
         .min_by(|a, b| score(a.1).total_cmp(&score(b.1)));
-    let nominal_score = nominal_cv_chi2.unwrap_or(nominal_train_chi2);
     let winner = match best {
         Some((i, c)) if score(c) < nominal_score => {
             if i > 0 {
@@ -471,6 +522,10 @@ pub fn diagnose_bench(
             heldout_before.systematic_cm, heldout_after.systematic_cm
         ));
     }
+    let winner_series = match winner {
+        Some((_, c)) => series_total(&batched, train, &opts.fit, &params_of(c))?,
+        None => nominal_series.clone(),
+    };
     Ok(BenchDiagnosis {
         model: bench.name(),
         rule: train.rule().to_owned(),
@@ -487,7 +542,20 @@ pub fn diagnose_bench(
         p_value,
         notes,
         bench_runs: batched.runs(),
+        nominal_series_chi2: nominal_series.as_ref().map(|s| s.chi2),
+        nominal_series_rms_rpm: nominal_series.as_ref().map(|s| s.rms_rpm),
+        series_residuals: nominal_series.as_ref().map_or(0, |s| s.residuals),
+        series: winner_series.map_or(Vec::new(), |s| s.gaps),
     })
+}
+
+impl BenchCandidate {
+    /// The training score the candidates are ranked by: the end points' χ², plus the
+    /// series' when scored.
+    pub fn train_score(&self) -> f64 {
+        self.series_chi2
+            .map_or(self.train_chi2, |s| self.train_chi2 + s)
+    }
 }
 
 impl BenchDiagnosis {
@@ -548,6 +616,7 @@ impl BenchDiagnosis {
                 c.source
             );
         }
+        self.render_series(&mut s);
         match &self.winner {
             Some((name, v)) => {
                 let unit = self.winner_candidate().map_or("", |c| c.unit.as_str());
