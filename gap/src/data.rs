@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::model::{Experiment, TestKind};
+use crate::telemetry::Telemetry;
 use crate::GapError;
 
 /// One measured run, in [`calib::Frame::Default`] (converted from the recorded frame by the
@@ -47,6 +48,10 @@ pub struct Group {
     pub experiment: Experiment,
     /// The measured runs.
     pub runs: Vec<ObservedRun>,
+    /// The telemetry of one run of the group (wheel speeds and duties per control period),
+    /// when it was logged.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub telemetry: Option<Telemetry>,
 }
 
 impl Group {
@@ -80,7 +85,16 @@ impl Group {
             },
             experiment,
             runs,
+            telemetry: None,
         })
+    }
+
+    /// The group with `telemetry`, one run of it logged every control period.
+    pub fn with_telemetry(self, telemetry: Telemetry) -> Self {
+        Group {
+            telemetry: Some(telemetry),
+            ..self
+        }
     }
 
     /// Whether every run has its y.
@@ -178,6 +192,20 @@ impl Dataset {
     /// The groups.
     pub fn groups(&self) -> &[Group] {
         &self.groups
+    }
+
+    /// Gives the group `id` the telemetry of one of its runs (it must have none yet).
+    pub fn attach_telemetry(&mut self, id: &GroupId, telemetry: Telemetry) -> Result<(), GapError> {
+        let g = self
+            .groups
+            .iter_mut()
+            .find(|g| g.id == *id)
+            .ok_or_else(|| GapError::Data(format!("telemetry of {id}: no such group")))?;
+        if g.telemetry.is_some() {
+            return Err(GapError::Data(format!("{id}: telemetry given twice")));
+        }
+        g.telemetry = Some(telemetry);
+        Ok(())
     }
 
     /// The experiment names, in order of first appearance.

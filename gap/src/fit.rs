@@ -230,6 +230,18 @@ impl<'a> Evaluator<'a> {
         self.predict_experiment(params, &group.experiment, &group.id.to_string())
     }
 
+    /// The one run the centroid of `experiment` is predicted from: its seed from `tag`.
+    pub fn centroid_experiment(
+        &self,
+        experiment: &crate::model::Experiment,
+        tag: &str,
+    ) -> crate::model::Experiment {
+        let mut exp = experiment.clone();
+        exp.seed = self.opts.seed ^ hash(tag);
+        exp.runs = 1;
+        exp
+    }
+
     /// The model's centroid and spread for `experiment`; `tag` seeds its randomness.
     pub fn predict_experiment(
         &self,
@@ -237,8 +249,7 @@ impl<'a> Evaluator<'a> {
         experiment: &crate::model::Experiment,
         tag: &str,
     ) -> Result<Predicted, GapError> {
-        let mut exp = experiment.clone();
-        exp.seed = self.opts.seed ^ hash(tag);
+        let mut exp = self.centroid_experiment(experiment, tag);
         // The centroid from one run with the stochastic effects off (they are zero-mean by
         // definition), so that the Monte Carlo noise of the spread's runs cannot leak into
         // the centroid and tie a stochastic parameter to it.
@@ -248,7 +259,6 @@ impl<'a> Evaluator<'a> {
                 systematic.set(n, v);
             }
         }
-        exp.runs = 1;
         let centre = self.model.predict(&systematic, &exp)?;
         let first = centre.first().ok_or_else(|| {
             GapError::Model(crate::ModelError::InvalidExperiment(

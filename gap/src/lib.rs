@@ -52,7 +52,7 @@ pub use effects::{EffectParams, ParamKind, ParamSpec, Unsupported, ALL_EFFECTS};
 pub use error::GapError;
 pub use fit::{CandidateFit, Estimate, FitOptions, Gap, GroupGap};
 pub use kinematic::KinematicModel;
-pub use manifest::{load_dataset, load_dir, LoadedManifest, Manifest};
+pub use manifest::{attach_telemetry, load_dataset, load_dir, LoadedManifest, Manifest};
 pub use model::{
     Experiment, Firmware, Model, ModelError, Reference, RunEndpoint, StraightLegs, TestKind,
 };

@@ -255,6 +255,12 @@ pub struct TelemetrySource {
     pub sample_period_s: f64,
     /// Unit of the RPM columns.
     pub rpm_unit: RpmUnit,
+    /// The endpoint experiment (its manifest's `experiment`) one of whose runs of `test`
+    /// this log is: its group then carries the log ([`attach_telemetry`]), which the
+    /// bench-backed diagnosis compares with the bench's run of that group. None: a log on
+    /// its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run_of: Option<String>,
 }
 
 /// A manifest with its location.
@@ -669,6 +675,38 @@ pub fn load_dataset(manifests: &[LoadedManifest]) -> Result<(Dataset, Vec<String
         }
     }
     Ok((data, notes))
+}
+
+/// Gives each group of `data` the telemetry of the manifest whose `[telemetry] run_of` names
+/// its experiment (with the same test); notes the logs that belong to no group.
+pub fn attach_telemetry(
+    data: &mut Dataset,
+    manifests: &[LoadedManifest],
+) -> Result<Vec<String>, GapError> {
+    let mut notes = Vec::new();
+    for m in manifests {
+        let Some(t) = &m.manifest.telemetry else {
+            continue;
+        };
+        let Some(of) = &t.run_of else {
+            notes.push(format!(
+                "{}: telemetry belongs to no endpoint group (no `run_of`): not scored with one",
+                m.manifest.experiment
+            ));
+            continue;
+        };
+        let telemetry = m.telemetry()?.expect("has telemetry");
+        let id = crate::data::GroupId {
+            experiment: of.clone(),
+            test: t.test,
+        };
+        data.attach_telemetry(&id, telemetry)
+            .map_err(|e| GapError::Manifest {
+                path: m.path.clone(),
+                message: format!("telemetry.run_of: {e}"),
+            })?;
+    }
+    Ok(notes)
 }
 
 /// Loads every `*.toml` manifest of a directory, sorted by file name.

@@ -42,6 +42,13 @@ impl<'a> Scorer<'a> {
         Ok(r)
     }
 
+    /// The experiment of the one run `group`'s centroid is predicted from (its seed made from
+    /// the group's name): the run whose telemetry goes with that centroid.
+    pub fn centroid_experiment(&self, group: &Group) -> crate::model::Experiment {
+        self.ev
+            .centroid_experiment(&group.experiment, &group.id.to_string())
+    }
+
     /// All weighted residuals of `groups` (centroids and spreads), as the fits use them.
     pub fn residuals(&self, params: &EffectParams, groups: &[Group]) -> Result<Vec<f64>, GapError> {
         self.ev.residuals(params, groups)

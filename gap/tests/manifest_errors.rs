@@ -219,3 +219,44 @@ fn syntax_error() {
     let m = message(parse("format = 1\nexperiment = \n"));
     assert!(m.contains("test.toml") && m.contains("line 2"), "{m}");
 }
+
+/// A telemetry manifest with `run_of` gives its log to that experiment's group of its test;
+/// one naming no such group is refused with the manifest's name and the field.
+#[test]
+fn telemetry_goes_to_the_group_it_is_a_run_of() {
+    let dir = std::env::temp_dir().join(format!("gap-run-of-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = "t_s,rpm_left,rpm_right,pwm_left,pwm_right\n\
+               0.015,0,0,200,200\n0.030,10,11,200,200\n0.045,14,14,180,190\n0.060,14,15,170,180\n";
+    std::fs::write(dir.join("run.csv"), csv).unwrap();
+    let robot = thesis_dir().join("../../robots/henrytwo-ideal.toml");
+    let manifest = |of: &str| {
+        format!(
+            "format = 1\nexperiment = \"log-1\"\nrobot_config = {robot:?}\n\n[telemetry]\n\
+             file = \"run.csv\"\ntest = \"umbmark_cw\"\nsample_period_s = 0.015\n\
+             rpm_unit = \"thesis_rpm\"\nrun_of = \"{of}\"\n"
+        )
+    };
+    let endpoints = parse(GOOD).unwrap();
+    let log = LoadedManifest::parse(&manifest("x-1"), dir.join("log.toml")).unwrap();
+    let (mut data, _) = load_dataset(std::slice::from_ref(&endpoints)).unwrap();
+    let notes = gap::attach_telemetry(&mut data, &[endpoints.clone(), log]).unwrap();
+    assert!(notes.is_empty(), "{notes:?}");
+    let t = data.groups()[0]
+        .telemetry
+        .as_ref()
+        .expect("the group has the log");
+    assert_eq!(t.samples.len(), 4);
+    assert_eq!(t.samples[2].rpm_right, 14.0);
+
+    let stray = LoadedManifest::parse(&manifest("x-9"), dir.join("log.toml")).unwrap();
+    let (mut data, _) = load_dataset(std::slice::from_ref(&endpoints)).unwrap();
+    let err = gap::attach_telemetry(&mut data, &[stray])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("log.toml") && err.contains("run_of") && err.contains("x-9/umbmark_cw"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -56,10 +56,23 @@ pub struct Gap {
     #[arg(long, requires = "bench", default_value_t = 2,
           value_parser = clap::value_parser!(u8).range(1..=DEFAULT_CASES.len() as i64))]
     cases: u8,
+    /// With --bench --self-test: hidden effects to try instead of the fixed
+    /// cases, each as NAME=VALUE (a bench parameter within its range).
+    #[arg(
+        long,
+        requires = "bench",
+        value_name = "NAME=VALUE",
+        value_delimiter = ','
+    )]
+    hidden: Vec<String>,
     /// With --bench --self-test: leg of every test, mm (100 to 5000).
     #[arg(long, requires = "bench", default_value_t = 300,
           value_parser = clap::value_parser!(u16).range(100..=5000))]
     leg_mm: u16,
+    /// With --bench: leave the training groups' telemetry out of the
+    /// diagnosis (end points only, as without telemetry).
+    #[arg(long, requires = "bench")]
+    no_series: bool,
     /// With --bench: which firmware build to run.
     #[arg(long, requires = "bench", value_enum, default_value_t = Build::Robust)]
     firmware: Build,
@@ -171,6 +184,7 @@ impl Gap {
     fn select_options(&self) -> SelectOptions {
         SelectOptions {
             shortlist: self.shortlist.into(),
+            series: !self.no_series,
             ..SelectOptions::default()
         }
     }
@@ -222,7 +236,10 @@ impl Gap {
             .filter(|m| m.manifest.endpoints.is_some())
             .cloned()
             .collect();
-        let (data, _) = gap::load_dataset(&with_endpoints)?;
+        let (mut data, _) = gap::load_dataset(&with_endpoints)?;
+        for note in gap::attach_telemetry(&mut data, manifests)? {
+            eprintln!("note: {note}");
+        }
         let (train, held) = data.split(rule)?;
         eprintln!("kinematic diagnosis (the shortlist)...");
         let shortlist =
@@ -285,10 +302,29 @@ impl Gap {
 
     fn bench_self_test(&self) -> Result<()> {
         let bench = BenchModel::new(self.firmware()?, RobotConfig::default(), self.jobs());
-        let cases = &DEFAULT_CASES[..usize::from(self.cases)];
+        let mut hidden: Vec<(String, f64)> = Vec::new();
+        for h in &self.hidden {
+            let parsed = h
+                .split_once('=')
+                .and_then(|(n, v)| Some((n.trim().to_owned(), v.trim().parse::<f64>().ok()?)));
+            match parsed {
+                Some((n, v)) if v.is_finite() => hidden.push((n, v)),
+                _ => {
+                    return Err(super::bad_input(anyhow::anyhow!(
+                        "--hidden {h}: expected NAME=VALUE with a finite number, e.g. \
+                         battery_sag=0.5"
+                    )))
+                }
+            }
+        }
+        let cases: Vec<(&str, f64)> = if hidden.is_empty() {
+            DEFAULT_CASES[..usize::from(self.cases)].to_vec()
+        } else {
+            hidden.iter().map(|(n, v)| (n.as_str(), *v)).collect()
+        };
         let t = hil::gap_bench::bench_self_test(
             &bench,
-            cases,
+            &cases,
             f64::from(self.leg_mm),
             self.seed,
             &self.select_options(),

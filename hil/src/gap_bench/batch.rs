@@ -5,7 +5,9 @@
 //! answers zeros), then, after all of them ran on the bench in one parallel batch, against
 //! the answers. Scoring asks the same questions whatever the answers are (it has no
 //! branches on them), so the second pass sees only answered questions; answers are kept,
-//! so a question asked again (the nominal model's) is not run again.
+//! so a question asked again (the nominal model's) is not run again. With telemetry
+//! ([`Batched::with_series`]) each question's run 0 records its series as it runs, kept
+//! beside the answer for [`Batched::series`]: the series costs no run of its own.
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -14,7 +16,7 @@ use std::sync::Mutex;
 use gap::model::{Experiment, Model, ModelError, RunEndpoint};
 use gap::{EffectParams, ParamSpec, Unsupported};
 
-use super::BenchModel;
+use super::{BenchModel, SeriesRun};
 
 type Answer = Result<Vec<RunEndpoint>, ModelError>;
 
@@ -26,6 +28,9 @@ fn key(params: &EffectParams, exp: &Experiment) -> String {
 pub struct Batched<'a> {
     bench: &'a BenchModel,
     answers: Mutex<HashMap<String, Answer>>,
+    /// Whether runs record their series, and the series of the questions run.
+    with_series: bool,
+    series: Mutex<HashMap<String, SeriesRun>>,
     runs: AtomicUsize,
 }
 
@@ -61,11 +66,36 @@ impl Model for Recorder<'_> {
 impl<'a> Batched<'a> {
     /// No answers yet.
     pub fn new(bench: &'a BenchModel) -> Self {
+        Self::with_series(bench, false)
+    }
+
+    /// No answers yet; with `series`, every question's run 0 records its telemetry.
+    pub fn with_series(bench: &'a BenchModel, series: bool) -> Self {
         Batched {
             bench,
             answers: Mutex::new(HashMap::new()),
+            with_series: series,
+            series: Mutex::new(HashMap::new()),
             runs: AtomicUsize::new(0),
         }
+    }
+
+    /// Whether the runs record their series.
+    pub fn records_series(&self) -> bool {
+        self.with_series
+    }
+
+    /// The telemetry of run 0 of `(params, exp)`, run now if it was not asked before
+    /// (None: the bench could not run it, or this batch records no series).
+    pub fn series(&self, params: &EffectParams, exp: &Experiment) -> Option<SeriesRun> {
+        if !self.with_series {
+            return None;
+        }
+        let k = key(params, exp);
+        if !self.series.lock().expect("series lock").contains_key(&k) {
+            self.answer(vec![(params.clone(), exp.clone())]);
+        }
+        self.series.lock().expect("series lock").get(&k).cloned()
     }
 
     /// Bench runs made so far.
@@ -104,10 +134,17 @@ impl<'a> Batched<'a> {
         let questions: Vec<(EffectParams, Experiment)> =
             todo.iter().map(|(_, q)| q.clone()).collect();
         let n: usize = questions.iter().map(|q| q.1.runs).sum();
-        let got = self.bench.predict_many(&questions);
+        let got = self.bench.run_many(&questions, self.with_series);
         self.runs.fetch_add(n, Ordering::Relaxed);
         let mut answers = self.answers.lock().expect("answers lock");
+        let mut series = self.series.lock().expect("series lock");
         for ((k, _), a) in todo.into_iter().zip(got) {
+            let a = a.map(|(ends, s)| {
+                if let Some(s) = s {
+                    series.insert(k.clone(), s);
+                }
+                ends
+            });
             answers.insert(k, a);
         }
     }

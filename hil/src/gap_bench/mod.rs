@@ -12,7 +12,9 @@
 //! | `select.rs` | the bench-backed diagnosis: 1-D fits, cross-validation, held-out gap |
 //! | `shard.rs` | the diagnosis' candidates split over machines, and the merge of the shards |
 //! | `speed.rs` | the diagnosis timed with one job and with N (`hil bench --diagnosis`) |
+//! | `select/telemetry.rs` | its telemetry part: the series score of a candidate's runs, its report |
 //! | `selftest.rs` | "real" data made by the bench with one hidden effect, diagnosed blind |
+//! | `series.rs` | the telemetry of a run, one row per control period, and its residual score |
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -21,8 +23,9 @@ use gap::{EffectParams, ParamSpec};
 use plant_model::RobotConfig;
 
 use crate::bench::BenchOptions;
+use crate::bench::Observer;
 use crate::elf::Firmware;
-use crate::experiment::{run_test, Test, TestOptions};
+use crate::experiment::{run_test_observed, Test, TestOptions};
 use crate::experiments::run_seed;
 use crate::firmware_params::Tell;
 use crate::link::Param;
@@ -31,6 +34,7 @@ mod batch;
 mod params;
 mod select;
 mod selftest;
+mod series;
 mod shard;
 mod speed;
 
@@ -41,6 +45,9 @@ pub use select::{
     BenchDiagnosis, FitPlan, FittedCandidate, NominalFit, SelectOptions,
 };
 pub use selftest::{bench_self_test, BenchCase, BenchSelfTest, DEFAULT_CASES, RUNS_PER_GROUP};
+pub use series::{
+    series_chi2, series_noise, SegmentFit, SeriesNoise, SeriesRun, SeriesScore, CONTROL_PERIOD_S,
+};
 pub use shard::{merge, partial_path, run_shard, MergeError, Partial, ShardPlan, PARTIAL_KIND};
 pub use speed::{measure_diagnosis, DiagnosisSpeed, SpeedPlan, Timed, BUDGET_S};
 
@@ -67,7 +74,13 @@ struct RunJob {
     seed: u64,
     /// Commanded heading change of the whole test, rad.
     heading_rad: f64,
+    /// Record the run's telemetry (see `series.rs`).
+    series: bool,
 }
+
+/// The answer to one request of [`BenchModel::run_many`]: the end of every run, and the
+/// telemetry of run 0 when it was asked for.
+type Runs = (Vec<RunEndpoint>, Option<SeriesRun>);
 
 impl BenchModel {
     /// `firmware` on `nominal` (whose geometry is the reference of the effects), `jobs`
@@ -166,11 +179,23 @@ impl BenchModel {
         &self,
         requests: &[(EffectParams, Experiment)],
     ) -> Vec<Result<Vec<RunEndpoint>, ModelError>> {
+        self.run_many(requests, false)
+            .into_iter()
+            .map(|a| a.map(|(ends, _)| ends))
+            .collect()
+    }
+
+    /// [`BenchModel::predict_many`], with the telemetry of each request's run 0 when
+    /// `series` (the same runs: recording the telemetry changes nothing in them).
+    pub fn run_many(
+        &self,
+        requests: &[(EffectParams, Experiment)],
+        series: bool,
+    ) -> Vec<Result<Runs, ModelError>> {
         let specs = bench_parameters();
         let mut robots = Vec::new();
         let mut jobs = Vec::new();
-        let mut answers: Vec<Result<Vec<RunEndpoint>, ModelError>> =
-            Vec::with_capacity(requests.len());
+        let mut answers: Vec<Result<Runs, ModelError>> = Vec::with_capacity(requests.len());
         // (request, first job, runs)
         let mut spans = Vec::new();
         for (i, (params, exp)) in requests.iter().enumerate() {
@@ -182,7 +207,7 @@ impl BenchModel {
                         continue;
                     }
                 };
-            answers.push(Ok(Vec::new()));
+            answers.push(Ok((Vec::new(), None)));
             robots.push(apply(&self.nominal, params));
             let fw_params = Self::firmware_params(exp);
             let legs = exp.test.legs() as f64;
@@ -197,12 +222,20 @@ impl BenchModel {
                     leg_mm: exp.firmware.leg_mm,
                     seed: run_seed(exp.seed, run),
                     heading_rad,
+                    series: series && run == 0,
                 });
             }
         }
         let results = self.run_jobs(&robots, &jobs);
         for (i, first, runs) in spans {
-            answers[i] = results[first..first + runs].iter().cloned().collect();
+            answers[i] = results[first..first + runs]
+                .iter()
+                .cloned()
+                .collect::<Result<Vec<_>, _>>()
+                .map(|mut v| {
+                    let telemetry = v.first_mut().and_then(|(_, t)| t.take());
+                    (v.into_iter().map(|(e, _)| e).collect(), telemetry)
+                });
         }
         answers
     }
@@ -212,10 +245,11 @@ impl BenchModel {
         &self,
         robots: &[RobotConfig],
         jobs: &[RunJob],
-    ) -> Vec<Result<RunEndpoint, ModelError>> {
+    ) -> Vec<Result<(RunEndpoint, Option<SeriesRun>), ModelError>> {
         let next = AtomicUsize::new(0);
         let threads = self.jobs.min(jobs.len()).max(1);
-        let mut done: Vec<(usize, Result<RunEndpoint, ModelError>)> = std::thread::scope(|s| {
+        type Done = (usize, Result<(RunEndpoint, Option<SeriesRun>), ModelError>);
+        let mut done: Vec<Done> = std::thread::scope(|s| {
             let workers: Vec<_> = (0..threads)
                 .map(|_| {
                     s.spawn(|| {
@@ -238,8 +272,13 @@ impl BenchModel {
         done.into_iter().map(|(_, r)| r).collect()
     }
 
-    /// One run on the bench, its end in the experiment's frame.
-    fn run_one(&self, robot: &RobotConfig, job: &RunJob) -> Result<RunEndpoint, ModelError> {
+    /// One run on the bench, its end in the experiment's frame (and its telemetry, when the
+    /// job asks for it).
+    fn run_one(
+        &self,
+        robot: &RobotConfig,
+        job: &RunJob,
+    ) -> Result<(RunEndpoint, Option<SeriesRun>), ModelError> {
         let opts = TestOptions {
             leg_mm: job.leg_mm,
             bench: BenchOptions {
@@ -253,18 +292,26 @@ impl BenchModel {
             hang_after_s: Some(HANG_AFTER_S),
             ..TestOptions::default()
         };
-        let run = run_test(self.firmware.clone(), robot, job.test, &opts).map_err(|e| {
-            ModelError::InvalidExperiment(format!(
-                "the bench could not run {}: {e}",
-                job.test.name()
-            ))
-        })?;
+        let probe = job
+            .series
+            .then(|| Box::new(series::SeriesProbe::new(CONTROL_PERIOD_S)) as Box<dyn Observer>);
+        let (run, probe) = run_test_observed(self.firmware.clone(), robot, job.test, &opts, probe)
+            .map_err(|e| {
+                ModelError::InvalidExperiment(format!(
+                    "the bench could not run {}: {e}",
+                    job.test.name()
+                ))
+            })?;
+        let telemetry = probe
+            .and_then(|p| p.into_any().downcast::<series::SeriesProbe>().ok())
+            .map(|p| p.finish());
         let theta = run.final_pose.theta_deg.to_radians() - job.heading_rad;
-        Ok(RunEndpoint {
+        let end = RunEndpoint {
             x_cm: run.x_cm,
             y_cm: run.y_cm,
             theta_rad: theta.sin().atan2(theta.cos()),
-        })
+        };
+        Ok((end, telemetry))
     }
 }
 
@@ -287,7 +334,22 @@ impl Model for BenchModel {
             .expect("one answer per request")
     }
 
-    // predict_series: the trait's default (unsupported). The bench records the telemetry
-    // layout's wheel speeds and PWM per control period only through the firmware's own
-    // stream, which this model does not decode yet.
+    /// One run of `experiment` (seed `run_seed(experiment.seed, 0)`, the run 0 of
+    /// [`Model::predict`]), sampled once per control period ([`CONTROL_PERIOD_S`]); see
+    /// `series.rs` for what a row holds.
+    fn predict_series(
+        &self,
+        params: &EffectParams,
+        experiment: &Experiment,
+    ) -> Result<gap::series::Telemetry, ModelError> {
+        let one = Experiment {
+            runs: 1,
+            ..experiment.clone()
+        };
+        let (_, series) = self
+            .run_many(&[(params.clone(), one)], true)
+            .pop()
+            .expect("one answer per request")?;
+        Ok(series.expect("run 0 records its series").exact)
+    }
 }

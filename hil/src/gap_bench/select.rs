@@ -10,9 +10,22 @@
 //! Only centroids are scored (the weighted χ² of the end points' means, as [`gap::Scorer`]
 //! weighs them): every candidate here is systematic, and the bench's nominal robot has no
 //! floor noise, so the spreads would add the same constant to every candidate.
+//!
+//! When training groups carry telemetry (one run logged every control period) and
+//! [`SelectOptions::series`] is on, every bench run of a group's centroid records its series
+//! too (the same run, no extra one), and each value's score is the centroid χ² plus the
+//! series χ² of [`super::series_chi2`]: per group, four residuals per segment kind (both
+//! wheels' mean real − bench speed and duty over the segment), each over its standard error
+//! σ/√n, σ the real series' own noise ([`super::series_noise`]: the long-run deviation of
+//! its steady legs, by batch means). The fits, the cross-validation (a left-out
+//! group's series is predicted too), the ranking and the comparison with the nominal robot
+//! all use that sum, so a candidate that fits the end points but not the speeds ranks below
+//! one that fits both. The p-value stays the end points' alone. Without telemetry nothing
+//! changes.
 
 use std::collections::BTreeMap;
 
+use super::series::SeriesScore;
 use gap::data::{Group, HeldOutSet, TrainSet};
 use gap::effects::ParamKind;
 use gap::fit::{FitOptions, Gap};
@@ -20,6 +33,9 @@ use gap::{EffectParams, GapError, Model, ParamSpec, Scorer};
 use serde::{Deserialize, Serialize};
 
 use super::{Batched, BenchModel};
+
+mod telemetry;
+use telemetry::{scores_series, series_total};
 
 /// Options of [`diagnose_bench`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -38,6 +54,8 @@ pub struct SelectOptions {
     pub fold_refine: usize,
     /// Weights and seeds of the scoring (as the kinematic diagnosis').
     pub fit: FitOptions,
+    /// Score the training groups' telemetry too, when they have it (see the module docs).
+    pub series: bool,
 }
 
 impl Default for SelectOptions {
@@ -48,6 +66,7 @@ impl Default for SelectOptions {
             refine: 8,
             fold_refine: 4,
             fit: FitOptions::default(),
+            series: true,
         }
     }
 }
@@ -70,6 +89,10 @@ pub struct BenchCandidate {
     pub cv_chi2: Option<f64>,
     /// Held-out systematic gap with it, cm.
     pub heldout_systematic_cm: f64,
+    /// Training series χ² at that value, and the RMS of real − bench speed over every
+    /// telemetry sample, thesis RPM (None: no telemetry scored).
+    pub series_chi2: Option<f64>,
+    pub series_rms_rpm: Option<f64>,
 }
 
 /// The answer of [`diagnose_bench`].
@@ -106,6 +129,21 @@ pub struct BenchDiagnosis {
     pub notes: Vec<String>,
     /// Bench runs made.
     pub bench_runs: usize,
+    /// With telemetry: the nominal robot's training series χ² and RMS (thesis RPM), the
+    /// number of series residuals, and the chosen model's per-segment gap of each training
+    /// group with telemetry.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nominal_series_chi2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nominal_series_rms_rpm: Option<f64>,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub series_residuals: usize,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub series: Vec<SeriesScore>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// The values of one candidate's search, each with every training group's χ².
@@ -116,6 +154,8 @@ struct Search<'a> {
     spec: ParamSpec,
     /// value (bits) -> χ² per training group.
     seen: BTreeMap<u64, Vec<f64>>,
+    /// value (bits) -> series χ² per training group (empty: no telemetry scored).
+    series: BTreeMap<u64, Vec<f64>>,
 }
 
 impl<'a> Search<'a> {
@@ -145,22 +185,24 @@ impl<'a> Search<'a> {
                 })
                 .collect()
         })?;
-        for (v, c) in todo.into_iter().zip(got) {
+        for (v, c) in todo.iter().zip(got) {
             self.seen.insert(v.to_bits(), c);
         }
-        Ok(())
+        self.eval_series(&todo)
     }
 
     /// χ² over the groups `keep` selects at `v` (evaluated before).
     fn at(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
         let c = &self.seen[&v.to_bits()];
-        self.train
+        let ends = self
+            .train
             .groups()
             .iter()
             .zip(c)
             .filter(|(g, _)| keep(g))
             .map(|(_, x)| x)
-            .sum()
+            .sum();
+        self.series_at(v, keep).map_or(ends, |s| ends + s)
     }
 
     /// [`Search::at`], or infinity for a value not evaluated.
@@ -394,6 +436,18 @@ pub struct NominalFit {
     pub heldout: Gap,
     /// Bench runs these took.
     pub bench_runs: usize,
+    /// With telemetry: the training series' χ² and RMS (thesis RPM), and the number of
+    /// series residuals (see the module docs).
+    #[serde(default)]
+    pub series_chi2: Option<f64>,
+    #[serde(default)]
+    pub series_rms_rpm: Option<f64>,
+    #[serde(default)]
+    pub series_residuals: usize,
+    /// The per-segment score of each group with telemetry. Not in a shard's partial: a
+    /// merged report has the series' χ² but not this table.
+    #[serde(skip)]
+    pub series_gaps: Vec<SeriesScore>,
 }
 
 /// One candidate fitted completely: its search, folds and held-out gap.
@@ -409,6 +463,9 @@ pub struct FittedCandidate {
     /// Its prediction of the training centroids at its value: the weighted residuals of
     /// [`Scorer::centroid_residuals`], group after group (what [`alike`] compares).
     pub train_residuals: Vec<f64>,
+    /// As [`NominalFit::series_gaps`], at its fitted value.
+    #[serde(skip)]
+    pub series_gaps: Vec<SeriesScore>,
 }
 
 /// Runs the bench-backed diagnosis (see the module docs). `shortlist` is the kinematic
@@ -421,7 +478,7 @@ pub fn diagnose_bench(
     opts: &SelectOptions,
     progress: &dyn Fn(&str),
 ) -> Result<BenchDiagnosis, GapError> {
-    let batched = Batched::new(bench);
+    let batched = Batched::with_series(bench, scores_series(train, opts));
     let plan = FitPlan::new(bench, shortlist, train, opts);
     let nominal = fit_nominal(&batched, &plan, train, held, opts, progress)?;
     let all: Vec<usize> = (0..plan.candidates.len()).collect();
@@ -451,6 +508,7 @@ pub fn fit_nominal(
         Ok((groups, sc.gap(&neutral, held.groups())?))
     })?;
     let nominal_train_chi2: f64 = nominal_groups.iter().sum();
+    let nominal_series = series_total(batched, train, &opts.fit, &neutral)?;
     let residuals = batched.eval(|m| -> Result<usize, GapError> {
         let sc = Scorer::new(m, train, &opts.fit);
         let mut n = 0;
@@ -472,6 +530,10 @@ pub fn fit_nominal(
         train_gap,
         heldout,
         bench_runs: batched.runs() - before,
+        series_chi2: nominal_series.as_ref().map(|t| t.chi2),
+        series_rms_rpm: nominal_series.as_ref().map(|t| t.rms_rpm),
+        series_residuals: nominal_series.as_ref().map_or(0, |t| t.residuals),
+        series_gaps: nominal_series.map_or(Vec::new(), |t| t.gaps),
     })
 }
 
@@ -489,6 +551,7 @@ pub fn fit_candidates(
     let specs = batched.parameters();
     let (by_experiment, folds, cv) = (plan.by_experiment, &plan.folds, plan.cv());
     let mut candidates = Vec::new();
+    let mut series_gaps = Vec::new();
     for &i in which {
         let (name, source) = &plan.candidates[i];
         let spec = specs
@@ -502,10 +565,12 @@ pub fn fit_candidates(
             fit: &opts.fit,
             spec,
             seen: BTreeMap::new(),
+            series: BTreeMap::new(),
         };
         let grid = search.grid(opts.grid);
         search.eval(&grid)?;
-        let (value, train_chi2) = search.fit(&grid, opts.refine, &|_| true)?;
+        let (value, _) = search.fit(&grid, opts.refine, &|_| true)?;
+        let (train_chi2, series_chi2) = search.parts(value);
         let cv_chi2 = if cv {
             let mut total = 0.0;
             for f in folds {
@@ -519,13 +584,15 @@ pub fn fit_candidates(
             None
         };
         progress(&format!(
-            "bench: [{}/{}] {name} {value:.4}: training χ² {train_chi2:.1}{} ({} bench runs so \
-             far)",
+            "bench: [{}/{}] {name} {value:.4}: training χ² {train_chi2:.1}{}{} ({} bench runs \
+             so far)",
             i + 1,
             plan.candidates.len(),
+            series_chi2.map_or(String::new(), |c| format!(" + series {c:.1}")),
             cv_chi2.map_or(String::new(), |c| format!(", cross-validated {c:.1}")),
             batched.runs()
         ));
+        let series = series_total(batched, train, &opts.fit, &search.params(value))?;
         candidates.push(BenchCandidate {
             effect: name.clone(),
             symbol: search.spec.symbol.clone(),
@@ -535,7 +602,10 @@ pub fn fit_candidates(
             train_chi2,
             cv_chi2,
             heldout_systematic_cm: f64::NAN,
+            series_chi2,
+            series_rms_rpm: series.as_ref().map(|t| t.rms_rpm),
         });
+        series_gaps.push(series.map_or(Vec::new(), |t| t.gaps));
     }
 
     // Held out, every candidate in one batch; the training gap at each fitted value comes
@@ -562,8 +632,9 @@ pub fn fit_candidates(
         .iter()
         .zip(candidates)
         .zip(gaps)
+        .zip(series_gaps)
         .map(
-            |((&index, mut candidate), (heldout, train_gap, train_residuals))| {
+            |(((&index, mut candidate), (heldout, train_gap, train_residuals)), series_gaps)| {
                 candidate.heldout_systematic_cm = heldout.systematic_cm;
                 FittedCandidate {
                     index,
@@ -571,6 +642,7 @@ pub fn fit_candidates(
                     train_gap,
                     heldout,
                     train_residuals,
+                    series_gaps,
                 }
             },
         )
@@ -598,18 +670,22 @@ pub fn choose(
         );
     }
     let nominal_train_chi2 = nominal.train_chi2;
-    let nominal_cv_chi2 = cv.then_some(nominal_train_chi2);
+    let nominal_score = nominal_train_chi2 + nominal.series_chi2.unwrap_or(0.0);
+    let nominal_cv_chi2 = cv.then_some(nominal_score);
     let residuals = nominal.residuals;
-    fitted.sort_by(|a, b| a.candidate.train_chi2.total_cmp(&b.candidate.train_chi2));
+    fitted.sort_by(|a, b| {
+        a.candidate
+            .train_score()
+            .total_cmp(&b.candidate.train_score())
+    });
     let candidates: Vec<BenchCandidate> = fitted.iter().map(|f| f.candidate.clone()).collect();
     let heldout_before = nominal.heldout.clone();
 
-    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_chi2);
+    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_score());
     let best = candidates
         .iter()
         .enumerate()
         .min_by(|a, b| score(a.1).total_cmp(&score(b.1)));
-    let nominal_score = nominal_cv_chi2.unwrap_or(nominal_train_chi2);
     let winner = match best {
         Some((i, c)) if score(c) < nominal_score => {
             if i > 0 {
@@ -702,6 +778,10 @@ pub fn choose(
             heldout_before.systematic_cm, heldout_after.systematic_cm
         ));
     }
+    let winner_series = match winner {
+        Some((i, _)) => fitted[i].series_gaps.clone(),
+        None => nominal.series_gaps.clone(),
+    };
     BenchDiagnosis {
         model: plan.model.clone(),
         rule: plan.rule.clone(),
@@ -723,6 +803,19 @@ pub fn choose(
         p_value,
         notes,
         bench_runs,
+        nominal_series_chi2: nominal.series_chi2,
+        nominal_series_rms_rpm: nominal.series_rms_rpm,
+        series_residuals: nominal.series_residuals,
+        series: winner_series,
+    }
+}
+
+impl BenchCandidate {
+    /// The training score the candidates are ranked by: the end points' χ², plus the
+    /// series' when scored.
+    pub fn train_score(&self) -> f64 {
+        self.series_chi2
+            .map_or(self.train_chi2, |s| self.train_chi2 + s)
     }
 }
 
@@ -784,6 +877,7 @@ impl BenchDiagnosis {
                 c.source
             );
         }
+        self.render_series(&mut s);
         match &self.winner {
             Some((name, v)) => {
                 let unit = self.winner_candidate().map_or("", |c| c.unit.as_str());
@@ -827,6 +921,8 @@ mod tests {
             train_chi2,
             cv_chi2: None,
             heldout_systematic_cm: 0.0,
+            series_chi2: None,
+            series_rms_rpm: None,
         }
     }
 

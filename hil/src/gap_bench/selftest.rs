@@ -2,7 +2,10 @@
 //! effect, as a person with a tape measure would record it (5 runs per group, floor noise
 //! 1°/√m), the thesis' protocol (UMBmark both ways and a line for training, the
 //! counter-clockwise triangle held out), diagnosed blind: the kinematic diagnosis' shortlist,
-//! then [`super::diagnose_bench`].
+//! then [`super::diagnose_bench`]. Each group also has the telemetry of its first run, its
+//! speeds from the encoder counts of each control period as a robot's firmware logs them
+//! (whole counts: the resolution of a real robot's log); [`SelectOptions::series`] says
+//! whether the diagnosis uses it.
 
 use gap::data::{Dataset, Group, ObservedRun, SplitRule};
 use gap::effects::FLOOR_NOISE;
@@ -215,8 +218,9 @@ pub(super) fn make_data(
         .map(|e| (noisy.clone(), e.clone()))
         .collect();
     let mut groups = Vec::new();
-    for (exp, runs) in experiments.into_iter().zip(bench.predict_many(&requests)) {
-        let runs = runs?
+    for (exp, answer) in experiments.into_iter().zip(bench.run_many(&requests, true)) {
+        let (ends, series) = answer?;
+        let runs = ends
             .into_iter()
             .map(|r| ObservedRun {
                 x_cm: r.x_cm,
@@ -224,7 +228,12 @@ pub(super) fn make_data(
                 theta_rad: Some(r.theta_rad),
             })
             .collect();
-        groups.push(Group::new("bench", exp, runs)?);
+        let group = Group::new("bench", exp, runs)?;
+        // The first run's log, its speeds from the encoder counts as the firmware's.
+        groups.push(match series {
+            Some(s) => group.with_telemetry(s.counted),
+            None => group,
+        });
     }
     Dataset::new(groups)
 }

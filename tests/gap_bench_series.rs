@@ -1,0 +1,201 @@
+//! The bench's time series (`hil::gap_bench`, `BenchModel::predict_series`): one row per
+//! control period, the segments of the test in their order at the firmware's set-point, a
+//! dead band seen in the duties, and a run that records its series is the run that does not.
+
+#[path = "support/mod.rs"]
+mod support;
+
+use gap::effects::DEAD_BAND;
+use gap::model::{Experiment, Firmware, Model, TestKind};
+use gap::series::{segments, SegmentKind, Telemetry};
+use gap::EffectParams;
+use hil::gap_bench::{BenchModel, CONTROL_PERIOD_S};
+use plant_model::RobotConfig;
+
+const LEG_MM: f64 = 300.0;
+/// The robust build's set-point of both wheels, thesis RPM.
+const SETPOINT_RPM: f64 = 14.47;
+
+fn bench() -> BenchModel {
+    BenchModel::new(support::firmware("robust"), RobotConfig::default(), 2)
+}
+
+fn experiment(bench: &BenchModel, test: TestKind) -> Experiment {
+    let reference = bench.reference();
+    Experiment {
+        test,
+        firmware: Firmware::nominal(&reference, LEG_MM),
+        reference,
+        runs: 1,
+        seed: 3,
+    }
+}
+
+/// The segments in order, a leg's start-up and steady part as one leg, stops left out.
+fn shape(t: &Telemetry) -> Vec<&'static str> {
+    let mut v: Vec<&'static str> = Vec::new();
+    for k in segments(t) {
+        let name = match k {
+            SegmentKind::Startup | SegmentKind::Steady => "leg",
+            SegmentKind::Turn => "turn",
+            SegmentKind::StopCoast => continue,
+        };
+        if v.last() != Some(&name) {
+            v.push(name);
+        }
+    }
+    v
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// The nominal robot's UMBmark: rows one period apart, four legs and four spins in turn,
+/// the steady legs at the set-point, the end of the series where the run ends.
+#[test]
+fn the_nominal_series_has_the_tests_segments_at_the_set_point() {
+    let b = bench();
+    let exp = experiment(&b, TestKind::UmbmarkCw);
+    let t = b.predict_series(&EffectParams::new(), &exp).unwrap();
+    assert_eq!(t.period_s, CONTROL_PERIOD_S);
+    assert!(t.samples.len() > 100, "{} rows", t.samples.len());
+    for w in t.samples.windows(2) {
+        let dt = w[1].t_s - w[0].t_s;
+        // Rows end at the run loop's checks: within one check (64 us) of the period.
+        assert!(
+            (dt - CONTROL_PERIOD_S).abs() < 1e-4,
+            "rows {dt} s apart at t = {}",
+            w[1].t_s
+        );
+    }
+    assert_eq!(
+        shape(&t),
+        ["leg", "turn", "leg", "turn", "leg", "turn", "leg", "turn"],
+        "{:?}",
+        shape(&t)
+    );
+    let seg = segments(&t);
+    let steady = |f: &dyn Fn(&gap::series::Sample) -> f64| {
+        median(
+            t.samples
+                .iter()
+                .zip(&seg)
+                .filter(|(_, k)| **k == SegmentKind::Steady)
+                .map(|(s, _)| f(s))
+                .collect(),
+        )
+    };
+    for (side, rpm) in [
+        ("left", steady(&|s| s.rpm_left)),
+        ("right", steady(&|s| s.rpm_right)),
+    ] {
+        assert!(
+            (rpm - SETPOINT_RPM).abs() < 0.05 * SETPOINT_RPM,
+            "{side} wheel's steady speed {rpm:.2} thesis RPM, set-point {SETPOINT_RPM}"
+        );
+    }
+    // In a spin the wheels turn against each other.
+    let turn: Vec<_> = t
+        .samples
+        .iter()
+        .zip(&seg)
+        .filter(|(_, k)| **k == SegmentKind::Turn)
+        .map(|(s, _)| s.rpm_left * s.rpm_right)
+        .collect();
+    assert!(median(turn) < 0.0, "the wheels of a spin turn the same way");
+    // The pose of the last row is the run's end (the end point in cm, before the frame's
+    // heading correction: the UMBmark's commanded heading change is a full turn).
+    let end = b.predict(&EffectParams::new(), &exp).unwrap()[0];
+    let (x, y, _) = t.samples.last().unwrap().pose.unwrap();
+    assert!(
+        (x / 10.0 - end.x_cm).abs() < 0.05 && (y / 10.0 - end.y_cm).abs() < 0.05,
+        "series ends at ({:.2}, {:.2}) cm, the run at ({:.2}, {:.2}) cm",
+        x / 10.0,
+        y / 10.0,
+        end.x_cm,
+        end.y_cm
+    );
+}
+
+/// A left dead band of 0.12: the controller needs more left duty for the same steady
+/// speed, and the left wheel starts later than the nominal robot's.
+#[test]
+fn a_left_dead_band_shows_in_the_left_duty() {
+    let b = bench();
+    let exp = experiment(&b, TestKind::Line);
+    let of = |v: f64| {
+        b.predict_series(&EffectParams::new().with(DEAD_BAND, v), &exp)
+            .unwrap()
+    };
+    let (nominal, banded) = (of(0.0), of(0.12));
+    let steady = |t: &Telemetry, f: &dyn Fn(&gap::series::Sample) -> f64| {
+        let seg = segments(t);
+        median(
+            t.samples
+                .iter()
+                .zip(&seg)
+                .filter(|(_, k)| **k == SegmentKind::Steady)
+                .map(|(s, _)| f(s))
+                .collect(),
+        )
+    };
+    let (pwm_n, pwm_b) = (
+        steady(&nominal, &|s| s.pwm_left),
+        steady(&banded, &|s| s.pwm_left),
+    );
+    let (rpm_n, rpm_b) = (
+        steady(&nominal, &|s| s.rpm_left),
+        steady(&banded, &|s| s.rpm_left),
+    );
+    let right = (
+        steady(&nominal, &|s| s.pwm_right),
+        steady(&banded, &|s| s.pwm_right),
+    );
+    assert!(
+        pwm_b > pwm_n + 10.0 && (rpm_b - rpm_n).abs() < 0.05 * rpm_n,
+        "steady left duty {pwm_n:.1} -> {pwm_b:.1} at {rpm_n:.2} -> {rpm_b:.2} thesis RPM"
+    );
+    assert!(
+        (right.1 - right.0).abs() < 5.0,
+        "steady right duty {:.1} -> {:.1}",
+        right.0,
+        right.1
+    );
+    // The first rows: the left wheel behind the nominal one.
+    let first = |t: &Telemetry| t.samples[..4].iter().map(|s| s.rpm_left).sum::<f64>();
+    assert!(
+        first(&banded) < first(&nominal),
+        "first rows' left speed {:.2} (dead band) vs {:.2}",
+        first(&banded),
+        first(&nominal)
+    );
+}
+
+/// Recording the series changes nothing in the run: its end is the unrecorded run's, bit for
+/// bit; the counted series (the firmware's view) follows the exact one to within one count
+/// per period.
+#[test]
+fn a_recorded_run_is_the_unrecorded_run() {
+    let b = bench();
+    let exp = experiment(&b, TestKind::TriangleCcw);
+    let p = EffectParams::new().with(DEAD_BAND, -0.05);
+    let plain = b.predict(&p, &exp).unwrap();
+    let (ends, series) = b
+        .run_many(&[(p.clone(), exp.clone())], true)
+        .pop()
+        .unwrap()
+        .unwrap();
+    assert_eq!(plain, ends);
+    let s = series.unwrap();
+    assert_eq!(s.exact, b.predict_series(&p, &exp).unwrap());
+    assert_eq!(s.exact.samples.len(), s.counted.samples.len());
+    // One count per 15 ms is 60 / 602.22 / 0.015 / 6 = 1.107 thesis RPM.
+    let count_rpm = 60.0 / (6.0 * 100.37) / CONTROL_PERIOD_S / 6.0;
+    for (e, c) in s.exact.samples.iter().zip(&s.counted.samples) {
+        assert!((e.rpm_left - c.rpm_left).abs() <= 1.01 * count_rpm);
+        assert!((e.rpm_right - c.rpm_right).abs() <= 1.01 * count_rpm);
+        assert_eq!((e.pwm_left, e.pwm_right), (c.pwm_left, c.pwm_right));
+    }
+}
