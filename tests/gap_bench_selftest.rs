@@ -2,7 +2,7 @@
 //! with one hidden effect (a left dead band the kinematic model cannot represent, coasting
 //! it can), 5 runs per group, floor noise 1°/√m, UMBmark both ways and a
 //! line for training, the triangle held out. The hidden effect must be named first, fitted
-//! within 10 %, and the held-out gap must shrink by three quarters at least.
+//! within 10 %, and the held-out gap must shrink by half at least.
 
 #[path = "support/mod.rs"]
 mod support;
@@ -27,7 +27,7 @@ fn the_hidden_effect_is_found_by_the_bench() {
         assert!(c.named_first(), "{}: {}", c.effect, t.render());
         assert!(c.value_close(), "{}: {}", c.effect, t.render());
         assert!(
-            c.heldout_cut_pct() >= 75.0,
+            c.heldout_cut_pct() >= 50.0,
             "{}: held-out gap {:.2} -> {:.2} cm",
             c.effect,
             c.heldout_before_cm,
@@ -70,8 +70,11 @@ fn without_series_the_diagnosis_is_the_end_points_alone() {
 #[test]
 fn the_series_gives_the_gain_asymmetry_its_sign() {
     let bench = BenchModel::new(support::firmware("robust"), RobotConfig::default(), 2);
-    let case = DEFAULT_CASES[2];
-    assert_eq!(case, (gap::effects::MOTOR_GAIN_ASYMMETRY, 0.15));
+    let case = *DEFAULT_CASES
+        .iter()
+        .find(|c| c.0 == gap::effects::MOTOR_GAIN_ASYMMETRY)
+        .expect("a self-test case");
+    assert_eq!(case.1, 0.15);
     let t = bench_self_test(
         &bench,
         &[case],

@@ -47,6 +47,19 @@ fn shape(t: &Telemetry) -> Vec<&'static str> {
     v
 }
 
+/// The median of `f` over the steady samples of `t`.
+fn steady_median(t: &Telemetry, f: &dyn Fn(&gap::series::Sample) -> f64) -> f64 {
+    let seg = segments(t);
+    median(
+        t.samples
+            .iter()
+            .zip(&seg)
+            .filter(|(_, k)| **k == SegmentKind::Steady)
+            .map(|(s, _)| f(s))
+            .collect(),
+    )
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -76,17 +89,7 @@ fn the_nominal_series_has_the_tests_segments_at_the_set_point() {
         "{:?}",
         shape(&t)
     );
-    let seg = segments(&t);
-    let steady = |f: &dyn Fn(&gap::series::Sample) -> f64| {
-        median(
-            t.samples
-                .iter()
-                .zip(&seg)
-                .filter(|(_, k)| **k == SegmentKind::Steady)
-                .map(|(s, _)| f(s))
-                .collect(),
-        )
-    };
+    let steady = |f: &dyn Fn(&gap::series::Sample) -> f64| steady_median(&t, f);
     for (side, rpm) in [
         ("left", steady(&|s| s.rpm_left)),
         ("right", steady(&|s| s.rpm_right)),
@@ -100,7 +103,7 @@ fn the_nominal_series_has_the_tests_segments_at_the_set_point() {
     let turn: Vec<_> = t
         .samples
         .iter()
-        .zip(&seg)
+        .zip(&segments(&t))
         .filter(|(_, k)| **k == SegmentKind::Turn)
         .map(|(s, _)| s.rpm_left * s.rpm_right)
         .collect();
@@ -130,17 +133,7 @@ fn a_left_dead_band_shows_in_the_left_duty() {
             .unwrap()
     };
     let (nominal, banded) = (of(0.0), of(0.12));
-    let steady = |t: &Telemetry, f: &dyn Fn(&gap::series::Sample) -> f64| {
-        let seg = segments(t);
-        median(
-            t.samples
-                .iter()
-                .zip(&seg)
-                .filter(|(_, k)| **k == SegmentKind::Steady)
-                .map(|(s, _)| f(s))
-                .collect(),
-        )
-    };
+    let steady = steady_median;
     let (pwm_n, pwm_b) = (
         steady(&nominal, &|s| s.pwm_left),
         steady(&banded, &|s| s.pwm_left),
