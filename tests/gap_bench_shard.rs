@@ -8,18 +8,12 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use support::hil;
 
 use hil::gap_bench::{measure_diagnosis, BenchModel, SelectOptions, SpeedPlan, DEFAULT_CASES};
 use plant_model::RobotConfig;
-
-fn hil(args: &[&str]) -> Output {
-    let _ = support::firmware_path("robust");
-    Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(args)
-        .output()
-        .expect("hil runs")
-}
 
 fn ok(out: &Output) {
     assert!(

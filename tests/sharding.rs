@@ -4,7 +4,7 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use std::process::{Command, Output};
+use support::hil;
 
 use hil::bench::BenchOptions;
 use hil::umbmark::{execute, merge, report, Partial, Plan, Shard};
@@ -69,14 +69,6 @@ fn shards_merge_into_the_single_machine_result() {
     let only_a = run(&plan, Some(Shard { k: 1, n: 2 }), 2);
     let err = merge(vec![only_a]).unwrap_err().to_string();
     assert!(err.contains("missing"), "{err}");
-}
-
-fn hil(args: &[&str]) -> Output {
-    let _ = support::firmware_path("robust");
-    Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(args)
-        .output()
-        .expect("hil runs")
 }
 
 /// `hil merge --json` of the shards prints the bytes `hil umbmark --json

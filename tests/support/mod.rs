@@ -53,3 +53,13 @@ pub fn firmware(name: &str) -> Firmware {
 pub fn robot(name: &str) -> RobotConfig {
     RobotConfig::load(hil::paths::robot_config(name)).expect("robot config loads")
 }
+
+/// Runs the `hil` binary with `args`, the robust firmware built first (the CLI looks for it
+/// in `firmware/target`).
+pub fn hil(args: &[&str]) -> std::process::Output {
+    let _ = firmware_path("robust");
+    Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(args)
+        .output()
+        .expect("hil runs")
+}

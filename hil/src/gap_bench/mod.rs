@@ -12,6 +12,8 @@
 //! | `select.rs` | the bench-backed diagnosis: 1-D fits, cross-validation, held-out gap |
 //! | `shard.rs` | the diagnosis' candidates split over machines, and the merge of the shards |
 //! | `speed.rs` | the diagnosis timed with one job and with N (`hil bench --diagnosis`) |
+//! | `select/choose.rs` | the choice over fitted candidates, the alike set, the notes |
+//! | `select/render.rs` | the diagnosis' report as text |
 //! | `select/telemetry.rs` | its telemetry part: the series score of a candidate's runs, its report |
 //! | `selftest.rs` | "real" data made by the bench with one hidden effect, diagnosed blind |
 //! | `series.rs` | the telemetry of a run, one row per control period, and its residual score |

@@ -1,0 +1,248 @@
+//! The choice over fitted candidates: ranking, the cross-validated choice against the
+//! nominal robot, the candidates the data cannot tell from the winner, and the report's
+//! notes (see the parent's docs).
+
+use super::{chi2, BenchCandidate, BenchDiagnosis, FitPlan, FittedCandidate, NominalFit};
+#[cfg(doc)]
+use gap::Scorer;
+
+/// Residual vectors closer than this (Euclidean, in standard errors over all training
+/// centroids) are the same prediction of the training data, as the kinematic diagnosis
+/// calls two effects alike.
+const ALIKE_SE: f64 = 2.0;
+/// A candidate "improves markedly" on the nominal robot when its training χ² is at least
+/// this much lower, and at most [`MARKED_FRACTION`] of the nominal's (the kinematic
+/// diagnosis' thresholds).
+const MARKED_CHI2: f64 = 6.0;
+const MARKED_FRACTION: f64 = 0.75;
+
+/// The candidates (indices) the training data cannot tell from `winner`: each improves
+/// markedly on the nominal robot, and its fitted prediction of the training centroids
+/// (`vectors`, weighted residuals in [`Scorer::centroid_residuals`]' order) lies within
+/// [`ALIKE_SE`] of the winner's.
+fn alike(
+    winner: usize,
+    candidates: &[BenchCandidate],
+    vectors: &[Vec<f64>],
+    nominal_chi2: f64,
+) -> Vec<usize> {
+    let marked = |c: &BenchCandidate| {
+        nominal_chi2 - c.train_chi2 >= MARKED_CHI2 && c.train_chi2 <= MARKED_FRACTION * nominal_chi2
+    };
+    (0..candidates.len())
+        .filter(|&j| j != winner && marked(&candidates[j]))
+        .filter(|&j| chi2(&difference(&vectors[winner], &vectors[j])).sqrt() < ALIKE_SE)
+        .collect()
+}
+
+fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
+/// The choice over fitted candidates (every candidate of `plan`, in any order): they are
+/// ranked by training χ², chosen by cross-validated χ² against the nominal robot's, and
+/// the report's notes say why. `bench_runs`: the runs the whole diagnosis made.
+pub fn choose(
+    plan: &FitPlan,
+    nominal: &NominalFit,
+    mut fitted: Vec<FittedCandidate>,
+    bench_runs: usize,
+) -> BenchDiagnosis {
+    // Plan order first, so that candidates with equal χ² rank as on one machine.
+    fitted.sort_by_key(|f| f.index);
+    let (by_experiment, cv) = (plan.by_experiment, plan.cv());
+    let mut notes = Vec::new();
+    if !cv {
+        notes.push(
+            "one training group: no cross-validation; the candidates are ranked and chosen \
+             by their training residual alone"
+                .to_owned(),
+        );
+    }
+    let nominal_train_chi2 = nominal.train_chi2;
+    let nominal_score = nominal_train_chi2 + nominal.series_chi2.unwrap_or(0.0);
+    let nominal_cv_chi2 = cv.then_some(nominal_score);
+    let residuals = nominal.residuals;
+    fitted.sort_by(|a, b| {
+        a.candidate
+            .train_score()
+            .total_cmp(&b.candidate.train_score())
+    });
+    let candidates: Vec<BenchCandidate> = fitted.iter().map(|f| f.candidate.clone()).collect();
+    let heldout_before = nominal.heldout.clone();
+
+    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_score());
+    let best = candidates
+        .iter()
+        .enumerate()
+        .min_by(|a, b| score(a.1).total_cmp(&score(b.1)));
+    let winner = match best {
+        Some((i, c)) if score(c) < nominal_score => {
+            if i > 0 {
+                notes.push(format!(
+                    "{} has the lowest training residual, but {} predicts the left-out {}s \
+                     better: {} is chosen",
+                    candidates[0].effect,
+                    c.effect,
+                    if by_experiment { "experiment" } else { "group" },
+                    c.effect
+                ));
+            }
+            Some((i, c))
+        }
+        Some((_, c)) => {
+            notes.push(format!(
+                "no candidate is taken: the best, {} ({} χ² {:.1}), predicts no better than the \
+                 nominal bench robot ({:.1})",
+                c.effect,
+                if cv { "cross-validated" } else { "training" },
+                score(c),
+                nominal_score
+            ));
+            None
+        }
+        None => None,
+    };
+    let vectors: Vec<Vec<f64>> = fitted.iter().map(|f| f.train_residuals.clone()).collect();
+    let alike_ix = winner.map_or(Vec::new(), |(i, _)| {
+        alike(i, &candidates, &vectors, nominal_train_chi2)
+    });
+    let heldout_after_range_cm = winner.filter(|_| !alike_ix.is_empty()).map(|(i, _)| {
+        let all = || {
+            std::iter::once(i)
+                .chain(alike_ix.iter().copied())
+                .map(|j| candidates[j].heldout_systematic_cm)
+        };
+        (
+            all().fold(f64::INFINITY, f64::min),
+            all().fold(f64::NEG_INFINITY, f64::max),
+        )
+    });
+    if let (Some((_, w)), Some((lo, hi))) = (winner, heldout_after_range_cm) {
+        notes.push(format!(
+            "{} cannot be told apart from {} by these data (fitted alone, their predictions \
+             of the training centroids differ by less than {ALIKE_SE} standard errors in \
+             total); predicted with each, the held-out systematic gap is {lo:.2} to {hi:.2} cm",
+            w.effect,
+            alike_ix
+                .iter()
+                .map(|&j| candidates[j].effect.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    let (heldout_after, left_chi2, dof) = match winner {
+        Some((i, c)) => (
+            fitted[i].heldout.clone(),
+            c.train_chi2,
+            residuals.saturating_sub(1).max(1),
+        ),
+        None => (heldout_before.clone(), nominal_train_chi2, residuals.max(1)),
+    };
+    let p_value = gap::stats::chi2_sf(left_chi2, dof);
+    let at_noise_level = p_value >= 0.01;
+    if !at_noise_level {
+        let train_gap = winner.map_or(&nominal.train_gap, |(i, _)| &fitted[i].train_gap);
+        let worst = train_gap
+            .groups
+            .iter()
+            .max_by(|a, b| a.systematic_cm.total_cmp(&b.systematic_cm));
+        let place = worst.map_or(String::new(), |g| {
+            format!(
+                "; the largest residual is in {}: x {:+.2} cm{}",
+                g.group,
+                g.residual_x_cm,
+                g.residual_y_cm
+                    .map_or(String::new(), |y| format!(", y {y:+.2} cm"))
+            )
+        });
+        notes.push(format!(
+            "no candidate explains the gap: the training residual left is beyond noise (χ² \
+             {left_chi2:.1} over {dof} degrees of freedom, p = {p_value:.2e}){place}"
+        ));
+    }
+    if heldout_after.systematic_cm > heldout_before.systematic_cm {
+        notes.push(format!(
+            "the chosen effect makes the held-out prediction worse: systematic gap {:.2} cm \
+             before, {:.2} cm after",
+            heldout_before.systematic_cm, heldout_after.systematic_cm
+        ));
+    }
+    let winner_series = match winner {
+        Some((i, _)) => fitted[i].series_gaps.clone(),
+        None => nominal.series_gaps.clone(),
+    };
+    BenchDiagnosis {
+        model: plan.model.clone(),
+        rule: plan.rule.clone(),
+        winner: winner.map(|(_, c)| (c.effect.clone(), c.value)),
+        alike: alike_ix
+            .iter()
+            .map(|&j| candidates[j].effect.clone())
+            .collect(),
+        heldout_after_range_cm,
+        candidates,
+        nominal_train_chi2,
+        nominal_cv_chi2,
+        residuals,
+        fold_by: if by_experiment { "experiment" } else { "group" },
+        folds: plan.folds.clone(),
+        heldout_before,
+        heldout_after,
+        at_noise_level,
+        p_value,
+        notes,
+        bench_runs,
+        nominal_series_chi2: nominal.series_chi2,
+        nominal_series_rms_rpm: nominal.series_rms_rpm,
+        series_residuals: nominal.series_residuals,
+        series: winner_series,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn candidate(effect: &str, train_chi2: f64) -> BenchCandidate {
+        BenchCandidate {
+            effect: effect.to_owned(),
+            symbol: String::new(),
+            unit: String::new(),
+            source: "test".to_owned(),
+            value: 0.0,
+            train_chi2,
+            cv_chi2: None,
+            heldout_systematic_cm: 0.0,
+            series_chi2: None,
+            series_rms_rpm: None,
+        }
+    }
+
+    /// Alike to the winner: a marked improvement on the nominal robot (χ² 100 here) and a
+    /// prediction within 2 standard errors of the winner's. Candidates predicting the same
+    /// but improving too little (by less than 6, or to more than three quarters of the
+    /// nominal's χ²), and one improving as much but predicting otherwise, are not.
+    #[test]
+    fn alike_needs_a_marked_improvement_and_the_same_prediction() {
+        let candidates = [
+            candidate("winner", 3.0),
+            candidate("close", 4.0),
+            candidate("far", 5.0),
+            candidate("weak", 96.0),
+            candidate("modest", 90.0),
+        ];
+        let vectors = [
+            vec![1.0, 0.0],
+            vec![2.0, 1.0],
+            vec![1.0, 3.0],
+            vec![1.0, 0.0],
+            vec![1.0, 0.0],
+        ];
+        assert_eq!(alike(0, &candidates, &vectors, 100.0), vec![1]);
+        // To half the nominal's χ², but by 3 only: not marked; by 6: marked.
+        let few = [candidate("winner", 1.0), candidate("close", 3.0)];
+        assert_eq!(alike(0, &few, &vectors[..2], 6.0), Vec::<usize>::new());
+        assert_eq!(alike(0, &few, &vectors[..2], 9.0), vec![1]);
+    }
+}
