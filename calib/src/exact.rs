@@ -150,7 +150,7 @@ fn least_squares<const N: usize, const M: usize>(
     }
     starts
         .into_iter()
-        .filter_map(|s| marquardt(s, &f, &inside))
+        .filter_map(|s| marquardt(s, &f, bounds))
         .map(|p| (cost(p), p))
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(c, p)| Fit {
@@ -195,11 +195,16 @@ fn grid_minimum<const N: usize>(bounds: [f64; N], cost: &impl Fn([f64; N]) -> f6
     }
 }
 
-/// Levenberg-Marquardt from `start`, staying where `inside` holds; `None` when it leaves.
+/// Levenberg-Marquardt from `start` within `|p_j| ≤ bounds[j]`: a step that would leave
+/// the box is cut to it (projected), and a parameter held at its bound by the descent is
+/// fixed there while the others move, so a minimum on an edge of the range (a turn error
+/// at its largest, with offsets the model cannot explain) is found along that edge instead
+/// of stalling where the first step out was refused. `None` when the normal equations are
+/// singular or the residuals stop being finite.
 fn marquardt<const N: usize, const M: usize>(
     start: [f64; N],
     f: &impl Fn([f64; N]) -> [f64; M],
-    inside: &impl Fn(&[f64; N]) -> bool,
+    bounds: [f64; N],
 ) -> Option<[f64; N]> {
     let cost = |r: &[f64; M]| r.iter().map(|v| v * v).sum::<f64>();
     let mut p = start;
@@ -228,24 +233,34 @@ fn marquardt<const N: usize, const M: usize>(
                 }
             }
         }
+        // At its bound with the descent (−Jᵀr) pointing out: held there this iteration.
+        let held: [bool; N] =
+            std::array::from_fn(|j| p[j].abs() >= bounds[j] && jtr[j] * p[j].signum() < 0.0);
         let mut improved = false;
         for _ in 0..30 {
             let mut damped = jtj;
-            for (a, row) in damped.iter_mut().enumerate() {
-                row[a] += lambda * jtj[a][a].max(1e-12);
+            let mut rhs = jtr;
+            for a in 0..N {
+                damped[a][a] += lambda * jtj[a][a].max(1e-12);
+                if held[a] {
+                    // δ_a = 0, and no other unknown couples to it.
+                    for b in 0..N {
+                        damped[a][b] = 0.0;
+                        damped[b][a] = 0.0;
+                    }
+                    damped[a][a] = 1.0;
+                    rhs[a] = 0.0;
+                }
             }
-            let step = solve(damped, jtr)?;
-            let mut q = p;
-            for j in 0..N {
-                q[j] -= step[j];
-            }
-            if !inside(&q) {
-                lambda *= 10.0;
-                continue;
-            }
+            let step = solve(damped, rhs)?;
+            let q: [f64; N] =
+                std::array::from_fn(|j| (p[j] - step[j]).clamp(-bounds[j], bounds[j]));
             let rq = f(q);
+            if !rq.iter().all(|v| v.is_finite()) {
+                return None;
+            }
             if cost(&rq) <= cost(&r) {
-                let moved = step.iter().map(|s| s.abs()).fold(0.0, f64::max);
+                let moved = (0..N).map(|j| (q[j] - p[j]).abs()).fold(0.0, f64::max);
                 (p, r) = (q, rq);
                 lambda = (lambda / 10.0).max(1e-12);
                 improved = true;

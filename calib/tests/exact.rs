@@ -186,3 +186,49 @@ fn a_triangle_fit_reports_the_rms_of_the_components_measured() {
         );
     }
 }
+
+/// UMBmark end points whose turn error lies past the range (0.7 rad), with offsets the model
+/// cannot explain: the fit sits on the edge α = 0.6 and, along that edge, at the least
+/// squares minimum in β (no neighbour 10⁻⁶..10⁻² rad away fits better), wherever the
+/// first-order start and the grid put it.
+#[test]
+fn a_fit_on_the_edge_of_the_range_is_the_minimum_along_it() {
+    let q = std::f64::consts::FRAC_PI_2;
+    let rms = |a: f64, b: f64, cw: Endpoint, ccw: Endpoint| {
+        let (pcw, pccw) = (
+            polygon_end(a, b, L, q, Direction::Cw, 4),
+            polygon_end(a, b, L, q, Direction::Ccw, 4),
+        );
+        let r = [
+            pcw.x_cm - cw.x_cm,
+            pcw.y_cm - cw.y_cm,
+            pccw.x_cm - ccw.x_cm,
+            pccw.y_cm - ccw.y_cm,
+        ];
+        (r.iter().map(|v| v * v).sum::<f64>() / 4.0).sqrt()
+    };
+    for (a, b, dx, dy) in [
+        (0.7, 0.1, 12.0, -20.0),
+        (-0.7, -0.05, -30.0, 8.0),
+        (0.75, 0.013, 5.0, 40.0),
+    ] {
+        let mut cw = polygon_end(a, b, L, q, Direction::Cw, 4);
+        let ccw = polygon_end(a, b, L, q, Direction::Ccw, 4);
+        cw.x_cm += dx;
+        cw.y_cm += dy;
+        let fit = umbmark_alpha_beta(cw, ccw, L).expect("a best fit");
+        let [fa, fb] = fit.params;
+        assert_eq!(fa.abs(), 0.6, "{a} {b}: {fit:?}");
+        assert!((fit.rms_cm - rms(fa, fb, cw, ccw)).abs() < 1e-9, "{fit:?}");
+        for d in [1e-6, 1e-5, 1e-4, 1e-3, 1e-2] {
+            for nb in [fb - d, fb + d] {
+                let near = rms(fa, nb, cw, ccw);
+                assert!(
+                    near >= fit.rms_cm - 1e-9,
+                    "{a} {b}: β {nb} fits better ({near} cm) than the fit's {fb} ({} cm)",
+                    fit.rms_cm
+                );
+            }
+        }
+    }
+}
