@@ -244,9 +244,9 @@ fn marquardt<const N: usize, const M: usize>(
                 damped[a][a] += lambda * jtj[a][a].max(1e-12);
                 if held[a] {
                     // δ_a = 0, and no other unknown couples to it.
-                    for b in 0..N {
-                        damped[a][b] = 0.0;
-                        damped[b][a] = 0.0;
+                    damped[a] = [0.0; N];
+                    for row in damped.iter_mut() {
+                        row[a] = 0.0;
                     }
                     damped[a][a] = 1.0;
                     rhs[a] = 0.0;
