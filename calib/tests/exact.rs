@@ -232,3 +232,27 @@ fn a_fit_on_the_edge_of_the_range_is_the_minimum_along_it() {
         }
     }
 }
+
+/// Long legs (4.9 m) and a turn error past the range with offsets of decimetres: the grid's
+/// best point (0.02 rad apart, 10 cm of a leg's end in β) lies in the basin of the edge
+/// α = −0.6, whose minimum leaves 48.29 cm rms; the first-order start lies in the basin of
+/// a better one, near (0.0884, −0.0110) with 47.08 cm. The fit is the better of the two.
+#[test]
+fn a_narrow_basin_the_grid_misses_is_found_from_the_first_order_start() {
+    let cw = Endpoint {
+        x_cm: -41.589083642838176,
+        y_cm: -105.89888833097663,
+    };
+    let ccw = Endpoint {
+        x_cm: -6.499933719274331,
+        y_cm: 156.05568994150627,
+    };
+    let fit = umbmark_alpha_beta(cw, ccw, 488.69278805892395).expect("a best fit");
+    let [a, b] = fit.params;
+    assert!(
+        (fit.rms_cm - 47.0829).abs() < 1e-3
+            && (a - 0.08838).abs() < 1e-4
+            && (b + 0.01095).abs() < 1e-4,
+        "{fit:?}"
+    );
+}
