@@ -215,6 +215,8 @@ fn rewiring_releases_the_old_inputs_first_then_sets_up_the_new() {
     assert!(!rest.iter().any(|(a, _)| *a == mp::TCCR4A || *a == mp::TCCR2A));
     assert_eq!(d.wiring(), &enable_two_dir());
     assert!(d.drives(&enable_two_dir()));
+    // The wiring it no longer has is not the one it drives.
+    assert!(!d.drives(&henrytwo()));
     // The same wiring again writes nothing, nor does one that fails the check.
     d.rewire(&enable_two_dir());
     assert!(take(&mut d).is_empty());
