@@ -95,6 +95,10 @@ fn two_pwm_writes_one_channel_per_request_as_analog_write() {
     // 255: PORTH bit 4 high, then the channel released.
     d.set_forward(Side::Right, 255);
     assert_eq!(take(&mut d), vec![(PORTH, 0x10), (mp::TCCR4A, 0x01)]);
+    // Full duty again: the pin already high stays high.
+    d.set_forward(Side::Right, 255);
+    assert_eq!(d.registers().mem[&PORTH] & 0x10, 0x10, "D7 (PH4) still high");
+    take(&mut d);
     // Left reverse D8 = OC4C (COM4C1 = bit 3); the right's pin stays high.
     d.set_reverse(Side::Left, 200);
     assert_eq!(take(&mut d), vec![(mp::OCR4C + 1, 0), (mp::OCR4C, 200), (mp::TCCR4A, 0x09)]);
@@ -215,6 +219,8 @@ fn rewiring_releases_the_old_inputs_first_then_sets_up_the_new() {
     assert!(!rest.iter().any(|(a, _)| *a == mp::TCCR4A || *a == mp::TCCR2A));
     assert_eq!(d.wiring(), &enable_two_dir());
     assert!(d.drives(&enable_two_dir()));
+    // The wiring it no longer has is not the one it drives.
+    assert!(!d.drives(&henrytwo()));
     // The same wiring again writes nothing, nor does one that fails the check.
     d.rewire(&enable_two_dir());
     assert!(take(&mut d).is_empty());
