@@ -691,6 +691,44 @@ mod tests {
         assert!(seg.speed_at(tz + Seconds(1e-6)).0 < 0.0);
     }
 
+    /// The short series for `e^x - 1` is the library's to rounding over its whole range
+    /// (|x| <= 1/32), where the next term it drops is below 2^-45 x: a wrong coefficient
+    /// anywhere up to the x^7 term is off by more than 1e-15 relative somewhere.
+    #[test]
+    fn series_for_expm1_is_the_library_to_rounding() {
+        for i in -256..=256 {
+            let x = f64::from(i) / (256.0 * 32.0);
+            let (series, library) = (expm1_near_zero(x), x.exp_m1());
+            assert!(
+                (series - library).abs() <= 1e-15 * library.abs(),
+                "x = {x}: series {series}, library {library}"
+            );
+        }
+        // Beyond the series' range it is the library's.
+        assert_eq!(expm1_near_zero(0.5), 0.5f64.exp_m1());
+    }
+
+    /// The expansion about `a` gives the closed form's angle and speed at `a + u`, for
+    /// steps where the series serves (u much shorter than tau) and where it does not.
+    #[test]
+    fn expansion_about_a_time_is_the_closed_form() {
+        let m = FirstOrderMotor::henrytwo_left();
+        let seg = Segment::new(
+            Seconds(0.1),
+            Radians(2.0),
+            RadPerSec(-3.0),
+            m.relaxation(fwd(0.8), V),
+        );
+        let a = Seconds(0.13);
+        let around = seg.around(a, seg.evaluate(a));
+        for u in [0.0, 1e-4, 1.5e-3, 0.02, 0.2] {
+            let (angle, speed) = around.state(u);
+            let t = Seconds(a.0 + u);
+            assert_relative_eq!(angle, seg.angle_at(t).0, max_relative = 1e-13);
+            assert_relative_eq!(speed, seg.speed_at(t).0, max_relative = 1e-13);
+        }
+    }
+
     proptest! {
         /// Coasting or braking from any speed never reverses the wheel: the speed keeps its
         /// sign and shrinks, for any mix of brake and coast time.

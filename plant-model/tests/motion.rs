@@ -173,6 +173,38 @@ fn long_advance_equals_many_short_ones(#[case] config: RobotConfig) {
     assert_eq!(between.pose(), direct.pose());
 }
 
+/// With backlash a pose step also ends where a wheel reverses: the gear play is taken up
+/// from the shaft's extreme, not from the grid instants either side of it. One wheel driven
+/// forward, then reversed; while the shaft comes back through the play the wheel stays where
+/// the extreme left it, so the robot (pivoting on the other wheel) has turned by the shaft's
+/// furthest arc over the wheelbase. Stepping over the reversal would lose the last 1e-5 rad
+/// or so of it (2e-6 rad of heading).
+#[test]
+fn backlash_takes_up_the_play_from_the_reversal() {
+    let config = with_backlash();
+    let mut robot = Robot::new(&config, 3).unwrap();
+    drive(&mut robot, (0.9, 0.0), (0.0, 0.0));
+    robot.advance_to(Seconds(0.3003)).unwrap();
+    drive(&mut robot, (0.0, 0.9), (0.0, 0.0));
+    // The shaft's extreme, sampled every microsecond (off by under 1e-9 rad of arc).
+    let mut furthest = f64::MIN;
+    let mut t = robot.now().0;
+    while t < 0.345 {
+        t += 1e-6;
+        robot.advance_to(Seconds(t)).unwrap();
+        furthest = furthest.max(robot.distance_travelled(Side::Left).0);
+    }
+    // Past the extreme, and not yet through the play (2 degrees of a 16 mm wheel: 0.56 mm).
+    let back = furthest - robot.distance_travelled(Side::Left).0;
+    assert!(back > 0.1 && back < 0.5, "{back} mm back from the extreme");
+    let heading = robot.pose().theta().0;
+    let expected = -furthest / config.geometry.wheelbase_mm;
+    assert!(
+        (heading - expected).abs() < 1e-9,
+        "heading {heading} rad, the shaft's furthest arc over the wheelbase {expected} rad"
+    );
+}
+
 /// Asking to go back in time is an error that leaves the plant as it was; going to `now`
 /// again does nothing.
 #[test]
