@@ -269,3 +269,171 @@ pub fn decompose_all(groups: &[Group], gap: &Gap, floor_cm: f64) -> Vec<Decompos
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::{ObservedRun, Stats};
+    use crate::fit::Predicted;
+    use crate::model::{Experiment, Firmware, Reference};
+
+    const LEG_MM: f64 = 2000.0;
+
+    /// The end error (x, y) in cm of `test` driven with every corner turning `alpha` rad
+    /// short and every leg bending by `beta` rad and stretched by `scale`, integrated in
+    /// small straight steps: independent of the arcs of `signature_path`.
+    fn driven(test: TestKind, alpha: f64, beta: f64, scale: f64) -> (f64, f64) {
+        let steps = 2000;
+        let turn = 90f64.to_radians() * test.turn_sign();
+        let (mut x, mut y, mut th) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut ix, mut iy, mut ith) = (0.0f64, 0.0f64, 0.0f64);
+        for _ in 0..test.legs() {
+            let dl = LEG_MM * (1.0 + scale) / steps as f64;
+            for _ in 0..steps {
+                // The heading halfway through the step: second order in the step.
+                let mid = th + 0.5 * beta / steps as f64;
+                x += dl * mid.cos();
+                y += dl * mid.sin();
+                th += beta / steps as f64;
+            }
+            ix += LEG_MM * ith.cos();
+            iy += LEG_MM * ith.sin();
+            th += turn - test.turn_sign() * alpha;
+            ith += turn;
+        }
+        ((x - ix) / 10.0, (y - iy) / 10.0)
+    }
+
+    fn group(test: TestKind, residual: (f64, f64)) -> (Group, GroupGap) {
+        let reference = Reference {
+            wheelbase_mm: 150.0,
+            mm_per_count: 0.2,
+        };
+        let experiment = Experiment {
+            test,
+            firmware: Firmware::nominal(&reference, LEG_MM),
+            reference,
+            runs: 1,
+            seed: 1,
+        };
+        let run = ObservedRun {
+            x_cm: 0.0,
+            y_cm: Some(0.0),
+            theta_rad: None,
+        };
+        let g = Group::new("e", experiment, vec![run]).unwrap();
+        let zero = Predicted {
+            mean_x: 0.0,
+            mean_y: 0.0,
+            sd_x: 0.0,
+            sd_y: 0.0,
+            mean_theta_deg: 0.0,
+        };
+        let gap = GroupGap {
+            group: g.id.to_string(),
+            observed: Stats::of(&[0.0], Some(&[0.0])),
+            predicted: zero,
+            residual_x_cm: residual.0,
+            residual_y_cm: Some(residual.1),
+            systematic_cm: 0.0,
+            scatter_cm: 0.0,
+            systematic_excess_cm: 0.0,
+            scatter_excess_cm: 0.0,
+        };
+        (g, gap)
+    }
+
+    fn decomposed(tests: &[(TestKind, (f64, f64))]) -> Decomposition {
+        let (groups, gaps): (Vec<Group>, Vec<GroupGap>) =
+            tests.iter().map(|&(t, r)| group(t, r)).unzip();
+        let gs: Vec<&Group> = groups.iter().collect();
+        let gg: Vec<&GroupGap> = gaps.iter().collect();
+        decompose("e", &gs, &gg, 0.5)
+    }
+
+    fn close(c: &Component, want: f64, rel: f64) {
+        let v = c.value.expect("determined");
+        assert!((v / want - 1.0).abs() < rel, "{v} against {want}");
+    }
+
+    /// A UMBmark pair determines α and β (to first order: 1 % at these sizes), never the
+    /// scale of a closed square.
+    #[test]
+    fn a_umbmark_pair_gives_alpha_and_beta() {
+        let (a, b) = (0.5f64.to_radians(), 0.2f64.to_radians());
+        let d = decomposed(&[
+            (TestKind::UmbmarkCw, driven(TestKind::UmbmarkCw, a, b, 0.0)),
+            (
+                TestKind::UmbmarkCcw,
+                driven(TestKind::UmbmarkCcw, a, b, 0.0),
+            ),
+        ]);
+        close(&d.alpha_deg, 0.5, 0.02);
+        close(&d.beta_deg, 0.2, 0.02);
+        assert_eq!(d.scale_pct.value, None);
+        assert!(d.notes[0].contains("scale"), "{:?}", d.notes);
+        assert!(d.remainder_cm < 0.05 * d.residual_cm, "{d:?}");
+    }
+
+    /// A line determines its curvature and its scale, and has no corners.
+    #[test]
+    fn a_line_gives_beta_and_scale() {
+        let b = 0.3f64.to_radians();
+        let d = decomposed(&[(TestKind::Line, driven(TestKind::Line, 0.0, b, 0.02))]);
+        close(&d.beta_deg, 0.3, 0.02);
+        close(&d.scale_pct, 2.0, 0.02);
+        assert_eq!(d.alpha_deg.value, None);
+    }
+
+    /// The remainder is the rms, over the numbers fitted, of what the fitted components
+    /// leave of the residual.
+    #[test]
+    fn the_remainder_is_what_the_components_leave() {
+        let tests = [
+            (TestKind::UmbmarkCw, (3.0, -1.0)),
+            (TestKind::UmbmarkCcw, (2.0, 4.0)),
+        ];
+        let d = decomposed(&tests);
+        let k = 180.0 / std::f64::consts::PI;
+        let theta = [
+            d.alpha_deg.value.unwrap() / k,
+            d.beta_deg.value.unwrap() / k,
+        ];
+        let mut left = Vec::new();
+        for (t, (x, y)) in tests {
+            let sig = signatures(t, LEG_MM, 90.0);
+            left.push(x - sig[0][0] * theta[0] - sig[0][1] * theta[1]);
+            left.push(y - sig[1][0] * theta[0] - sig[1][1] * theta[1]);
+        }
+        let rms = (left.iter().map(|r| r * r).sum::<f64>() / 4.0).sqrt();
+        assert!(
+            rms > 0.3 * d.residual_cm,
+            "a residual the two explain badly"
+        );
+        assert!(
+            (d.remainder_cm - rms).abs() < 1e-9 * rms,
+            "{d:?} against {rms}"
+        );
+        let all = (tests.iter().map(|(_, (x, y))| x * x + y * y).sum::<f64>() / 4.0).sqrt();
+        assert!((d.residual_cm - all).abs() < 1e-12, "{d:?}");
+        // The errors are those of a perfect fit inflated by √(χ²/dof), χ² weighted by
+        // 1/floor (0.5 cm; one run, no scatter) and 4 numbers less 2 components.
+        let exact = decomposed(&[
+            (TestKind::UmbmarkCw, (0.0, 0.0)),
+            (TestKind::UmbmarkCcw, (0.0, 0.0)),
+        ]);
+        let chi2 = left.iter().map(|r| (r / 0.5).powi(2)).sum::<f64>();
+        let inflation = (chi2 / 2.0).sqrt();
+        assert!(inflation > 2.0);
+        for (c, e) in [
+            (&d.alpha_deg, &exact.alpha_deg),
+            (&d.beta_deg, &exact.beta_deg),
+        ] {
+            let ratio = c.std_err.unwrap() / e.std_err.unwrap();
+            assert!(
+                (ratio / inflation - 1.0).abs() < 1e-9,
+                "{ratio} against {inflation}"
+            );
+        }
+    }
+}
