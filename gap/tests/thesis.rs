@@ -67,7 +67,9 @@ fn experiment_1_predicts_2_and_3() {
     let coast = w.fit.estimate(COAST).unwrap();
     assert!((5.0..7.5).contains(&coast.value), "{coast:?}");
     assert!(coast.std_err.unwrap() < 1.0);
-    // The winner carries bootstrap uncertainties over the runs.
+    // The winner carries bootstrap uncertainties over the runs: about a fifth of the
+    // Jacobian's errors here (those carry the floor and the misfit too), never the rounding
+    // noise of refitting the same runs.
     let winner = d.winner_fit().unwrap();
     for e in &winner.estimates {
         println!(
@@ -77,8 +79,11 @@ fn experiment_1_predicts_2_and_3() {
             e.std_err.unwrap(),
             e.bootstrap_sd.unwrap()
         );
+        let (sd, se) = (e.bootstrap_sd.unwrap(), e.std_err.unwrap());
         assert!(
-            e.bootstrap_sd.unwrap() > 0.0 && e.bootstrap_sd.unwrap() < 2.0 * e.std_err.unwrap()
+            sd > 0.05 * se && sd < 2.0 * se,
+            "{}: {sd} against {se}",
+            e.name
         );
     }
 
