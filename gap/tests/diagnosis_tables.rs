@@ -1,7 +1,7 @@
 //! The diagnosis's tables agree with the fits they list: ranks, reductions, the winner's
 //! fit and the shrink path are what their docs say they are.
 
-use gap::effects::{COAST, TOE, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO};
+use gap::effects::{COAST, FLOOR_NOISE, TOE, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO};
 use gap::{
     diagnose, Dataset, DiagnoseOptions, Diagnosis, EffectParams, Experiment, Firmware, FitOptions,
     Gap, Group, KinematicModel, Model, ObservedRun, RankedFit, Reference, SplitRule, TestKind,
@@ -90,4 +90,29 @@ fn ranks_and_reductions_follow_the_fits() {
     assert_eq!(d.which.pairs.len(), 6);
     check_ranks(&d.which.singles, before);
     check_ranks(&d.which.pairs, before);
+}
+
+/// A scatter between runs the centroids cannot show is added after the systematic effects,
+/// on its own BIC: the pair Ed and coast from the centroids, then the floor noise from the
+/// spread.
+#[test]
+fn the_spread_is_added_after_the_centroids_effects() {
+    let d = diagnosis(
+        &EffectParams::new()
+            .with(WHEEL_DIAMETER_RATIO, 1.008)
+            .with(COAST, 5.0)
+            .with(FLOOR_NOISE, 1.0),
+        &[WHEEL_DIAMETER_RATIO, COAST, TOE, FLOOR_NOISE],
+    );
+    assert_eq!(d.which.winner, [WHEEL_DIAMETER_RATIO, COAST, FLOOR_NOISE]);
+    assert!(
+        d.which
+            .winner_reason
+            .contains("; the spread between runs adds floor_noise"),
+        "{}",
+        d.which.winner_reason
+    );
+    let w = d.winner_fit().unwrap();
+    let noise = w.estimate(FLOOR_NOISE).unwrap().value;
+    assert!((noise / 1.0 - 1.0).abs() < 0.5, "{noise}");
 }
