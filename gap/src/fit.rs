@@ -854,3 +854,6 @@ pub(crate) fn bootstrap(
         })
         .collect())
 }
+
+#[cfg(test)]
+mod tests;

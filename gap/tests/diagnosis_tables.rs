@@ -54,11 +54,18 @@ fn heldout(r: &RankedFit) -> &Gap {
         .expect("every candidate has its held-out gap")
 }
 
-/// Each list is in BIC order with ranks 1, 2, ...; the held-out ranks order the same fits by
+/// Each list is in BIC order (χ² + k ln N; the AIC χ² + 2k) with ranks 1, 2, ...; the held-out ranks order the same fits by
 /// their held-out total gap, 1 the smallest; the reductions are 1 − gap / the model's gap.
 fn check_ranks(list: &[RankedFit], before: &Gap) {
     for (i, r) in list.iter().enumerate() {
         assert_eq!(r.rank_bic, i + 1, "{:?}", r.fit.effects);
+        let (f, k) = (&r.fit, r.fit.k as f64);
+        assert_eq!(k as usize, f.effects.len());
+        assert!(
+            (f.bic - f.chi2 - k * (f.n_residuals as f64).ln()).abs() < 1e-9,
+            "{f:?}"
+        );
+        assert!((f.aic - f.chi2 - 2.0 * k).abs() < 1e-9, "{f:?}");
         if i > 0 {
             assert!(list[i - 1].fit.bic <= r.fit.bic);
         }
