@@ -126,7 +126,7 @@ impl<'de> Deserialize<'de> for TestKind {
         impl serde::de::Visitor<'_> for Name {
             type Value = TestKind;
             fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("variant identifier")
+                write!(f, "a test name: {}", TestKind::NAMES.join(", "))
             }
             fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<TestKind, E> {
                 TestKind::ALL

@@ -111,6 +111,11 @@ fn bad_enum() {
         &GOOD.replace("kind = \"umbmark_cw\"", "kind = \"square\""),
     ));
     assert!(m.contains("unknown variant `square`"), "{m}");
+    let m = message(parse(&GOOD.replace("kind = \"umbmark_cw\"", "kind = 3")));
+    assert!(
+        m.contains("expected a test name: umbmark_cw, umbmark_ccw, line"),
+        "{m}"
+    );
 }
 
 /// A data file or robot config that does not exist is named with the path it resolved to.
@@ -187,6 +192,15 @@ fn reference_rules() {
         parse(&with_ref).unwrap().reference.unwrap().wheelbase_mm,
         125.0
     );
+    for bad in ["0.0", "-125.0"] {
+        let zero =
+            format!("{thesis_layout}\n[reference]\nwheelbase_mm = {bad}\nmm_per_count = 0.1669\n");
+        let m = message(parse(&zero));
+        assert!(
+            m.contains("`reference.wheelbase_mm` must be a positive number"),
+            "{m}"
+        );
+    }
     let clash = format!("{GOOD}\n[reference]\nwheelbase_mm = 125.0\nmm_per_count = 0.1669\n");
     let m = message(parse(&clash));
     assert!(m.contains("disagrees with robot_config"), "{m}");
