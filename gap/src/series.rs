@@ -290,7 +290,8 @@ fn verdict(lb: &Option<LjungBox>, cc: &Option<CrossCorrelation>) -> String {
     v.join("; ")
 }
 
-/// Residual tests of a real − sim series against an input.
+/// Residual tests of a real − sim series against an input, over a quarter of its samples'
+/// lags (1 to 10).
 pub fn residual_tests(side: Side, residual: &[f64], input: &[f64]) -> WheelResidualTests {
     let n = residual.len();
     let lags = (n / 4).clamp(1, 10);

@@ -110,6 +110,9 @@ fn residual_tests_tell_what_is_missing() {
     let white = |i: usize| uniform(i as u64) * 0.4;
     let g = series_gap("white", &parse(&run(white, 0.0)), &sim).unwrap();
     let left = &g.wheels[0];
+    // A quarter of the samples' lags, at most 10: here 10.
+    assert!(g.n >= 40, "{}", g.n);
+    assert_eq!(left.ljung_box.as_ref().unwrap().lags, 10);
     assert!(
         !left.ljung_box.as_ref().unwrap().rejected,
         "{}",

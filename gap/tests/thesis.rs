@@ -213,6 +213,22 @@ fn motor_friction_on_held_out_pwm_levels() {
             m.after_dead_band_pwm
         );
         assert_eq!(m.held_out, [190, 230]);
+        // The model without friction is the least-squares gain through zero of the
+        // training levels' steady speeds against their duties.
+        let (sxy, sxx) = m
+            .levels
+            .iter()
+            .filter(|l| !l.held_out)
+            .fold((0.0, 0.0), |(a, b), l| {
+                let d = f64::from(l.pwm) / 255.0;
+                (a + d * l.measured_steady_rpm, b + d * d)
+            });
+        let g = m.before_gain_rpm_per_duty;
+        assert!(
+            (g / (sxy / sxx) - 1.0).abs() < 1e-9,
+            "{g} against {}",
+            sxy / sxx
+        );
         assert!(m.reduction > 0.35, "{m:?}");
         assert!(m.heldout_rms_after < 3.0, "{m:?}");
         let theirs = report
