@@ -219,6 +219,13 @@ mod tests {
         assert_relative_eq!(speed.to_thesis_rpm().0, 14.47, epsilon = 1e-12);
     }
 
+    /// A duration over a duration is a plain number (how many periods fit in a run).
+    #[test]
+    fn a_time_over_a_time_is_their_ratio() {
+        assert_eq!(Seconds(0.375) / Seconds(0.015), 25.0);
+        assert_eq!(Seconds(-0.3) / Seconds(0.6), -0.5);
+    }
+
     /// The grid's first instant at or after a time is exact, on the instants themselves
     /// too (where `t * hz` rounds either way).
     #[test]

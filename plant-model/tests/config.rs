@@ -291,6 +291,36 @@ fn every_effect_round_trips() {
     Expect::Unphysical,
     "effects.castor_drag.force_n"
 )]
+#[case::backlash_past_a_quarter_turn(
+    "right_wheel_deg = 1.5",
+    "right_wheel_deg = 120.0",
+    Expect::OutOfRange,
+    "effects.backlash.right_wheel_deg"
+)]
+#[case::dead_band_above_full_duty(
+    "extra_left_duty = 0.02",
+    "extra_left_duty = 1.2",
+    Expect::OutOfRange,
+    "effects.dead_band.extra_left_duty"
+)]
+#[case::gain_percentage_for_ratio(
+    "left_gain_ratio = 0.98",
+    "left_gain_ratio = 98.0",
+    Expect::OutOfRange,
+    "effects.motor_gain_asymmetry.left_gain_ratio"
+)]
+#[case::straight_slip_negative(
+    "left_fraction = 0.01",
+    "left_fraction = -0.01",
+    Expect::OutOfRange,
+    "effects.straight_slip.left_fraction"
+)]
+#[case::missed_counts_above_all(
+    "left_fraction = 0.001",
+    "left_fraction = 1.001",
+    Expect::OutOfRange,
+    "effects.encoder_missed_counts.left_fraction"
+)]
 fn bad_effect_is_refused_naming_the_key(
     #[case] find: &str,
     #[case] replace: &str,
