@@ -4,8 +4,8 @@
 //! `tau` when the 63.2 % point lies where the thesis printed no rows.
 
 use plant_model::identify::{
-    count_quantum_thesis_rpm, identify_csv, Identification, TauMethod, CONTROLLER_PWM_PER_UNIT,
-    THESIS_LEFT_CSV, THESIS_RIGHT_CSV,
+    count_quantum_thesis_rpm, identify_csv, Identification, StepData, TauMethod,
+    CONTROLLER_PWM_PER_UNIT, THESIS_LEFT_CSV, THESIS_RIGHT_CSV,
 };
 
 fn at(v: f64, decimals: usize) -> String {
@@ -214,4 +214,40 @@ fn a_level_that_never_turns_is_refused() {
         e.contains("pwm210_rpm") && e.contains("did not turn"),
         "{e}"
     );
+}
+
+/// A header that names a column twice is refused, naming the column and the line.
+#[test]
+fn a_column_named_twice_is_refused() {
+    let csv = right_columns(&[("pwm210_rpm", "pwm210_rpm"), ("pwm250_rpm", "pwm250_rpm")]);
+    let (header, rows) = csv.split_once('\n').unwrap();
+    for twice in ["sample", "time_s", "pwm210_rpm"] {
+        let text = format!("{header},{twice}\n{}", rows.replace('\n', ",0\n"));
+        let e = StepData::parse(&text).unwrap_err().to_string();
+        assert!(e.contains(twice) && e.contains("appears twice"), "{e}");
+    }
+    let text = format!(
+        "{header},mean_rpm,mean_rpm\n{}",
+        rows.replace('\n', ",0,0\n")
+    );
+    let e = StepData::parse(&text).unwrap_err().to_string();
+    assert!(e.contains("mean_rpm") && e.contains("appears twice"), "{e}");
+}
+
+/// Times printed to 1 ms of a 15.2 ms period (0.015, 0.030, 0.046, ...): the period fitted
+/// through them is off by rounding and is snapped to the 0.1 ms it was, since every row
+/// lies within rounding of that grid.
+#[test]
+fn the_sample_period_is_snapped_to_what_the_times_were_printed_from() {
+    let csv = right_columns(&[("pwm210_rpm", "pwm210_rpm")]);
+    let (header, rows) = csv.split_once('\n').unwrap();
+    let mut text = format!("{header}\n");
+    for line in rows.lines() {
+        let (sample, rest) = line.split_once(',').unwrap();
+        let (_, value) = rest.split_once(',').unwrap();
+        let k: f64 = sample.parse().unwrap();
+        text += &format!("{sample},{:.3},{value}\n", k * 0.0152);
+    }
+    let data = StepData::parse(&text).unwrap();
+    assert_eq!(data.sample_period_s, 0.0152);
 }
