@@ -238,3 +238,56 @@ fn the_thesis_files_parse_with_their_gap() {
     assert_eq!(pwm170.first_order.tau_s, None);
     assert_eq!(pwm170.first_order.crossing_between_s, [0.105, 1.905]);
 }
+
+/// The data's discrete pole exp(-T/tau) is checked to the resolution tau has, carried
+/// through: d(pole)/d(tau) = pole T / tau^2 times tau's resolution.
+#[test]
+fn the_pole_from_the_data_carries_the_resolution_of_tau() {
+    for (path, side) in [(RIGHT_PATH, Side::Right), (LEFT_PATH, Side::Left)] {
+        let id = identify_csv(path, Some(side)).unwrap();
+        let pole = check(&id, CheckBasis::Data, "discrete pole");
+        let (t, tau) = (id.sample_period_s, id.tau_s);
+        assert_eq!(pole.ours, (-t / tau).exp());
+        let want = pole.ours * t / (tau * tau) * id.tau_resolution_s;
+        assert!((pole.tolerance / want - 1.0).abs() < 1e-12, "{pole:?}");
+    }
+}
+
+/// The note on tau reads the mean curve at the thesis' tau by linear interpolation between
+/// the two rows around it.
+#[test]
+fn the_mean_curve_is_read_at_the_thesis_tau_between_its_rows() {
+    let id = identify_csv(RIGHT_PATH, Some(Side::Right)).unwrap();
+    let text = std::fs::read_to_string(RIGHT_PATH).unwrap();
+    let mut rows = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let mean = header.iter().position(|h| *h == "mean_rpm").unwrap();
+    let points: Vec<(f64, f64)> = rows
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[1].parse().unwrap(), f[mean].parse().unwrap())
+        })
+        .collect();
+    let tau = 0.0685;
+    let i = points.iter().position(|p| p.0 >= tau).unwrap();
+    let ((t0, v0), (t1, v1)) = (points[i - 1], points[i]);
+    let v = v0 + (v1 - v0) * (tau - t0) / (t1 - t0);
+    let says = format!(
+        "At the thesis' {tau} s the mean curve is at {:.1} % of K.",
+        100.0 * v / id.k
+    );
+    assert!(
+        id.checks.iter().any(|c| c.note.contains(&says)),
+        "no check says `{says}`"
+    );
+}
+
+/// The unit of the physical model: motor rad/s per thesis RPM is the units' own conversion
+/// (6 wheel RPM) times the gear ratio.
+#[test]
+fn the_physical_unit_is_six_wheel_rpm_through_the_gear() {
+    use plant_model::identify::motor_rad_s_per_thesis_rpm;
+    use plant_model::units::{RadPerSec, ThesisRpm};
+    let wheel = RadPerSec::from(ThesisRpm(1.0)).0;
+    assert!((motor_rad_s_per_thesis_rpm(100.37) / (wheel * 100.37) - 1.0).abs() < 1e-15);
+}
