@@ -214,6 +214,17 @@ mod tests {
         assert!(leg_progress(w, w, 5_000_100, 5_000_100) >= t);
     }
 
+    /// A wheel whose factor, distance per count or reference is negative or
+    /// not a number weighs nothing (never a negative count weight).
+    #[test]
+    fn a_negative_or_nan_weight_is_zero() {
+        assert_eq!(leg_weight(-1.0, 0.1, 0.1), 0);
+        assert_eq!(leg_weight(1.0, -0.2, 0.1), 0);
+        assert_eq!(leg_weight(1.0, 0.1, -0.1), 0);
+        assert_eq!(leg_weight(f32::NAN, 0.1, 0.1), 0);
+        assert_eq!(leg_weight(1.0, 0.1, 0.1), WEIGHT_ONE);
+    }
+
     /// A trip armed `ceil(remaining / 2w)` counts ahead, exactly when that
     /// divides, at least 1, at most `i32::MAX`; a wheel of no weight (or
     /// nothing left to go) is armed one count ahead instead of dividing by 0.
