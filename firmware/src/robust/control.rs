@@ -247,6 +247,23 @@ mod tests {
         }
     }
 
+    /// A late step that moved more counts than 16 bits hold counts as the
+    /// most travel there is, never as the wrapped remainder: 65 536 counts,
+    /// whose 16-bit count shows no progress, are an encoder fault (edges
+    /// came, the count did not advance), not a stall without travel.
+    #[test]
+    fn a_step_of_more_than_u16_counts_saturates_the_travel() {
+        let s = henrytwo();
+        let mut w = driving(true);
+        w.grace = 0;
+        w.applied = LIMITS.duty;
+        let step = u16::MAX as i32 + 1;
+        assert_eq!((step as i16, step as u16), (0, 0));
+        let out = control_wheel(&mut w, &s, step, LIMITS.ticks as u32, LIMITS);
+        assert!(out.check == Check::EncoderInconsistent);
+        assert_eq!(w.travel, u16::MAX);
+    }
+
     #[test]
     fn the_left_fault_comes_first() {
         let _bench = fake::lock();

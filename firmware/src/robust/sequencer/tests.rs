@@ -288,6 +288,68 @@ fn the_ticks_go_on_while_one_wheel_still_drives() {
     assert_eq!(app.segment_ticks, before + 2);
 }
 
+/// The period the bench reads is that of the control step: one tick's, or
+/// the ticks' a late step covers at once.
+#[test]
+fn the_bench_reads_the_period_of_each_control_step() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.mode = Mode::Idle;
+    app.start_segment(Test::Line, 0);
+    app.on_tick(1);
+    assert_eq!(bench::period_us(), PERIOD_US);
+    app.on_tick(3);
+    assert_eq!(bench::period_us(), 3.0 * PERIOD_US);
+    app.on_tick(1);
+    assert_eq!(bench::period_us(), PERIOD_US);
+}
+
+/// A segment clears each wheel's other input before it drives the one it
+/// needs (both inputs of a DRV8833 high is a brake), whatever was left on.
+#[test]
+fn a_segment_clears_the_other_input_before_driving() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.mode = Mode::Idle;
+    app.drive.set(Side::Left, false, 255);
+    app.drive.set(Side::Right, false, 255);
+    app.start_segment(Test::UmbmarkCw, 0);
+    let duty = robot::START_DUTY;
+    assert_eq!((app.drive.motors.left, app.drive.motors.right), ((duty, 0), (duty, 0)));
+    // The spin after it: left forward, right reverse.
+    app.drive.set(Side::Left, false, 255);
+    app.drive.set(Side::Right, true, 255);
+    app.start_segment(Test::UmbmarkCw, 1);
+    assert_eq!((app.drive.motors.left, app.drive.motors.right), ((duty, 0), (0, duty)));
+}
+
+/// A wheel cut while the other still drives goes through its own coast and
+/// counter-pulse on time; the other drives on.
+#[test]
+fn a_cut_wheel_brakes_on_time_while_the_other_drives() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.stored.settings.correction = PerWheel { left: 1.0, right: 0.9 };
+    app.mode = Mode::Idle;
+    app.start_segment(Test::UmbmarkCw, 1);
+    let s = app.stored.settings;
+    let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0, s.mm_per_count.left);
+    app.drive.encoders.move_by(Side::Left, nl);
+    app.drive.encoders.move_by(Side::Right, -nl);
+    app.poll();
+    let stages = |app: &App<Fake>| (app.drive.left.stage, app.drive.right.stage);
+    assert_eq!(stages(&app), (Stage::Coast, Stage::Driving));
+    // Still a turn to the bench (and its run state driving) until both are cut.
+    assert_eq!((bench::phase_code(), bench::state_code()), (TURN, RunState::Driving as u8));
+    app.wait(BRAKE_COAST);
+    assert_eq!(stages(&app), (Stage::Pulse, Stage::Driving));
+    assert_eq!(app.drive.motors.left, (0, 255), "the left's counter-pulse, on its reverse input");
+    app.wait(BRAKE_PULSE);
+    assert_eq!(stages(&app), (Stage::Done, Stage::Driving));
+    assert_eq!(app.drive.motors.left, (0, 0));
+    assert_eq!(bench::phase_code(), TURN);
+}
+
 #[test]
 fn a_segment_that_overruns_its_time_is_a_fault() {
     let _bench = fake::lock();
