@@ -174,6 +174,18 @@ mod tests {
     use super::App;
     use crate::bench;
 
+    /// A debug line goes out on the debug UART, not on the link.
+    #[test]
+    fn a_debug_line_goes_to_the_debug_uart() {
+        let _bench = fake::lock();
+        let mut app = App::<Fake>::fake();
+        let _ = app.sent();
+        let before = app.debug.text();
+        app.debug_line(b"henrytwo robust\r\n");
+        assert_eq!(app.debug.text(), format!("{before}henrytwo robust\r\n"));
+        assert!(app.sent().is_empty());
+    }
+
     /// A reset by the watchdog is reported as its fault: in the bench
     /// variables and in one fault notice on the link.
     #[test]
