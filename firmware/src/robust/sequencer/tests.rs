@@ -324,30 +324,51 @@ fn a_segment_clears_the_other_input_before_driving() {
 }
 
 /// A wheel cut while the other still drives goes through its own coast and
-/// counter-pulse on time; the other drives on.
+/// counter-pulse on time (its deadline the one armed); the other drives on,
+/// with its control ticks, and the segment goes on until both are done.
+/// Either wheel may be the one cut first.
 #[test]
 fn a_cut_wheel_brakes_on_time_while_the_other_drives() {
-    let _bench = fake::lock();
-    let mut app = App::fake();
-    app.stored.settings.correction = PerWheel { left: 1.0, right: 0.9 };
-    app.mode = Mode::Idle;
-    app.start_segment(Test::UmbmarkCw, 1);
-    let s = app.stored.settings;
-    let nl = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0, s.mm_per_count.left);
-    app.drive.encoders.move_by(Side::Left, nl);
-    app.drive.encoders.move_by(Side::Right, -nl);
-    app.poll();
-    let stages = |app: &App<Fake>| (app.drive.left.stage, app.drive.right.stage);
-    assert_eq!(stages(&app), (Stage::Coast, Stage::Driving));
-    // Still a turn to the bench (and its run state driving) until both are cut.
-    assert_eq!((bench::phase_code(), bench::state_code()), (TURN, RunState::Driving as u8));
-    app.wait(BRAKE_COAST);
-    assert_eq!(stages(&app), (Stage::Pulse, Stage::Driving));
-    assert_eq!(app.drive.motors.left, (0, 255), "the left's counter-pulse, on its reverse input");
-    app.wait(BRAKE_PULSE);
-    assert_eq!(stages(&app), (Stage::Done, Stage::Driving));
-    assert_eq!(app.drive.motors.left, (0, 0));
-    assert_eq!(bench::phase_code(), TURN);
+    for cut in [Side::Left, Side::Right] {
+        let _bench = fake::lock();
+        let mut app = App::fake();
+        app.mode = Mode::Idle;
+        assert_eq!(app.next_deadline(), None);
+        // The wheel with the larger factor counts fewer counts to its end.
+        app.stored.settings.correction =
+            if cut == Side::Left { PerWheel { left: 1.0, right: 0.9 } } else { PerWheel { left: 0.9, right: 1.0 } };
+        app.start_segment(Test::UmbmarkCw, 1);
+        let s = app.stored.settings;
+        let m = if cut == Side::Left { s.mm_per_count.left } else { s.mm_per_count.right };
+        let n = spin_target_counts(s.turn_umbmark_deg, s.wheelbase_mm, 1.0, m);
+        // A clockwise spin: left forward, right reverse.
+        app.drive.encoders.move_by(Side::Left, n);
+        app.drive.encoders.move_by(Side::Right, -n);
+        app.poll();
+        let stages = |app: &App<Fake>| (app.drive.left.stage, app.drive.right.stage);
+        let want = |st: Stage| if cut == Side::Left { (st, Stage::Driving) } else { (Stage::Driving, st) };
+        let cut_motor =
+            |app: &App<Fake>| if cut == Side::Left { app.drive.motors.left } else { app.drive.motors.right };
+        assert_eq!(stages(&app), want(Stage::Coast), "{cut:?}");
+        let until = app.drive.wheel(cut).until;
+        assert_eq!(until.wrapping_sub(app.clock.now), BRAKE_COAST);
+        assert_eq!(app.next_deadline(), Some(until));
+        // Still a turn to the bench (and its run state driving) until both are cut.
+        assert_eq!((bench::phase_code(), bench::state_code()), (TURN, RunState::Driving as u8));
+        let ticks = app.segment_ticks;
+        app.wait(BRAKE_COAST);
+        assert_eq!(stages(&app), want(Stage::Pulse), "{cut:?}");
+        // The counter-pulse, on the input opposite to the wheel's way.
+        let pulse = if cut == Side::Left { (0, 255) } else { (255, 0) };
+        assert_eq!(cut_motor(&app), pulse, "{cut:?}");
+        app.wait(BRAKE_PULSE);
+        assert_eq!(stages(&app), want(Stage::Done), "{cut:?}");
+        assert_eq!(cut_motor(&app), (0, 0));
+        assert_eq!(bench::phase_code(), TURN);
+        assert!(matches!(app.mode, Mode::Segment { index: 1, .. }), "{cut:?}");
+        app.tick_plant(0);
+        assert!(app.segment_ticks > ticks, "{cut:?}: the other wheel's ticks go on");
+    }
 }
 
 #[test]
