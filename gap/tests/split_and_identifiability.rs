@@ -98,7 +98,7 @@ fn bad_splits() {
 
 /// Trained on the CW squares only, Ed and Eb both explain the scattered data (a single
 /// direction mixes corner and leg errors to first order): the diagnosis reports them as
-/// indistinguishable and finds the test that separates them, and the held-out CCW squares
+/// indistinguishable and finds a test that separates them, and the held-out CCW squares
 /// then show which one was right.
 #[test]
 fn cw_only_cannot_separate_ed_and_eb() {
@@ -115,7 +115,39 @@ fn cw_only_cannot_separate_ed_and_eb() {
         .find(|c| c.effects.contains(&WHEELBASE_RATIO.to_owned()))
         .expect("reported");
     assert!(c.effects.contains(&WHEEL_DIAMETER_RATIO.to_owned()));
-    assert!(c.separating_test.is_some(), "the CCW square separates them");
+    // The separating probe is a CCW square with 45° corners (the turn error grows with the
+    // angle, the leg error does not), and the difference it states is the one the two fits
+    // predict there.
+    let probe = c
+        .separating_test
+        .as_deref()
+        .expect("a probe separates them");
+    assert!(
+        probe.starts_with("umbmark_ccw with 45° corners: "),
+        "{probe}"
+    );
+    let mut exp = t.groups()[0].experiment.clone();
+    exp.test = TestKind::UmbmarkCcw;
+    exp.firmware.turn_umbmark_deg = 45.0;
+    exp.runs = 1;
+    let end = |name: &str| {
+        let fit = &diag
+            .which
+            .singles
+            .iter()
+            .find(|r| r.fit.effects == [name])
+            .unwrap()
+            .fit;
+        let run = KinematicModel.predict(&fit.params, &exp).unwrap()[0];
+        (run.x_cm, run.y_cm)
+    };
+    let (a, b) = (end(WHEELBASE_RATIO), end(WHEEL_DIAMETER_RATIO));
+    let d = (a.0 - b.0).hypot(a.1 - b.1);
+    assert!(d > 10.0, "{d}");
+    assert!(
+        probe.contains(&format!("end points differ by {d:.2} cm")),
+        "{probe}: {d:.2}"
+    );
     // On the held-out CCW squares the right effect wins by far.
     let ho = |name: &str| {
         diag.which
