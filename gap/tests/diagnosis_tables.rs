@@ -9,6 +9,11 @@ use gap::{
 
 /// Five runs of each test of `hidden` with two leg lengths; the 1.5 m legs held out.
 fn diagnosis(hidden: &EffectParams, candidates: &[&str]) -> Diagnosis {
+    diagnosis_with(hidden, candidates, FitOptions::default().max_effects)
+}
+
+/// As [`diagnosis`], with at most `max_effects` effects in the winner.
+fn diagnosis_with(hidden: &EffectParams, candidates: &[&str], max_effects: usize) -> Diagnosis {
     let reference = Reference {
         wheelbase_mm: 150.0,
         mm_per_count: 0.2,
@@ -40,6 +45,7 @@ fn diagnosis(hidden: &EffectParams, candidates: &[&str]) -> Diagnosis {
     let opts = DiagnoseOptions {
         fit: FitOptions {
             bootstrap: 4,
+            max_effects,
             ..FitOptions::default()
         },
         candidates: Some(candidates.iter().map(|c| (*c).to_owned()).collect()),
@@ -122,4 +128,44 @@ fn the_spread_is_added_after_the_centroids_effects() {
     let w = d.winner_fit().unwrap();
     let noise = w.estimate(FLOOR_NOISE).unwrap().value;
     assert!((noise / 1.0 - 1.0).abs() < 0.5, "{noise}");
+}
+
+/// Forward selection extends the best pair by the effect that lowers the BIC most (by more
+/// than its threshold), and stops at `max_effects`: Ed, Eb and toe hidden, the winner is the
+/// three, the third named in the reason; with at most two effects, a pair; and the spread
+/// step adds nothing past the limit either.
+#[test]
+fn forward_selection_adds_the_third_effect_up_to_the_limit() {
+    let hidden = EffectParams::new()
+        .with(WHEEL_DIAMETER_RATIO, 1.008)
+        .with(WHEELBASE_RATIO, 1.03)
+        .with(TOE, 1.5);
+    let candidates = [WHEEL_DIAMETER_RATIO, WHEELBASE_RATIO, TOE, FLOOR_NOISE];
+    let d = diagnosis(&hidden, &candidates);
+    let mut winner = d.which.winner.clone();
+    winner.sort();
+    assert_eq!(
+        winner,
+        [TOE, WHEEL_DIAMETER_RATIO, WHEELBASE_RATIO],
+        "{}",
+        d.which.winner_reason
+    );
+    let third = d.which.winner.last().unwrap();
+    assert!(
+        d.which
+            .winner_reason
+            .contains(&format!("; adding {third} lowers the BIC further")),
+        "{}",
+        d.which.winner_reason
+    );
+    assert_eq!(d.which.extended.len(), 1);
+    let toe = d.winner_fit().unwrap().estimate(TOE).unwrap().value;
+    assert!((toe / 1.5 - 1.0).abs() < 0.1, "{toe}");
+
+    let two = diagnosis_with(&hidden, &candidates, 2);
+    assert_eq!(two.which.winner.len(), 2, "{}", two.which.winner_reason);
+    assert!(two.which.extended.is_empty());
+    let noisy = hidden.clone().with(FLOOR_NOISE, 1.0);
+    let two = diagnosis_with(&noisy, &candidates, 2);
+    assert_eq!(two.which.winner.len(), 2, "{}", two.which.winner_reason);
 }
