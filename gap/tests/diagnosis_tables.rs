@@ -128,6 +128,17 @@ fn the_spread_is_added_after_the_centroids_effects() {
     let w = d.winner_fit().unwrap();
     let noise = w.estimate(FLOOR_NOISE).unwrap().value;
     assert!((noise / 1.0 - 1.0).abs() < 0.5, "{noise}");
+    // The notes say which candidate is fitted to the spread, and only that one.
+    let stochastic: Vec<&String> = d
+        .notes
+        .iter()
+        .filter(|n| n.contains(" is stochastic"))
+        .collect();
+    assert_eq!(stochastic.len(), 1, "{stochastic:?}");
+    assert!(
+        stochastic[0].starts_with("floor_noise is stochastic"),
+        "{stochastic:?}"
+    );
 }
 
 /// Forward selection extends the best pair by the effect that lowers the BIC most (by more
@@ -168,4 +179,31 @@ fn forward_selection_adds_the_third_effect_up_to_the_limit() {
     let noisy = hidden.clone().with(FLOOR_NOISE, 1.0);
     let two = diagnosis_with(&noisy, &candidates, 2);
     assert_eq!(two.which.winner.len(), 2, "{}", two.which.winner_reason);
+}
+
+/// A pair wins over the best single effect when its BIC is lower by more than the threshold
+/// (6), and only then: a toe of 0.1° next to Ed is taken (BIC about 5 against 16), one of
+/// 0.05° is not (the single's BIC is already about 6).
+#[test]
+fn a_pair_wins_by_the_bic_margin_only() {
+    let candidates = [WHEEL_DIAMETER_RATIO, TOE, COAST];
+    let ed = EffectParams::new().with(WHEEL_DIAMETER_RATIO, 1.008);
+    let d = diagnosis(&ed.clone().with(TOE, 0.1), &candidates);
+    assert_eq!(
+        d.which.winner,
+        [WHEEL_DIAMETER_RATIO, TOE],
+        "{}",
+        d.which.winner_reason
+    );
+    let d = diagnosis(&ed.with(TOE, 0.05), &candidates);
+    assert_eq!(
+        d.which.winner,
+        [WHEEL_DIAMETER_RATIO],
+        "{}",
+        d.which.winner_reason
+    );
+    assert!(d
+        .which
+        .winner_reason
+        .contains("no separable pair beats it by more than 6"));
 }

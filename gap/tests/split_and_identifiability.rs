@@ -115,6 +115,44 @@ fn cw_only_cannot_separate_ed_and_eb() {
         .find(|c| c.effects.contains(&WHEELBASE_RATIO.to_owned()))
         .expect("reported");
     assert!(c.effects.contains(&WHEEL_DIAMETER_RATIO.to_owned()));
+    // The evidence: alike on the training data, within 2 standard errors in total, and their
+    // training centroids as far apart as the fits' predictions say.
+    let single = |name: &str| {
+        &diag
+            .which
+            .singles
+            .iter()
+            .find(|r| r.fit.effects == [name])
+            .unwrap()
+            .fit
+    };
+    let (fa, fb) = (single(WHEELBASE_RATIO), single(WHEEL_DIAMETER_RATIO));
+    let max_cm = fa
+        .train
+        .groups
+        .iter()
+        .zip(&fb.train.groups)
+        .map(|(a, b)| {
+            (a.predicted.mean_x - b.predicted.mean_x).hypot(a.predicted.mean_y - b.predicted.mean_y)
+        })
+        .fold(0.0, f64::max);
+    let alike = c
+        .evidence
+        .iter()
+        .find(|e| e.contains("predict the training data alike"))
+        .unwrap_or_else(|| panic!("{:?}", c.evidence));
+    assert!(
+        alike.contains(&format!("centroids by at most {max_cm:.2} cm")),
+        "{alike}: {max_cm:.2}"
+    );
+    let d: f64 = alike
+        .split("residuals differ by ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(d < 2.0, "{alike}");
     // The separating probe is a CCW square with 45° corners (the turn error grows with the
     // angle, the leg error does not), and the difference it states is the one the two fits
     // predict there.
