@@ -256,3 +256,54 @@ fn a_narrow_basin_the_grid_misses_is_found_from_the_first_order_start() {
         "{fit:?}"
     );
 }
+
+/// More end points whose best minimum lies in a basin narrower than the grid's step, with
+/// what the fit leaves there and, from a start anywhere else, in the next basin (cm rms):
+/// decimetres to metres off the model, as a robot with an error the model lacks gives.
+#[test]
+fn the_first_order_start_finds_the_basins_the_grid_misses() {
+    for (cw, ccw, l, best, next) in [
+        (
+            (-141.65808687070017, -383.7206833908974),
+            (-22.872070297517595, 233.30748686409385),
+            547.6685615522227,
+            58.6390,
+            59.9774,
+        ),
+        (
+            (50.39377118043032, -124.38975435384202),
+            (129.49465011981394, 209.06104382830063),
+            205.0235184731403,
+            44.0720,
+            44.1995,
+        ),
+        (
+            (105.725454588626, -239.35980526909518),
+            (163.0548318610445, -30.239757450393064),
+            220.52824432920946,
+            56.8549,
+            56.8853,
+        ),
+    ] {
+        let fit = umbmark_alpha_beta(Endpoint::new(cw.0, cw.1), Endpoint::new(ccw.0, ccw.1), l)
+            .expect("a best fit");
+        assert!(
+            (fit.rms_cm - best).abs() < 1e-4,
+            "L {l}: {fit:?}, not the basin of {best} cm (the next one leaves {next} cm)"
+        );
+    }
+}
+
+/// End points whose first-order turn error (−0.69 rad) lies past the range, where a point
+/// outside it fits better (31.84 cm rms) than any inside: the fit stays in the range, on
+/// its edge α = −0.6 (32.19 cm), and the first-order solution is no start.
+#[test]
+fn a_first_order_solution_past_the_range_is_no_start() {
+    let (cw, ccw) = (
+        Endpoint::new(287.21149923718247, -67.0613303799025),
+        Endpoint::new(278.42596945603805, 36.502706351402225),
+    );
+    let fit = umbmark_alpha_beta(cw, ccw, 233.71878750777637).expect("a best fit");
+    assert_eq!(fit.params[0], -0.6, "{fit:?}");
+    assert!((fit.rms_cm - 32.1908).abs() < 1e-4, "{fit:?}");
+}
