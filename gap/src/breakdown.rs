@@ -275,7 +275,6 @@ mod tests {
     use super::*;
     use crate::data::{ObservedRun, Stats};
     use crate::fit::Predicted;
-    use crate::model::{Experiment, Firmware, Reference};
 
     const LEG_MM: f64 = 2000.0;
 
@@ -305,17 +304,7 @@ mod tests {
     }
 
     fn group(test: TestKind, residual: (f64, f64)) -> (Group, GroupGap) {
-        let reference = Reference {
-            wheelbase_mm: 150.0,
-            mm_per_count: 0.2,
-        };
-        let experiment = Experiment {
-            test,
-            firmware: Firmware::nominal(&reference, LEG_MM),
-            reference,
-            runs: 1,
-            seed: 1,
-        };
+        let experiment = crate::test_support::experiment(test, LEG_MM, 1);
         let run = ObservedRun {
             x_cm: 0.0,
             y_cm: Some(0.0),

@@ -40,7 +40,7 @@ use serde::Serialize;
 use crate::breakdown::{decompose_all, Decomposition};
 use crate::data::SplitRule;
 use crate::data::{Group, HeldOutSet, TrainSet};
-use crate::effects::{EffectParams, ParamKind, Unsupported};
+use crate::effects::{EffectParams, ParamSpec, Unsupported};
 use crate::fit::{
     bootstrap, fit_candidate, grid_start, reduction, CandidateFit, Evaluator, FitOptions, Gap,
 };
@@ -48,6 +48,12 @@ use crate::manifest::{load_dataset, LoadedManifest};
 use crate::model::{Experiment, Model, TestKind};
 use crate::series::{motor_holdout, series_gap, LevelSplit, MotorHoldout, SeriesGap};
 use crate::GapError;
+use rules::{
+    degenerate, extension_gain, improves, separable, separation_score, worth_adding, STRONG_BIC,
+    TIE_BIC,
+};
+
+mod rules;
 
 /// Options of [`diagnose`].
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -197,10 +203,6 @@ impl Diagnosis {
     }
 }
 
-const STRONG_BIC: f64 = 6.0;
-/// BIC difference below which neither of two candidates is preferred.
-const TIE_BIC: f64 = 2.0;
-
 fn rank(fits: Vec<CandidateFit>, base_heldout: &Gap) -> Vec<RankedFit> {
     let mut by_bic: Vec<usize> = (0..fits.len()).collect();
     by_bic.sort_by(|&a, &b| fits[a].bic.total_cmp(&fits[b].bic));
@@ -226,23 +228,6 @@ fn rank(fits: Vec<CandidateFit>, base_heldout: &Gap) -> Vec<RankedFit> {
         .collect();
     out.sort_by_key(|r| r.rank_bic);
     out
-}
-
-/// Whether every parameter of a fit is determined: a finite condition number below 10⁶ and
-/// every value more than two standard errors from neutral.
-fn separable(ev: &Evaluator, f: &CandidateFit) -> bool {
-    f.condition_number.is_finite()
-        && f.condition_number < 1e6
-        && f.estimates.iter().all(|e| {
-            let neutral = ev.spec(&e.name).map_or(0.0, |s| s.neutral);
-            e.std_err
-                .is_some_and(|se| (e.value - neutral).abs() > 2.0 * se)
-        })
-}
-
-/// Whether a joint fit is degenerate: singular, or a condition number above 10⁸.
-fn degenerate(f: &CandidateFit) -> bool {
-    !f.condition_number.is_finite() || f.condition_number > 1e8 || f.correlation.is_none()
 }
 
 /// Physical knowledge of what separates two effects.
@@ -326,7 +311,7 @@ fn find_separating_test(
         let pb = ev.predict_experiment(b, &exp, &name)?;
         let d = (pa.mean_x - pb.mean_x).hypot(pa.mean_y - pb.mean_y);
         let dth = (pa.mean_theta_deg - pb.mean_theta_deg).abs();
-        let score = d.max(dth * 2.0);
+        let score = separation_score(d, dth);
         if best.as_ref().is_none_or(|(s, _, _)| score > *s) {
             best = Some((
                 score,
@@ -376,6 +361,7 @@ pub fn diagnose(
     base.heldout = Some(base_heldout.clone());
     let base_chi2 = base.chi2;
 
+    let is_stochastic = |n: &String| ev.spec(n).is_some_and(ParamSpec::stochastic);
     let names: Vec<String> = match &opts.candidates {
         Some(c) => c.clone(),
         None => ev.specs.iter().map(|s| s.name.clone()).collect(),
@@ -420,10 +406,7 @@ pub fn diagnose(
                 );
                 let (vi, vj) = (si.estimates[0].value, sj.estimates[0].value);
                 // Deterministic pairs are cheap: try each single's value alone too.
-                let stochastic = [&names[i], &names[j]]
-                    .iter()
-                    .any(|n| ev.spec(n).is_some_and(|s| s.kind == ParamKind::Stochastic));
-                let starts = if stochastic {
+                let starts = if is_stochastic(&names[i]) || is_stochastic(&names[j]) {
                     vec![vec![vi, vj]]
                 } else {
                     vec![vec![vi, vj], vec![vi, nj], vec![ni, vj]]
@@ -457,10 +440,7 @@ pub fn diagnose(
         let improving: Vec<&CandidateFit> = fits
             .iter()
             .copied()
-            .filter(|f| {
-                let gain = chi_s - f.chi2;
-                gain >= 6.0 && gain >= 0.25 * chi_s
-            })
+            .filter(|f| improves(*chi_s, f))
             .collect();
         for a in 0..improving.len() {
             for b in a + 1..improving.len() {
@@ -579,7 +559,6 @@ pub fn diagnose(
     // does so by more than STRONG_BIC and every parameter stays determined.
     let (mut winner, mut winner_reason) = (winner, winner_reason);
     let mut extended = Vec::new();
-    let is_stochastic = |n: &String| ev.spec(n).is_some_and(|s| s.kind == ParamKind::Stochastic);
     while winner.effects.len() >= 2 && winner.effects.len() < opts.fit.max_effects {
         let mut best: Option<CandidateFit> = None;
         for n in names
@@ -595,13 +574,7 @@ pub fn diagnose(
             let mut start: Vec<f64> = winner.estimates.iter().map(|e| e.value).collect();
             start.push(single.estimates[0].value);
             let f = fit_candidate(&ev, tg, &effects, &[start], base_chi2)?;
-            // Quasi-likelihood: when even the larger model leaves χ²/dof above 1 (the
-            // weights understate what the model misses), the χ² gain is scaled down by it.
-            let dof = f.n_residuals.saturating_sub(f.k).max(1) as f64;
-            let c_hat = (f.chi2 / dof).max(1.0);
-            let gain = (winner.chi2 - f.chi2) / c_hat - (f.bic - f.chi2 - winner.bic + winner.chi2);
-            if separable(&ev, &f)
-                && gain > STRONG_BIC
+            if worth_adding(&ev, &f, extension_gain(&winner, &f))
                 && best.as_ref().is_none_or(|b| f.bic < b.bic)
             {
                 best = Some(f);
@@ -631,8 +604,7 @@ pub fn diagnose(
             let mut start: Vec<f64> = winner.estimates.iter().map(|e| e.value).collect();
             start.push(single.estimates[0].value);
             let f = fit_candidate(&ev, tg, &effects, &[start], base_chi2)?;
-            if separable(&ev, &f)
-                && f.bic < winner.bic - STRONG_BIC
+            if worth_adding(&ev, &f, winner.bic - f.bic)
                 && best.as_ref().is_none_or(|b| f.bic < b.bic)
             {
                 best = Some(f);
@@ -749,7 +721,7 @@ pub fn diagnose(
     );
     let decomposition_after_winner = decompose_all(&all, &winner_gap, opts.fit.floor_cm);
     for s in &ev.specs {
-        if s.kind == ParamKind::Stochastic && names.contains(&s.name) {
+        if s.stochastic() && names.contains(&s.name) {
             notes.push(format!(
                 "{} is stochastic: it is fitted to the spread between runs, predicted with {} runs \
                  per group",

@@ -130,6 +130,12 @@ impl ParamSpec {
     pub fn two_sided(&self) -> bool {
         self.lower < self.neutral && self.upper > self.neutral
     }
+
+    /// Whether the effect is stochastic: it moves the spread between runs, not the
+    /// centroids.
+    pub fn stochastic(&self) -> bool {
+        self.kind == ParamKind::Stochastic
+    }
 }
 
 /// An effect of the library a model cannot represent, and why.

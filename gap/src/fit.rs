@@ -40,7 +40,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::data::{Group, Stats, TrainSet};
-use crate::effects::{EffectParams, ParamKind, ParamSpec};
+use crate::effects::{EffectParams, ParamSpec};
 use crate::model::{Model, TestKind};
 use crate::rng::Rng;
 use crate::GapError;
@@ -221,7 +221,7 @@ impl<'a> Evaluator<'a> {
     fn stochastic(&self, params: &EffectParams) -> bool {
         params.iter().any(|(n, v)| {
             self.spec(n)
-                .is_some_and(|s| s.kind == ParamKind::Stochastic && v != s.neutral)
+                .is_some_and(|s| s.stochastic() && v != s.neutral)
         })
     }
 
@@ -255,7 +255,7 @@ impl<'a> Evaluator<'a> {
         // the centroid and tie a stochastic parameter to it.
         let mut systematic = EffectParams::new();
         for (n, v) in params.iter() {
-            if self.spec(n).is_none_or(|s| s.kind == ParamKind::Systematic) {
+            if self.spec(n).is_none_or(|s| !s.stochastic()) {
                 systematic.set(n, v);
             }
         }
@@ -809,7 +809,7 @@ pub(crate) fn grid_start(
     }
     let mut starts = vec![vec![best.1]];
     // A stochastic parameter at its neutral value has no derivative; start inside.
-    let inside = if spec.kind == ParamKind::Stochastic || !spec.two_sided() {
+    let inside = if spec.stochastic() || !spec.two_sided() {
         (spec.neutral + 0.5 * spec.scale).clamp(spec.lower, spec.upper)
     } else {
         spec.neutral

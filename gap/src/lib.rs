@@ -42,6 +42,8 @@ pub mod selftest;
 pub mod series;
 pub mod stats;
 mod telemetry;
+#[cfg(test)]
+mod test_support;
 
 pub use data::{Dataset, Group, GroupId, HeldOutSet, ObservedRun, SplitRule, Stats, TrainSet};
 pub use diagnose::{

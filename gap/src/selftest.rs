@@ -25,7 +25,7 @@ use serde::Serialize;
 
 use crate::data::{Dataset, Group, ObservedRun, SplitRule};
 use crate::diagnose::{diagnose, DiagnoseOptions, Diagnosis};
-use crate::effects::{EffectParams, ParamKind};
+use crate::effects::EffectParams;
 use crate::fit::{hash, FitOptions};
 use crate::manifest::LoadedManifest;
 use crate::model::{Experiment, Firmware, Model, Reference, StraightLegs, TestKind};
@@ -187,7 +187,7 @@ pub fn run_case(
     let injected = (spec.neutral + sign * magnitude).clamp(spec.lower, spec.upper);
     let mut hidden = EffectParams::new().with(effect, injected);
     for s in &specs {
-        if s.kind == ParamKind::Stochastic && s.name != effect {
+        if s.stochastic() && s.name != effect {
             hidden.set(&s.name, s.neutral + s.scale / 8.0);
         }
     }
@@ -222,7 +222,7 @@ pub fn run_case(
         .find(|r| r.fit.effects == [effect])
         .expect("every parameter is fitted alone");
     let fitted = single.fit.estimates[0].value;
-    let stochastic = spec.kind == ParamKind::Stochastic;
+    let stochastic = spec.stochastic();
     let metric = |g: &crate::fit::Gap| {
         if stochastic {
             g.scatter_excess_cm

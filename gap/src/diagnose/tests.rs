@@ -2,34 +2,7 @@
 
 use super::*;
 use crate::effects::*;
-
-fn fit(effects: &[&str]) -> CandidateFit {
-    let nothing = Gap {
-        systematic_cm: 0.0,
-        scatter_cm: 0.0,
-        total_cm: 0.0,
-        systematic_excess_cm: 0.0,
-        scatter_excess_cm: 0.0,
-        groups: vec![],
-    };
-    CandidateFit {
-        effects: effects.iter().map(|e| (*e).to_owned()).collect(),
-        estimates: vec![],
-        k: effects.len(),
-        n_residuals: 0,
-        chi2: 0.0,
-        aic: 0.0,
-        bic: 0.0,
-        share_explained: 0.0,
-        train: nothing,
-        heldout: None,
-        correlation: None,
-        condition_number: 1.0,
-        iterations: 0,
-        converged: true,
-        params: EffectParams::new(),
-    }
-}
+use crate::test_support::candidate_fit as fit;
 
 fn labels(steps: &[(&CandidateFit, &CandidateFit)]) -> Vec<(String, String)> {
     steps.iter().map(|(a, b)| (a.label(), b.label())).collect()
@@ -84,4 +57,71 @@ fn the_advice_for_a_pair_is_its_own_in_either_order() {
         let advice = separating_measurement(a, b);
         assert!(advice.contains(says), "{a}, {b}: {advice}");
     }
+}
+
+/// The probes change one thing each from the training experiment, and their names say
+/// what: every test as trained, the CCW square with 45° and 180° corners, lines of half and
+/// twice the leg, and the CCW square with the firmware's wheelbase 10 % short.
+#[test]
+fn each_probe_changes_one_thing_and_says_which() {
+    use crate::model::TestKind;
+    use crate::test_support::experiment;
+    let template = experiment(TestKind::UmbmarkCw, 2000.0, 5);
+    let probes = probes(&template);
+    let n = TestKind::ALL.len();
+    assert_eq!(probes.len(), n + 5);
+    for ((name, e), kind) in probes.iter().zip(TestKind::ALL) {
+        assert_eq!(*name, format!("{kind} as in the training data"));
+        assert_eq!(e.test, kind);
+        assert_eq!(e.firmware, template.firmware);
+    }
+    let changed = |i: usize| {
+        let (name, e) = &probes[n + i];
+        (name.as_str(), e.test, e.firmware.clone())
+    };
+    let with = |f: &dyn Fn(&mut crate::model::Firmware)| {
+        let mut fw = template.firmware.clone();
+        f(&mut fw);
+        fw
+    };
+    assert_eq!(
+        changed(0),
+        (
+            "umbmark_ccw with 45° corners",
+            TestKind::UmbmarkCcw,
+            with(&|fw| fw.turn_umbmark_deg = 45.0)
+        )
+    );
+    assert_eq!(
+        changed(1),
+        (
+            "umbmark_ccw with 180° corners",
+            TestKind::UmbmarkCcw,
+            with(&|fw| fw.turn_umbmark_deg = 180.0)
+        )
+    );
+    assert_eq!(
+        changed(2),
+        (
+            "line of 1000 mm",
+            TestKind::Line,
+            with(&|fw| fw.leg_mm = 1000.0)
+        )
+    );
+    assert_eq!(
+        changed(3),
+        (
+            "line of 4000 mm",
+            TestKind::Line,
+            with(&|fw| fw.leg_mm = 4000.0)
+        )
+    );
+    assert_eq!(
+        changed(4),
+        (
+            "umbmark_ccw with the firmware wheelbase at 135.0 mm",
+            TestKind::UmbmarkCcw,
+            with(&|fw| fw.wheelbase_mm = 135.0)
+        )
+    );
 }

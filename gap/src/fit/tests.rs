@@ -3,21 +3,7 @@
 use super::*;
 use crate::data::{Dataset, ObservedRun, SplitRule};
 use crate::kinematic::KinematicModel;
-use crate::model::{Experiment, Firmware, Reference};
-
-fn experiment(test: TestKind) -> Experiment {
-    let reference = Reference {
-        wheelbase_mm: 150.0,
-        mm_per_count: 0.2,
-    };
-    Experiment {
-        test,
-        firmware: Firmware::nominal(&reference, 2000.0),
-        reference,
-        runs: 5,
-        seed: 1,
-    }
-}
+use crate::test_support::experiment;
 
 /// Levenberg-Marquardt raises its damping on a step that raises the cost: from x = 700 the
 /// Gauss-Newton step for atan x = 0 lands near −(1 + x²)·atan x, far past the root, and
@@ -39,7 +25,7 @@ fn marquardt_damps_the_steps_gauss_newton_overshoots() {
 /// for one seed of the options (0 included), and distinct for each seed of the options.
 #[test]
 fn each_group_and_each_seed_its_own_centroid_stream() {
-    let exp = experiment(TestKind::UmbmarkCw);
+    let exp = experiment(TestKind::UmbmarkCw, 2000.0, 5);
     let seeds = |opts: &FitOptions, tags: &[&str]| -> Vec<u64> {
         let ev = Evaluator {
             model: &KinematicModel,
@@ -104,7 +90,12 @@ fn the_excess_gaps_are_beyond_the_sampling_errors() {
         .collect();
     let mut d = Dataset::default();
     for name in ["a", "b"] {
-        let g = Group::new(name, experiment(TestKind::UmbmarkCw), runs.clone()).unwrap();
+        let g = Group::new(
+            name,
+            experiment(TestKind::UmbmarkCw, 2000.0, 5),
+            runs.clone(),
+        )
+        .unwrap();
         d.push(g).unwrap();
     }
     let (train, _) = d.split(&SplitRule::LeaveOut(vec!["b".into()])).unwrap();
