@@ -262,6 +262,17 @@ fn telemetry_goes_to_the_group_it_is_a_run_of() {
         .expect("the group has the log");
     assert_eq!(t.samples.len(), 4);
     assert_eq!(t.samples[2].rpm_right, 14.0);
+    // The same log given to a group as it is built (as the bench's self-test does), and
+    // then once more through the manifest: refused.
+    let t = t.clone();
+    let mut bare = data.groups()[0].clone();
+    bare.telemetry = None;
+    let group = bare.with_telemetry(t.clone());
+    assert_eq!(group.telemetry.as_ref(), Some(&t));
+    let mut built = gap::Dataset::default();
+    built.push(group).unwrap();
+    let err = built.attach_telemetry(&data.groups()[0].id, t).unwrap_err();
+    assert!(err.to_string().contains("telemetry given twice"), "{err}");
 
     let stray = LoadedManifest::parse(&manifest("x-9"), dir.join("log.toml")).unwrap();
     let (mut data, _) = load_dataset(std::slice::from_ref(&endpoints)).unwrap();
