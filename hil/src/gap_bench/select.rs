@@ -35,6 +35,9 @@ use serde::{Deserialize, Serialize};
 use super::{Batched, BenchModel};
 
 mod choose;
+#[cfg(test)]
+pub(super) use choose::heldout_worse_note;
+pub(super) use choose::HELDOUT_WORSE;
 mod render;
 mod telemetry;
 pub use choose::choose;

@@ -35,6 +35,16 @@ fn alike(
         .collect()
 }
 
+/// How the report's note that the choice worsens the held-out prediction begins.
+pub(crate) const HELDOUT_WORSE: &str = "the chosen effect makes the held-out prediction worse";
+
+/// The note, when the chosen model's held-out systematic gap (cm) exceeds the nominal's.
+pub(crate) fn heldout_worse_note(before_cm: f64, after_cm: f64) -> Option<String> {
+    (after_cm > before_cm).then(|| {
+        format!("{HELDOUT_WORSE}: systematic gap {before_cm:.2} cm before, {after_cm:.2} cm after")
+    })
+}
+
 fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
 }
@@ -161,13 +171,10 @@ pub fn choose(
              {left_chi2:.1} over {dof} degrees of freedom, p = {p_value:.2e}){place}"
         ));
     }
-    if heldout_after.systematic_cm > heldout_before.systematic_cm {
-        notes.push(format!(
-            "the chosen effect makes the held-out prediction worse: systematic gap {:.2} cm \
-             before, {:.2} cm after",
-            heldout_before.systematic_cm, heldout_after.systematic_cm
-        ));
-    }
+    notes.extend(heldout_worse_note(
+        heldout_before.systematic_cm,
+        heldout_after.systematic_cm,
+    ));
     let winner_series = match winner {
         Some((i, _)) => fitted[i].series_gaps.clone(),
         None => nominal.series_gaps.clone(),
