@@ -338,7 +338,6 @@ impl LoadedManifest {
             .map(|c| reference_from_config(&c));
         match (self.manifest.reference, from_config) {
             (Some(r), Some(c)) => {
-                let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
                 if !close(r.wheelbase_mm, c.wheelbase_mm) || !close(r.mm_per_count, c.mm_per_count)
                 {
                     return Err(self.err(format!(
@@ -620,6 +619,47 @@ impl LoadedManifest {
     }
 
     /// The telemetry of this manifest.
+    /// A log that is a run of `group` and states its own `[firmware]`, or a reference of its
+    /// own (`[reference]` or its `robot_config`), must state the group's: the bench replays
+    /// the group's firmware and robot, so a log of another state would be compared with the
+    /// wrong run.
+    fn check_same_run(&self, group: &crate::data::Group) -> Result<(), GapError> {
+        let e = &group.experiment;
+        let differs = |what: &str, ours: serde_json::Value, theirs: serde_json::Value| {
+            let (serde_json::Value::Object(ours), serde_json::Value::Object(theirs)) =
+                (ours, theirs)
+            else {
+                return None;
+            };
+            let same = |a: &serde_json::Value, b: Option<&serde_json::Value>| match (a.as_f64(), b)
+            {
+                (Some(x), Some(b)) => b.as_f64().is_some_and(|y| close(x, y)),
+                _ => b == Some(a),
+            };
+            let field = ours.iter().find(|(k, v)| !same(v, theirs.get(*k)))?;
+            Some(self.err(format!(
+                "telemetry.run_of: `{what}.{}` is {} here but {} in {}, the run this log \
+                 is of (a log of one run must state the firmware and reference of its group)",
+                field.0,
+                field.1,
+                theirs.get(field.0).unwrap_or(&serde_json::Value::Null),
+                group.id
+            )))
+        };
+        if let Some(fw) = &self.manifest.firmware {
+            if let Some(err) = differs("firmware", to_json(&fw.to_firmware()), to_json(&e.firmware))
+            {
+                return Err(err);
+            }
+        }
+        if let Some(r) = &self.reference {
+            if let Some(err) = differs("reference", to_json(r), to_json(&e.reference)) {
+                return Err(err);
+            }
+        }
+        Ok(())
+    }
+
     pub fn telemetry(&self) -> Result<Option<Telemetry>, GapError> {
         let Some(t) = &self.manifest.telemetry else {
             return Ok(None);
@@ -631,6 +671,17 @@ impl LoadedManifest {
         })?;
         read_telemetry(&text, &path, t.sample_period_s, t.rpm_unit).map(Some)
     }
+}
+
+/// Two values of a manifest the same to rounding (10⁻⁹ relative): one written in decimals,
+/// the other derived from a robot configuration.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+/// Plain data (numbers, strings, enums) as JSON, to compare field by field.
+fn to_json<T: Serialize>(v: &T) -> serde_json::Value {
+    serde_json::to_value(v).expect("plain data serialises")
 }
 
 /// Loads the endpoint groups of several manifests into one dataset. All manifests with
@@ -700,6 +751,9 @@ pub fn attach_telemetry(
             experiment: of.clone(),
             test: t.test,
         };
+        if let Some(g) = data.groups().iter().find(|g| g.id == id) {
+            m.check_same_run(g)?;
+        }
         data.attach_telemetry(&id, telemetry)
             .map_err(|e| GapError::Manifest {
                 path: m.path.clone(),

@@ -274,6 +274,39 @@ fn telemetry_goes_to_the_group_it_is_a_run_of() {
     let err = built.attach_telemetry(&data.groups()[0].id, t).unwrap_err();
     assert!(err.to_string().contains("telemetry given twice"), "{err}");
 
+    // A log of that run stating its firmware: the group's is accepted, another refused
+    // with the field that differs; likewise a [reference] of its own.
+    let stated = |firmware: &str| {
+        let text =
+            manifest("x-1").replace("\n\n[telemetry]", &format!("\n\n{firmware}\n[telemetry]"));
+        LoadedManifest::parse(&text, dir.join("log.toml")).unwrap()
+    };
+    let fw = |leg: &str| {
+        format!(
+            "[firmware]\nc_left = 1.0\nc_right = 1.0\nwheelbase_mm = 125.0\n\
+             mm_per_count = 0.166327\nleg_mm = {leg}\n"
+        )
+    };
+    let attach = |log: LoadedManifest| {
+        let (mut data, _) = load_dataset(std::slice::from_ref(&endpoints)).unwrap();
+        gap::attach_telemetry(&mut data, &[log]).map(|_| data.groups()[0].telemetry.is_some())
+    };
+    assert!(attach(stated(&fw("2000.0"))).unwrap());
+    let err = attach(stated(&fw("1000.0"))).unwrap_err().to_string();
+    assert!(
+        err.contains("log.toml")
+            && err.contains("`firmware.leg_mm` is 1000.0 here but 2000.0 in x-1/umbmark_cw"),
+        "{err}"
+    );
+    let other_robot = manifest("x-1").replace("henrytwo-ideal.toml", "rover65.toml");
+    let log = LoadedManifest::parse(&other_robot, dir.join("log.toml")).unwrap();
+    let err = attach(log).unwrap_err().to_string();
+    assert!(
+        err.contains("`reference.mm_per_count` is 0.34")
+            && err.contains("but 0.1669339525669579 in x-1"),
+        "{err}"
+    );
+
     let stray = LoadedManifest::parse(&manifest("x-9"), dir.join("log.toml")).unwrap();
     let (mut data, _) = load_dataset(std::slice::from_ref(&endpoints)).unwrap();
     let err = gap::attach_telemetry(&mut data, &[stray])
