@@ -14,6 +14,7 @@ fn a_joint_fit_is_degenerate_past_a_condition_number_of_1e8() {
         degenerate(&f)
     };
     assert!(with(1e9, true));
+    assert!(!with(1e8, true), "past, not at");
     assert!(!with(1e7, true));
     assert!(with(f64::INFINITY, true));
     assert!(with(10.0, false));
@@ -63,7 +64,7 @@ fn a_probe_scores_the_larger_of_the_distance_and_twice_the_heading() {
 /// An effect earns its place only when the fit that holds it stays determined and gains
 /// more than the strong BIC margin: Ed 1.01 ± 0.001 with a gain of 7 does, with a gain of
 /// 6 does not; Ed 1.01 ± 0.01 (within two errors of 1) does not, however large the gain,
-/// nor does a determined value at a condition number of 10⁷.
+/// nor does a determined value at a condition number of 10⁷ (or 10⁶: below it, not at it).
 #[test]
 fn an_effect_is_worth_adding_when_determined_and_strongly_better() {
     use crate::effects::WHEEL_DIAMETER_RATIO;
@@ -95,4 +96,15 @@ fn an_effect_is_worth_adding_when_determined_and_strongly_better() {
     assert!(!worth_adding(&ev, &ed(0.001, 1.0), STRONG_BIC));
     assert!(!worth_adding(&ev, &ed(0.01, 1.0), 100.0));
     assert!(!worth_adding(&ev, &ed(0.001, 1e7), 100.0));
+    assert!(
+        !worth_adding(&ev, &ed(0.001, 1e6), 100.0),
+        "below 10⁶, not at"
+    );
+    assert!(worth_adding(&ev, &ed(0.001, 999_999.0), 100.0));
+    // More than two errors from neutral, not two: 1.5 ± 0.25 is two exactly.
+    let mut at_two = ed(0.25, 1.0);
+    at_two.estimates[0].value = 1.5;
+    assert!(!worth_adding(&ev, &at_two, 100.0));
+    at_two.estimates[0].std_err = Some(0.2499);
+    assert!(worth_adding(&ev, &at_two, 100.0));
 }
