@@ -446,6 +446,25 @@ fn vcd_is_refused_where_no_trace_is_written() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `hil serve` and `hil ui` start no run themselves: `--param` and
+/// `--keep-firmware-params` (what the bench tells the firmware before a run)
+/// are refused, not ignored.
+#[test]
+fn run_parameters_are_refused_where_no_run_is_started() {
+    for cmd in [&["serve", "--pty"][..], &["ui"]] {
+        for (option, args) in [
+            ("--param", &["--param", "kp_left=1.5"][..]),
+            ("--keep-firmware-params", &["--keep-firmware-params"]),
+        ] {
+            let out = hil_within(&[cmd, args].concat(), Duration::from_secs(20));
+            assert_refused(
+                &out,
+                &format!("{option}: hil {} starts no run of its own", cmd[0]),
+            );
+        }
+    }
+}
+
 /// `hil serve` and `hil ui` print no result: `--json` (and
 /// `--deterministic`) are refused, not ignored.
 #[test]

@@ -266,6 +266,25 @@ impl Common {
         Ok(())
     }
 
+    /// For a command that starts no run itself (its client does): `--param` and
+    /// `--keep-firmware-params`, which shape what the bench tells the firmware before each
+    /// run, refused (exit 2), not dropped.
+    pub fn refuse_run_params(&self, command: &str) -> Result<()> {
+        let t = &self.target;
+        let option = if !t.params.is_empty() {
+            "--param"
+        } else if t.keep_firmware_params {
+            "--keep-firmware-params"
+        } else {
+            return Ok(());
+        };
+        Err(super::bad_input(anyhow::anyhow!(
+            "{option}: hil {command} starts no run of its own (its client selects the tests and \
+             sets the parameters over the link); the commands that run tests take it (hil run, \
+             hil umbmark, ...)"
+        )))
+    }
+
     /// For a command that prints no result: `--json` (and `--deterministic`,
     /// which only shapes results) refused, not dropped.
     pub fn refuse_result_format(&self, command: &str, what: &str) -> Result<()> {

@@ -26,6 +26,7 @@ pub struct Serve {
 impl Serve {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("serve")?;
+        self.common.refuse_run_params("serve")?;
         self.common
             .refuse_result_format("serve", "it serves the emulated robot until stopped")?;
         let target = &self.common.target;
@@ -61,6 +62,7 @@ pub struct Ui {
 impl Ui {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("ui")?;
+        self.common.refuse_run_params("ui")?;
         self.common
             .refuse_result_format("ui", "it serves the station's page until stopped")?;
         let target = &self.common.target;
@@ -73,7 +75,7 @@ impl Ui {
             firmware: target.firmware()?,
             port: self.port,
             baud: self.baud,
-            seed: target.seed,
+            bench: target.bench(),
         };
         ui(options, self.listen_port)
     }

@@ -96,7 +96,19 @@ pub struct UiOptions {
     /// A serial port offered first (`--port`).
     pub port: Option<String>,
     pub baud: u32,
-    pub seed: u64,
+    /// The emulated robots' board (their wiring and links) and plant seed.
+    pub bench: BenchOptions,
+}
+
+impl UiOptions {
+    /// How an emulated robot is served at `speed`: on the board and seed asked for.
+    fn serve_options(&self, speed: f64) -> ServeOptions {
+        ServeOptions {
+            speed,
+            bench: self.bench,
+            ..Default::default()
+        }
+    }
 }
 
 /// The robot configs in `dir` (`*.toml`), by name, sorted; `first` (a
@@ -275,14 +287,8 @@ async fn connect(
                 })?;
             let robot = plant_model::RobotConfig::load(&file)
                 .map_err(|e| UiError::Input(format!("robot config {}: {e}", file.display())))?;
-            let options = ServeOptions {
-                speed,
-                bench: BenchOptions {
-                    seed: app.options.seed,
-                    ..Default::default()
-                },
-                ..Default::default()
-            };
+            let options = app.options.serve_options(speed);
+            let baud = options.bench.board.command_uart.baud;
             let firmware = app.options.firmware.clone();
             let emu = tokio::task::spawn_blocking(move || {
                 EmulatedRobot::spawn(firmware, &robot, options)
@@ -294,7 +300,7 @@ async fn connect(
                 format!("emulated-{config}"),
                 format!("emulated {config} at {speed}x ({path})"),
                 path,
-                9600,
+                baud,
                 Some(Arc::new(emu)),
             )
         }
@@ -653,6 +659,33 @@ async fn event_stream(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The emulated robots run on the board and seed of the command line (`hil ui --board
+    /// ... --seed ...`), and their link at that board's baud rate.
+    #[test]
+    fn emulated_robots_are_served_on_the_board_asked_for() {
+        let board = crate::board::Board::load(
+            crate::paths::workspace_root().join("fixtures/boards/rover65.toml"),
+        )
+        .unwrap();
+        assert_ne!(board, crate::board::Board::default());
+        let options = UiOptions {
+            sessions_dir: PathBuf::new(),
+            robots: vec![],
+            firmware: crate::elf::Firmware::load(&crate::paths::firmware_elf("robust")).unwrap(),
+            port: None,
+            baud: 9600,
+            bench: BenchOptions {
+                seed: 7,
+                board,
+                ..Default::default()
+            },
+        };
+        let served = options.serve_options(2.5);
+        assert_eq!(served.speed, 2.5);
+        assert_eq!(served.bench.board, board);
+        assert_eq!(served.bench.seed, 7);
+    }
 
     #[test]
     fn a_config_given_on_the_command_line_leads_the_list() {
