@@ -201,7 +201,7 @@ fn rewiring_releases_the_old_inputs_first_then_sets_up_the_new() {
     d.rewire(&enable_two_dir());
     let log = take(&mut d);
     // First the four old inputs low and released, pin 1 then 2, left first.
-    let release = vec![
+    let release = [
         (PORTH, 0x40 & !0x40),
         (mp::TCCR2A, 0x01),
         (PORTH, 0),

@@ -400,7 +400,10 @@ mod tests {
         L7- L6- L5 5C L4 5B L3 5A L2- L1- L0- B3- B2- B1- B0- \
         F0- F1- F2- F3- F4- F5- F6- F7- K0- K1- K2- K3- K4- K5- K6- K7-";
 
-    fn variant_rows() -> Vec<(char, u8, Option<(u8, char)>)> {
+    /// A pin as the variant file and the table give it: port, bit, timer and channel.
+    type Row = (char, u8, Option<(u8, char)>);
+
+    fn variant_rows() -> Vec<Row> {
         let mut rows = Vec::new();
         let words: Vec<&str> = VARIANT.split_whitespace().collect();
         let mut i = 0;
@@ -428,7 +431,7 @@ mod tests {
         std::format!("{c:?}").chars().next().unwrap()
     }
 
-    fn table_rows() -> Vec<(char, u8, Option<(u8, char)>)> {
+    fn table_rows() -> Vec<Row> {
         PINS.iter().map(|m| (port_letter(m.port), m.bit, m.oc.map(|o| (o.timer, channel_letter(o.channel))))).collect()
     }
 
