@@ -1,0 +1,209 @@
+//! A manifest's checks: every field against its range and the files it names, before
+//! anything is read; and a telemetry log against the group it says it is a run of.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::{close, EndpointLayout, LoadedManifest, FORMAT};
+use crate::model::{Firmware, TestKind};
+use crate::series::RpmUnit;
+use crate::GapError;
+
+impl LoadedManifest {
+    fn check_file(&self, field: &str, p: &Path) -> Result<(), GapError> {
+        let r = self.resolve(p);
+        if !r.is_file() {
+            return Err(self.err(format!(
+                "`{field}` = \"{}\" does not exist (resolved against the manifest's directory: {})",
+                p.display(),
+                r.display()
+            )));
+        }
+        Ok(())
+    }
+
+    pub(super) fn validate(&self) -> Result<(), GapError> {
+        let m = &self.manifest;
+        if m.format != FORMAT {
+            return Err(self.err(format!(
+                "`format` = {} is not supported; this reader knows format {FORMAT}",
+                m.format
+            )));
+        }
+        if m.experiment.trim().is_empty() || m.experiment.contains('/') {
+            return Err(
+                self.err("`experiment` must be a non-empty name without `/` (e.g. \"umbmark-1\")")
+            );
+        }
+        self.check_file("robot_config", &m.robot_config)?;
+        let sources = [
+            m.endpoints.is_some(),
+            m.step_response.is_some(),
+            m.telemetry.is_some(),
+        ];
+        if sources.iter().filter(|s| **s).count() != 1 {
+            return Err(self
+                .err("exactly one of [endpoints], [step_response] and [telemetry] must be given"));
+        }
+        if let Some(fw) = &m.firmware {
+            self.check_firmware("firmware", &fw.to_firmware())?;
+        }
+        if let Some(r) = m.reference {
+            for (f, v) in [
+                ("reference.wheelbase_mm", r.wheelbase_mm),
+                ("reference.mm_per_count", r.mm_per_count),
+            ] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(self.err(format!("`{f}` must be a positive number, got {v}")));
+                }
+            }
+        }
+        if let Some(e) = &m.endpoints {
+            let fw = m.firmware.as_ref().ok_or_else(|| {
+                self.err("[endpoints] needs [firmware] (the parameters in force)")
+            })?;
+            self.check_file("endpoints.file", &e.file)?;
+            if e.tests.is_empty() {
+                return Err(self.err("[endpoints] lists no [[endpoints.tests]]"));
+            }
+            for (i, t) in e.tests.iter().enumerate() {
+                let ok = match e.layout {
+                    EndpointLayout::UmbmarkEndpoints => {
+                        matches!(t.kind, TestKind::UmbmarkCw | TestKind::UmbmarkCcw)
+                    }
+                    EndpointLayout::TriangleEndpoints => matches!(
+                        t.kind,
+                        TestKind::Line | TestKind::TriangleCcw | TestKind::TriangleCw
+                    ),
+                };
+                if !ok {
+                    return Err(self.err(format!(
+                        "endpoints.tests[{i}]: kind `{}` is not in a {:?} table (umbmark_endpoints \
+                         holds umbmark_cw and umbmark_ccw; triangle_endpoints holds line and \
+                         triangle_ccw or triangle_cw)",
+                        t.kind, e.layout
+                    )));
+                }
+                if e.tests[..i].iter().any(|u| u.kind == t.kind)
+                    || (t.kind == TestKind::TriangleCw
+                        && e.tests.iter().any(|u| u.kind == TestKind::TriangleCcw))
+                {
+                    return Err(self.err(format!(
+                        "endpoints.tests[{i}]: `{}` listed twice (a triangle table has one \
+                         triangle direction)",
+                        t.kind
+                    )));
+                }
+                let f = t
+                    .firmware
+                    .as_ref()
+                    .map_or_else(|| fw.to_firmware(), |o| o.apply(fw.to_firmware()));
+                self.check_firmware(&format!("endpoints.tests[{i}].firmware"), &f)?;
+            }
+        }
+        if let Some(s) = &m.step_response {
+            if s.speed_unit != RpmUnit::ThesisRpm {
+                return Err(self.err(
+                    "step_response.speed_unit must be \"thesis_rpm\" (the step-response layout's \
+                     unit)",
+                ));
+            }
+            if s.files.is_empty() {
+                return Err(self.err("[step_response] lists no files"));
+            }
+            for (i, f) in s.files.iter().enumerate() {
+                self.check_file(&format!("step_response.files[{i}].file"), &f.file)?;
+            }
+            if s.train_levels.len() < 2 {
+                return Err(self.err(
+                    "step_response.train_levels needs at least two PWM levels (gain and dead \
+                     band)",
+                ));
+            }
+        }
+        if let Some(t) = &m.telemetry {
+            self.check_file("telemetry.file", &t.file)?;
+            if !(t.sample_period_s.is_finite() && t.sample_period_s > 0.0) {
+                return Err(self.err("telemetry.sample_period_s must be positive"));
+            }
+        }
+        Ok(())
+    }
+
+    fn check_firmware(&self, what: &str, f: &Firmware) -> Result<(), GapError> {
+        for (name, v) in [
+            ("c_left", f.c_left),
+            ("c_right", f.c_right),
+            ("wheelbase_mm", f.wheelbase_mm),
+            ("mm_per_count", f.mm_per_count),
+            ("leg_mm", f.leg_mm),
+            ("turn_umbmark_deg", f.turn_umbmark_deg),
+            ("turn_triangle_deg", f.turn_triangle_deg),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(self.err(format!("`{what}.{name}` must be positive, got {v}")));
+            }
+        }
+        for (name, v) in [
+            ("setpoint_left", f.setpoint_left),
+            ("setpoint_right", f.setpoint_right),
+        ] {
+            if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+                return Err(self.err(format!("`{what}.{name}` must be positive")));
+            }
+        }
+        if f.setpoint_left.is_some() != f.setpoint_right.is_some() {
+            return Err(self.err(format!(
+                "`{what}`: give both setpoint_left and setpoint_right, or neither"
+            )));
+        }
+        Ok(())
+    }
+
+    /// A log that is a run of `group` and states its own `[firmware]`, or a reference of its
+    /// own (`[reference]` or its `robot_config`), must state the group's: the bench replays
+    /// the group's firmware and robot, so a log of another state would be compared with the
+    /// wrong run.
+    pub(super) fn check_same_run(&self, group: &crate::data::Group) -> Result<(), GapError> {
+        let e = &group.experiment;
+        let differs = |what: &str, ours: serde_json::Value, theirs: serde_json::Value| {
+            let (serde_json::Value::Object(ours), serde_json::Value::Object(theirs)) =
+                (ours, theirs)
+            else {
+                return None;
+            };
+            let same = |a: &serde_json::Value, b: Option<&serde_json::Value>| match (a.as_f64(), b)
+            {
+                (Some(x), Some(b)) => b.as_f64().is_some_and(|y| close(x, y)),
+                _ => b == Some(a),
+            };
+            let field = ours.iter().find(|(k, v)| !same(v, theirs.get(*k)))?;
+            Some(self.err(format!(
+                "telemetry.run_of: `{what}.{}` is {} here but {} in {}, the run this log \
+                 is of (a log of one run must state the firmware and reference of its group)",
+                field.0,
+                field.1,
+                theirs.get(field.0).unwrap_or(&serde_json::Value::Null),
+                group.id
+            )))
+        };
+        if let Some(fw) = &self.manifest.firmware {
+            if let Some(err) = differs("firmware", to_json(&fw.to_firmware()), to_json(&e.firmware))
+            {
+                return Err(err);
+            }
+        }
+        if let Some(r) = &self.reference {
+            if let Some(err) = differs("reference", to_json(r), to_json(&e.reference)) {
+                return Err(err);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Plain data (numbers, strings, enums) as JSON, to compare field by field.
+fn to_json<T: Serialize>(v: &T) -> serde_json::Value {
+    serde_json::to_value(v).expect("plain data serialises")
+}
