@@ -267,6 +267,19 @@ pub fn separating_measurement(a: &str, b: &str) -> String {
 }
 
 /// The probe experiments: variations of a template experiment.
+/// The starts of a pair's joint fit, from its two singles' fitted `values` and the effects'
+/// `neutrals`: both singles' values; and when neither effect is `stochastic` (a
+/// deterministic fit is cheap), each single's value with the other effect neutral too.
+fn pair_starts(values: [f64; 2], neutrals: [f64; 2], stochastic: [bool; 2]) -> Vec<Vec<f64>> {
+    let [vi, vj] = values;
+    let [ni, nj] = neutrals;
+    if stochastic[0] || stochastic[1] {
+        vec![vec![vi, vj]]
+    } else {
+        vec![vec![vi, vj], vec![vi, nj], vec![ni, vj]]
+    }
+}
+
 fn probes(template: &Experiment) -> Vec<(String, Experiment)> {
     let mut out = Vec::new();
     for kind in TestKind::ALL {
@@ -404,13 +417,11 @@ pub fn diagnose(
                     ev.spec(&names[i]).expect("checked").neutral,
                     ev.spec(&names[j]).expect("checked").neutral,
                 );
-                let (vi, vj) = (si.estimates[0].value, sj.estimates[0].value);
-                // Deterministic pairs are cheap: try each single's value alone too.
-                let starts = if is_stochastic(&names[i]) || is_stochastic(&names[j]) {
-                    vec![vec![vi, vj]]
-                } else {
-                    vec![vec![vi, vj], vec![vi, nj], vec![ni, vj]]
-                };
+                let starts = pair_starts(
+                    [si.estimates[0].value, sj.estimates[0].value],
+                    [ni, nj],
+                    [is_stochastic(&names[i]), is_stochastic(&names[j])],
+                );
                 let effects = vec![names[i].clone(), names[j].clone()];
                 let mut f = fit_candidate(&ev, tg, &effects, &starts, base_chi2)?;
                 f.heldout = Some(ev.gap(&f.params, hg)?);

@@ -125,3 +125,17 @@ fn each_probe_changes_one_thing_and_says_which() {
         )
     );
 }
+
+/// A deterministic pair starts from both singles' values and from each alone with the
+/// other neutral; a pair with a stochastic effect (either one) from both values only.
+#[test]
+fn a_pair_starts_from_its_singles() {
+    let starts = |stochastic| pair_starts([1.02, 3.0], [1.0, 0.0], stochastic);
+    assert_eq!(
+        starts([false, false]),
+        [vec![1.02, 3.0], vec![1.02, 0.0], vec![1.0, 3.0]]
+    );
+    for stochastic in [[true, false], [false, true], [true, true]] {
+        assert_eq!(starts(stochastic), [vec![1.02, 3.0]], "{stochastic:?}");
+    }
+}
