@@ -153,6 +153,28 @@ fn cw_only_cannot_separate_ed_and_eb() {
         .parse()
         .unwrap();
     assert!(d < 2.0, "{alike}");
+    // And fitted together, their correlation and condition number as the joint fit has them.
+    let joint = &diag
+        .which
+        .pairs
+        .iter()
+        .find(|r| {
+            r.fit.effects.len() == 2
+                && r.fit.effects.contains(&WHEELBASE_RATIO.to_owned())
+                && r.fit.effects.contains(&WHEEL_DIAMETER_RATIO.to_owned())
+        })
+        .expect("the pair is fitted")
+        .fit;
+    let together = format!(
+        "fitted together their parameters are correlated (|ρ| = {:.4}, condition number {:.3e})",
+        joint.max_correlation().expect("a correlation"),
+        joint.condition_number
+    );
+    assert!(
+        c.evidence.contains(&together),
+        "{together}: {:?}",
+        c.evidence
+    );
     // The separating probe is a CCW square with 45° corners (the turn error grows with the
     // angle, the leg error does not), and the difference it states is the one the two fits
     // predict there.
