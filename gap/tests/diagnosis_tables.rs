@@ -183,7 +183,8 @@ fn forward_selection_adds_the_third_effect_up_to_the_limit() {
 
 /// A pair wins over the best single effect when its BIC is lower by more than the threshold
 /// (6), and only then: a toe of 0.1° next to Ed is taken (BIC about 5 against 16), one of
-/// 0.05° is not (the single's BIC is already about 6).
+/// 0.07° is not (BIC about 5 against 9: lower by 4, though the pair is separable, toe
+/// 0.070 ± 0.027).
 #[test]
 fn a_pair_wins_by_the_bic_margin_only() {
     let candidates = [WHEEL_DIAMETER_RATIO, TOE, COAST];
@@ -195,7 +196,15 @@ fn a_pair_wins_by_the_bic_margin_only() {
         "{}",
         d.which.winner_reason
     );
-    let d = diagnosis(&ed.with(TOE, 0.05), &candidates);
+    let d = diagnosis(&ed.with(TOE, 0.07), &candidates);
+    let pair = d
+        .which
+        .pairs
+        .iter()
+        .find(|r| r.fit.effects == [WHEEL_DIAMETER_RATIO, TOE])
+        .expect("the pair is fitted");
+    let toe = &pair.fit.estimates[1];
+    assert!(toe.value > 2.0 * toe.std_err.unwrap(), "separable: {toe:?}");
     assert_eq!(
         d.which.winner,
         [WHEEL_DIAMETER_RATIO],
