@@ -216,3 +216,31 @@ fn a_pair_wins_by_the_bic_margin_only() {
         .winner_reason
         .contains("no separable pair beats it by more than 6"));
 }
+
+/// Of several effects worth adding, forward selection adds the one that lowers the BIC
+/// most, whatever their order: Ed, Eb, toe 1.5° and coast 3° hidden, at most three effects;
+/// from the pair Ed + toe both Eb (BIC 23.9) and coast (20.1) are worth adding, and coast is
+/// added though Eb comes first.
+#[test]
+fn forward_selection_adds_the_best_of_the_effects_worth_adding() {
+    let hidden = EffectParams::new()
+        .with(WHEEL_DIAMETER_RATIO, 1.008)
+        .with(WHEELBASE_RATIO, 1.03)
+        .with(TOE, 1.5)
+        .with(COAST, 3.0);
+    let candidates = [WHEEL_DIAMETER_RATIO, WHEELBASE_RATIO, COAST, TOE];
+    let d = diagnosis_with(&hidden, &candidates, 3);
+    assert_eq!(
+        d.which.winner,
+        [WHEEL_DIAMETER_RATIO, TOE, COAST],
+        "{}",
+        d.which.winner_reason
+    );
+    assert!(
+        d.which
+            .winner_reason
+            .contains("; adding coast lowers the BIC further to 20.1"),
+        "{}",
+        d.which.winner_reason
+    );
+}
