@@ -336,6 +336,37 @@ fn find_separating_test(
     Ok(best.and_then(|(s, _, text)| (s >= 1.0).then_some(text)))
 }
 
+/// Where the fit of `winner` with effect `n` more starts: the winner's values, then n's
+/// value fitted alone (one of `singles`).
+fn extension_start(winner: &CandidateFit, singles: &[CandidateFit], n: &str) -> Vec<f64> {
+    let single = singles
+        .iter()
+        .find(|s| s.effects == [n])
+        .expect("every candidate is fitted alone");
+    let mut start: Vec<f64> = winner.estimates.iter().map(|e| e.value).collect();
+    start.push(single.estimates[0].value);
+    start
+}
+
+/// A note for each step of forward selection (`steps`, from [`path_pairs`]) whose added
+/// effect raised the held-out gap (total, cm).
+fn heldout_worse_notes(steps: &[(&CandidateFit, &CandidateFit)]) -> Vec<String> {
+    let total = |f: &CandidateFit| f.heldout.as_ref().expect("computed").total_cm;
+    steps
+        .iter()
+        .filter(|(a, b)| total(b) > total(a))
+        .map(|(a, b)| {
+            format!(
+                "adding {} lowered the training BIC but not the held-out gap ({:.2} → {:.2} cm): \
+                 it fits something of the training data that does not carry over",
+                b.effects.last().expect("non-empty"),
+                total(a),
+                total(b)
+            )
+        })
+        .collect()
+}
+
 /// Consecutive steps of forward selection: (pair, first extension), (first, second), ...
 fn path_pairs<'a>(
     extended: &'a [CandidateFit],
@@ -569,29 +600,34 @@ pub fn diagnose(
     // Forward selection beyond the pair: add the effect that lowers the BIC most, while it
     // does so by more than STRONG_BIC and every parameter stays determined.
     let (mut winner, mut winner_reason) = (winner, winner_reason);
-    let mut extended = Vec::new();
-    while winner.effects.len() >= 2 && winner.effects.len() < opts.fit.max_effects {
+    // The lowest BIC of `winner` extended by each effect of `ns` that its `gain` over the
+    // winner makes worth adding, if any.
+    let best_extension = |winner: &CandidateFit,
+                          ns: Vec<&String>,
+                          gain: &dyn Fn(&CandidateFit, &CandidateFit) -> f64|
+     -> Result<Option<CandidateFit>, GapError> {
         let mut best: Option<CandidateFit> = None;
-        for n in names
-            .iter()
-            .filter(|n| !winner.effects.contains(n) && !is_stochastic(n))
-        {
+        for n in ns {
             let mut effects = winner.effects.clone();
             effects.push(n.clone());
-            let single = singles
-                .iter()
-                .find(|s| s.effects == [n.clone()])
-                .expect("fitted");
-            let mut start: Vec<f64> = winner.estimates.iter().map(|e| e.value).collect();
-            start.push(single.estimates[0].value);
+            let start = extension_start(winner, &singles, n);
             let f = fit_candidate(&ev, tg, &effects, &[start], base_chi2)?;
-            if worth_adding(&ev, &f, extension_gain(&winner, &f))
+            if worth_adding(&ev, &f, gain(winner, &f))
                 && best.as_ref().is_none_or(|b| f.bic < b.bic)
             {
                 best = Some(f);
             }
         }
-        let Some(mut b) = best else { break };
+        Ok(best)
+    };
+    let mut extended = Vec::new();
+    while winner.effects.len() >= 2 && winner.effects.len() < opts.fit.max_effects {
+        let ns = names
+            .iter()
+            .filter(|n| !winner.effects.contains(n) && !is_stochastic(n));
+        let Some(mut b) = best_extension(&winner, ns.collect(), &extension_gain)? else {
+            break;
+        };
         b.heldout = Some(ev.gap(&b.params, hg)?);
         winner_reason = format!(
             "{winner_reason}; adding {} lowers the BIC further to {:.1}",
@@ -604,24 +640,9 @@ pub fn diagnose(
     // The spread: stochastic effects only move the scatter residuals (the centroids are
     // predicted with them off), so they are added on their own evidence, plain BIC.
     if winner.effects.len() < opts.fit.max_effects && !winner.effects.iter().any(&is_stochastic) {
-        let mut best: Option<CandidateFit> = None;
-        for n in names.iter().filter(|n| is_stochastic(n)) {
-            let mut effects = winner.effects.clone();
-            effects.push(n.clone());
-            let single = singles
-                .iter()
-                .find(|s| s.effects == [n.clone()])
-                .expect("fitted");
-            let mut start: Vec<f64> = winner.estimates.iter().map(|e| e.value).collect();
-            start.push(single.estimates[0].value);
-            let f = fit_candidate(&ev, tg, &effects, &[start], base_chi2)?;
-            if worth_adding(&ev, &f, winner.bic - f.bic)
-                && best.as_ref().is_none_or(|b| f.bic < b.bic)
-            {
-                best = Some(f);
-            }
-        }
-        if let Some(mut b) = best {
+        let ns = names.iter().filter(|n| is_stochastic(n)).collect();
+        let plain_bic = |w: &CandidateFit, f: &CandidateFit| w.bic - f.bic;
+        if let Some(mut b) = best_extension(&winner, ns, &plain_bic)? {
             b.heldout = Some(ev.gap(&b.params, hg)?);
             winner_reason = format!(
                 "{winner_reason}; the spread between runs adds {} (BIC {:.1})",
@@ -639,20 +660,7 @@ pub fn diagnose(
             base.bic
         ));
     }
-    for w in path_pairs(&extended, &pairs, &winner) {
-        let (a, b) = w;
-        let (ga, gb) = (
-            a.heldout.as_ref().expect("computed").total_cm,
-            b.heldout.as_ref().expect("computed").total_cm,
-        );
-        if gb > ga {
-            notes.push(format!(
-                "adding {} lowered the training BIC but not the held-out gap ({ga:.2} → {gb:.2} cm): \
-                 it fits something of the training data that does not carry over",
-                b.effects.last().expect("non-empty")
-            ));
-        }
-    }
+    notes.extend(heldout_worse_notes(&path_pairs(&extended, &pairs, &winner)));
     for c in &confusions {
         if let Some(w) = c.effects.iter().find(|e| winner.effects.contains(e)) {
             let others: Vec<&String> = c.effects.iter().filter(|e| *e != w).collect();

@@ -2,7 +2,7 @@
 //! candidate fit that says only which effects it holds.
 
 use crate::effects::EffectParams;
-use crate::fit::{CandidateFit, Gap};
+use crate::fit::{CandidateFit, Estimate, Gap};
 use crate::model::{Experiment, Firmware, Reference, TestKind};
 
 /// `test` with legs of `leg_mm`, `runs` runs, on a robot of 150 mm wheelbase and 0.2 mm per
@@ -48,5 +48,18 @@ pub(crate) fn candidate_fit(effects: &[&str]) -> CandidateFit {
         iterations: 0,
         converged: true,
         params: EffectParams::new(),
+    }
+}
+
+/// An estimate of `name` at `value` with `std_err`, no symbol or unit, not at a bound.
+pub(crate) fn estimate(name: &str, value: f64, std_err: Option<f64>) -> Estimate {
+    Estimate {
+        name: name.to_owned(),
+        symbol: String::new(),
+        unit: String::new(),
+        value,
+        std_err,
+        bootstrap_sd: None,
+        at_bound: false,
     }
 }

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::effects::*;
-use crate::test_support::candidate_fit as fit;
+use crate::test_support::{candidate_fit as fit, estimate};
 
 fn labels(steps: &[(&CandidateFit, &CandidateFit)]) -> Vec<(String, String)> {
     steps.iter().map(|(a, b)| (a.label(), b.label())).collect()
@@ -138,4 +138,58 @@ fn a_pair_starts_from_its_singles() {
     for stochastic in [[true, false], [false, true], [true, true]] {
         assert_eq!(starts(stochastic), [vec![1.02, 3.0]], "{stochastic:?}");
     }
+}
+
+/// A step of forward selection that raised the held-out gap gets a note naming its effect
+/// and both gaps; a step that lowered it or left it as it was gets none.
+#[test]
+fn a_step_that_raises_the_held_out_gap_is_noted() {
+    let with_gap = |effects: &[&str], total_cm: f64| {
+        let mut f = fit(effects);
+        let mut gap = f.train.clone();
+        gap.total_cm = total_cm;
+        f.heldout = Some(gap);
+        f
+    };
+    let pair = with_gap(&[TOE, COAST], 1.0);
+    let third = with_gap(&[TOE, COAST, TURN_SLIP], 1.5);
+    let fourth = with_gap(&[TOE, COAST, TURN_SLIP, DEAD_BAND], 1.2);
+    let fifth = with_gap(&[TOE, COAST, TURN_SLIP, DEAD_BAND, BACKLASH], 1.2);
+    let notes = heldout_worse_notes(&[(&pair, &third), (&third, &fourth), (&fourth, &fifth)]);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0].starts_with(&format!(
+            "adding {TURN_SLIP} lowered the training BIC but not the held-out gap (1.00 → 1.50 cm)"
+        )),
+        "{notes:?}"
+    );
+}
+
+/// An extension starts from the winner's values and the added effect's own single fit.
+#[test]
+fn an_extension_starts_from_the_winner_and_the_effects_single_fit() {
+    let with_values = |effects: &[&str], values: &[f64]| {
+        let mut f = fit(effects);
+        f.estimates = effects
+            .iter()
+            .zip(values)
+            .map(|(e, &value)| estimate(e, value, None))
+            .collect();
+        f
+    };
+    let winner = with_values(&[TOE, COAST], &[1.5, 3.0]);
+    let singles = [
+        with_values(&[TOE], &[1.4]),
+        with_values(&[COAST], &[2.5]),
+        with_values(&[TURN_SLIP], &[0.02]),
+        with_values(&[DEAD_BAND], &[0.1]),
+    ];
+    assert_eq!(
+        extension_start(&winner, &singles, TURN_SLIP),
+        [1.5, 3.0, 0.02]
+    );
+    assert_eq!(
+        extension_start(&winner, &singles, DEAD_BAND),
+        [1.5, 3.0, 0.1]
+    );
 }

@@ -1,7 +1,7 @@
 //! The rules on numbers worked by hand.
 
 use super::*;
-use crate::test_support::candidate_fit;
+use crate::test_support::{candidate_fit, estimate};
 
 /// A condition number past 10⁸ makes a joint fit degenerate even with its correlation
 /// matrix at hand; so does a singular one; 10⁷ with a matrix does not.
@@ -68,7 +68,7 @@ fn a_probe_scores_the_larger_of_the_distance_and_twice_the_heading() {
 #[test]
 fn an_effect_is_worth_adding_when_determined_and_strongly_better() {
     use crate::effects::WHEEL_DIAMETER_RATIO;
-    use crate::fit::{Estimate, FitOptions, Weights};
+    use crate::fit::{FitOptions, Weights};
     use crate::kinematic::KinematicModel;
     use crate::model::Model;
     let ev = Evaluator {
@@ -81,15 +81,7 @@ fn an_effect_is_worth_adding_when_determined_and_strongly_better() {
     let ed = |std_err: f64, condition_number: f64| {
         let mut f = candidate_fit(&[WHEEL_DIAMETER_RATIO]);
         f.condition_number = condition_number;
-        f.estimates = vec![Estimate {
-            name: WHEEL_DIAMETER_RATIO.into(),
-            symbol: "Ed".into(),
-            unit: "1".into(),
-            value: 1.01,
-            std_err: Some(std_err),
-            bootstrap_sd: None,
-            at_bound: false,
-        }];
+        f.estimates = vec![estimate(WHEEL_DIAMETER_RATIO, 1.01, Some(std_err))];
         f
     };
     assert!(worth_adding(&ev, &ed(0.001, 1.0), 7.0));
