@@ -244,3 +244,43 @@ fn forward_selection_adds_the_best_of_the_effects_worth_adding() {
         d.which.winner_reason
     );
 }
+
+/// The spread's effect is added on a BIC lower by more than the threshold (6), as the
+/// centroids' effects are: next to Ed and coast, a floor noise of 0.05 lowers the BIC from
+/// 17.8 to 9.4 and is added; one of 0.03, from 10.8 to 8.3 only, is not.
+#[test]
+fn the_spread_is_added_by_the_bic_margin_only() {
+    let with_noise = |noise: f64| {
+        diagnosis(
+            &EffectParams::new()
+                .with(WHEEL_DIAMETER_RATIO, 1.008)
+                .with(COAST, 5.0)
+                .with(FLOOR_NOISE, noise),
+            &[WHEEL_DIAMETER_RATIO, COAST, TOE, FLOOR_NOISE],
+        )
+    };
+    let d = with_noise(0.05);
+    assert_eq!(
+        d.which.winner,
+        [WHEEL_DIAMETER_RATIO, COAST, FLOOR_NOISE],
+        "{}",
+        d.which.winner_reason
+    );
+    assert!(
+        d.which
+            .winner_reason
+            .contains("has BIC 17.8, below the best single")
+            && d.which
+                .winner_reason
+                .ends_with("; the spread between runs adds floor_noise (BIC 9.4)"),
+        "{}",
+        d.which.winner_reason
+    );
+    let d = with_noise(0.03);
+    assert_eq!(
+        d.which.winner,
+        [WHEEL_DIAMETER_RATIO, COAST],
+        "{}",
+        d.which.winner_reason
+    );
+}
