@@ -180,23 +180,22 @@ impl ScaleError {
 fn check_points<'a>(
     what: &str,
     points: impl IntoIterator<Item = (f64, Option<f64>)> + 'a,
-) -> Result<usize, Error> {
-    let mut n = 0;
-    for (i, (x, y)) in points.into_iter().enumerate() {
+) -> Result<(), Error> {
+    let mut points = points.into_iter().peekable();
+    if points.peek().is_none() {
+        return Err(Error::InvalidRuns(format!(
+            "no {what} runs; at least one is needed (the methods ask for five)"
+        )));
+    }
+    for (i, (x, y)) in points.enumerate() {
         if !x.is_finite() || y.is_some_and(|y| !y.is_finite()) {
             return Err(Error::InvalidRuns(format!(
                 "{what} run {} is not a pair of finite numbers",
                 i + 1
             )));
         }
-        n += 1;
     }
-    if n == 0 {
-        return Err(Error::InvalidRuns(format!(
-            "no {what} runs; at least one is needed (the methods ask for five)"
-        )));
-    }
-    Ok(n)
+    Ok(())
 }
 
 /// The end errors of a UMBmark experiment: runs clockwise and counter-clockwise.
@@ -293,4 +292,33 @@ pub(crate) fn centroid(points: &[Endpoint]) -> Endpoint {
         .iter()
         .fold((0.0, 0.0), |(sx, sy), p| (sx + p.x_cm, sy + p.y_cm));
     Endpoint::new(sx / n, sy / n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs must be there and finite; the error names the direction and the run (from 1).
+    /// A triangle run's y may be unknown, not infinite.
+    #[test]
+    fn runs_are_refused_empty_or_not_finite_with_which() {
+        let p = |x: f64, y: f64| Endpoint::new(x, y);
+        let message = |r: Result<(), Error>| r.unwrap_err().to_string();
+        let umbmark = |cw, ccw| UmbmarkRuns::new(cw, ccw).map(|_| ());
+        assert!(umbmark(vec![p(1.0, 2.0)], vec![p(3.0, 4.0)]).is_ok());
+        assert!(message(umbmark(vec![], vec![p(3.0, 4.0)])).contains("no cw runs"));
+        let bad = message(umbmark(
+            vec![p(1.0, 2.0)],
+            vec![p(3.0, 4.0), p(f64::NAN, 0.0)],
+        ));
+        assert!(
+            bad.contains("ccw run 2 is not a pair of finite numbers"),
+            "{bad}"
+        );
+        assert!(message(LineRuns::new(vec![]).map(|_| ())).contains("no line runs"));
+        let partial = |y| PartialEndpoint { x_cm: 1.0, y_cm: y };
+        assert!(TriangleRuns::new(vec![partial(None), partial(Some(2.0))]).is_ok());
+        let bad = message(TriangleRuns::new(vec![partial(Some(f64::INFINITY))]).map(|_| ()));
+        assert!(bad.contains("triangle run 1"), "{bad}");
+    }
 }

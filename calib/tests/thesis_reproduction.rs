@@ -8,8 +8,8 @@ use calib::round::{
     format_table10, thesis_improvement, thesis_triangle_improvement, truncate, TableStyle,
 };
 use calib::thesis::{
-    gui_display, triangle_params_for_experiment, umbmark_discrepancies, umbmark_params_as_printed,
-    umbmark_params_for_experiment, DESIGN_WHEELBASE_MM,
+    gui_display, triangle_discrepancies, triangle_params_for_experiment, umbmark_discrepancies,
+    umbmark_params_as_printed, umbmark_params_for_experiment, DESIGN_WHEELBASE_MM,
 };
 use calib::{
     triangle_correction, umbmark_correction, Frame, PartialEndpoint, TriangleRuns, UmbmarkParams,
@@ -335,4 +335,100 @@ fn compat_mode_fails_like_the_gui_on_straight_legs() {
     assert!(r.warnings.iter().any(|w| w.contains("sin(0)")));
     let ok = umbmark_correction(&zeros, &UmbmarkParams::default());
     assert_eq!(ok.ed, 1.0);
+}
+
+/// The Triangular Path's discrepancy list: the GUI's turn error −x̄/L against the derived
+/// δ = −2x̄/(√3·L) on the same x̄ (the two differ by 2/√3, sign included), each entry's
+/// difference its thesis value less its correct one, and the GUI's two hard-coded
+/// wheelbases named only where they disagree: experiment 2 (b/2 = 63.6 mm in Ed against
+/// 125 mm in Ba), not experiment 1 (125 mm in both).
+#[test]
+fn discrepancies_of_the_triangle_experiments() {
+    let d: Vec<_> = [1, 2]
+        .map(|n| {
+            let e = thesis_triangle(n);
+            triangle_discrepancies(
+                &e.line,
+                &e.triangle,
+                &triangle_params_for_experiment(n).unwrap(),
+            )
+        })
+        .into();
+    for list in &d {
+        let turn = list
+            .iter()
+            .find(|x| x.formula.starts_with("turn error: GUI"))
+            .expect("the turn formula");
+        assert_relative_eq!(
+            turn.correct_value / turn.thesis_value,
+            2.0 / 3f64.sqrt(),
+            epsilon = 1e-12
+        );
+        for x in list {
+            assert_eq!(x.difference(), x.thesis_value - x.correct_value, "{x:?}");
+        }
+    }
+    let constants = |list: &[calib::thesis::Discrepancy]| {
+        list.iter()
+            .find(|x| x.formula.starts_with("GUI b/2 constant"))
+            .map(|x| (x.thesis_value, x.correct_value))
+    };
+    assert_eq!(constants(&d[0]), None);
+    let (half, base_half) = constants(&d[1]).expect("experiment 2's constants disagree");
+    assert_relative_eq!(half, 63.6, epsilon = 1e-9);
+    assert_relative_eq!(base_half, 62.5, epsilon = 1e-9);
+}
+
+/// The UMBmark GUI's `Raiz_CW` and `Raiz_CCW` are the centroids' distances from the start
+/// and `Error_Max` the larger: 5 and 10 cm for centroids at (3, 4) and (−6, 8).
+#[test]
+fn the_gui_umbmark_error_is_the_larger_centroid_distance() {
+    let g = calib::thesis::gui_umbmark(
+        calib::Endpoint::new(3.0, 4.0),
+        calib::Endpoint::new(-6.0, 8.0),
+        200.0,
+        12.5,
+        6.25,
+    );
+    assert_eq!((g.raiz_cw, g.raiz_ccw, g.error_max), (5.0, 10.0, 10.0));
+}
+
+/// In the correct mode the GUI's constants are not used, and either one given alone is
+/// reported as ignored, by UMBmark and by the Triangular Path.
+#[test]
+fn compat_constants_are_reported_ignored_in_the_correct_mode() {
+    let ignored = |base: Option<f64>, half: Option<f64>| {
+        umbmark_correction(
+            &thesis_umbmark(1),
+            &UmbmarkParams {
+                compat_base_mm: base,
+                compat_half_wheelbase_mm: half,
+                ..UmbmarkParams::default()
+            },
+        )
+        .warnings
+        .iter()
+        .any(|w| w.contains("compat_* parameters are ignored"))
+    };
+    let triangle_ignored = |base: Option<f64>, half: Option<f64>| {
+        let e = thesis_triangle(1);
+        triangle_correction(
+            &e.line,
+            &e.triangle,
+            &calib::TriangleParams {
+                compat_base_mm: base,
+                compat_half_wheelbase_mm: half,
+                ..calib::TriangleParams::default()
+            },
+        )
+        .warnings
+        .iter()
+        .any(|w| w.contains("compat_* parameters are ignored"))
+    };
+    for ignored in [&ignored as &dyn Fn(_, _) -> bool, &triangle_ignored] {
+        assert!(!ignored(None, None));
+        assert!(ignored(Some(125.0), None));
+        assert!(ignored(None, Some(61.5)));
+        assert!(ignored(Some(125.0), Some(61.5)));
+    }
 }
