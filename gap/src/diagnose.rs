@@ -411,18 +411,7 @@ pub fn diagnose(
         None => ev.specs.iter().map(|s| s.name.clone()).collect(),
     };
     for n in &names {
-        if ev.spec(n).is_none() {
-            return Err(GapError::Model(crate::ModelError::UnknownParameter {
-                model: model.name(),
-                name: n.clone(),
-                known: ev
-                    .specs
-                    .iter()
-                    .map(|s| s.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            }));
-        }
+        ev.known_spec(n)?;
     }
 
     // Singles.

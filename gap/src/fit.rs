@@ -224,6 +224,15 @@ impl<'a> Evaluator<'a> {
         self.specs.iter().find(|s| s.name == name)
     }
 
+    /// The parameter `name` of the model, or the error that names the ones it has.
+    pub fn known_spec(&self, name: &str) -> Result<&ParamSpec, GapError> {
+        Ok(crate::model::known_spec(
+            &self.model.name(),
+            &self.specs,
+            name,
+        )?)
+    }
+
     fn stochastic(&self, params: &EffectParams) -> bool {
         params.iter().any(|(n, v)| {
             self.spec(n)

@@ -328,6 +328,26 @@ pub trait Model: Send + Sync {
     }
 }
 
+/// The parameter `name` among a model's `specs`, or the error that names the ones it has.
+pub(crate) fn known_spec<'a>(
+    model: &str,
+    specs: &'a [ParamSpec],
+    name: &str,
+) -> Result<&'a ParamSpec, ModelError> {
+    specs
+        .iter()
+        .find(|s| s.name == name)
+        .ok_or_else(|| ModelError::UnknownParameter {
+            model: model.to_owned(),
+            name: name.to_owned(),
+            known: specs
+                .iter()
+                .map(|s| s.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+}
+
 /// Checks `params` against `specs`: every name known, every value in bounds.
 pub fn check_params(
     model: &str,
@@ -335,19 +355,7 @@ pub fn check_params(
     params: &EffectParams,
 ) -> Result<(), ModelError> {
     for (name, value) in params.iter() {
-        let spec =
-            specs
-                .iter()
-                .find(|s| s.name == name)
-                .ok_or_else(|| ModelError::UnknownParameter {
-                    model: model.to_owned(),
-                    name: name.to_owned(),
-                    known: specs
-                        .iter()
-                        .map(|s| s.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                })?;
+        let spec = known_spec(model, specs, name)?;
         if !spec.contains(value) {
             return Err(ModelError::OutOfBounds {
                 name: name.to_owned(),

@@ -14,6 +14,15 @@ fn diagnosis(hidden: &EffectParams, candidates: &[&str]) -> Diagnosis {
 
 /// As [`diagnosis`], with at most `max_effects` effects in the winner.
 fn diagnosis_with(hidden: &EffectParams, candidates: &[&str], max_effects: usize) -> Diagnosis {
+    try_diagnosis(hidden, candidates, max_effects).unwrap()
+}
+
+/// As [`diagnosis_with`], its error if it fails.
+fn try_diagnosis(
+    hidden: &EffectParams,
+    candidates: &[&str],
+    max_effects: usize,
+) -> Result<Diagnosis, gap::GapError> {
     let reference = Reference {
         wheelbase_mm: 150.0,
         mm_per_count: 0.2,
@@ -50,7 +59,23 @@ fn diagnosis_with(hidden: &EffectParams, candidates: &[&str], max_effects: usize
         },
         candidates: Some(candidates.iter().map(|c| (*c).to_owned()).collect()),
     };
-    diagnose(&KinematicModel, &t, &h, &opts).unwrap()
+    diagnose(&KinematicModel, &t, &h, &opts)
+}
+
+/// A candidate the model does not have is refused before anything is fitted, with the
+/// names it has.
+#[test]
+fn an_unknown_candidate_is_refused_with_the_known_ones() {
+    let hidden = EffectParams::new().with(WHEEL_DIAMETER_RATIO, 1.008);
+    let err = try_diagnosis(&hidden, &[WHEEL_DIAMETER_RATIO, "wheel_size"], 2)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("has no parameter `wheel_size` (it implements: ")
+            && err.contains(WHEEL_DIAMETER_RATIO)
+            && err.contains(FLOOR_NOISE),
+        "{err}"
+    );
 }
 
 fn heldout(r: &RankedFit) -> &Gap {

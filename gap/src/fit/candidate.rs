@@ -109,20 +109,7 @@ pub(crate) fn fit_candidate(
 ) -> Result<CandidateFit, GapError> {
     let specs: Vec<&ParamSpec> = effects
         .iter()
-        .map(|e| {
-            ev.spec(e).ok_or_else(|| {
-                GapError::Model(crate::ModelError::UnknownParameter {
-                    model: ev.model.name(),
-                    name: e.clone(),
-                    known: ev
-                        .specs
-                        .iter()
-                        .map(|s| s.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                })
-            })
-        })
+        .map(|e| ev.known_spec(e))
         .collect::<Result<_, _>>()?;
     let to_params = |u: &[f64]| {
         let mut p = EffectParams::new();
