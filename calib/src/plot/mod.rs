@@ -459,3 +459,80 @@ pub fn plot_triangle(
 mod trajectories;
 
 pub use trajectories::{ideal_path, plot_trajectories, IdealPath, Path2d};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `ranges` for `pts` in `px` pixels, checked against what it is for: every point
+    /// (and the origin) inside with a margin of 12 % of the larger data span (at least
+    /// 5 cm) on every side, exactly that margin on the axis that fills its pixels, the
+    /// data centred on both axes, and one cm per pixel on x and y.
+    fn check_ranges(pts: &[(f64, f64)], px: (u32, u32)) -> (Range<f64>, Range<f64>) {
+        let e: Vec<Endpoint> = pts.iter().map(|&(x, y)| Endpoint::new(x, y)).collect();
+        let (xr, yr) = ranges(&e, px);
+        let lo_hi = |f: fn(&(f64, f64)) -> f64| {
+            pts.iter()
+                .map(f)
+                .fold((0.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)))
+        };
+        let ((x0, x1), (y0, y1)) = (lo_hi(|p| p.0), lo_hi(|p| p.1));
+        let pad = 0.12 * (x1 - x0).max(y1 - y0).max(5.0);
+        let tol = 1e-9 * (1.0 + pad);
+        for (r, lo, hi, axis) in [(&xr, x0, x1, "x"), (&yr, y0, y1, "y")] {
+            assert!(
+                r.start <= lo - pad + tol && r.end >= hi + pad - tol,
+                "{axis} range {r:?} leaves less than {pad} cm around {lo}..{hi}"
+            );
+            assert!(
+                ((r.start + r.end) / 2.0 - (lo + hi) / 2.0).abs() < tol,
+                "{axis} range {r:?} not centred on {lo}..{hi}"
+            );
+        }
+        let (w, h) = (f64::from(px.0), f64::from(px.1));
+        let (sx, sy) = ((xr.end - xr.start) / w, (yr.end - yr.start) / h);
+        assert!((sx - sy).abs() < 1e-12 * sx, "{sx} cm/px on x, {sy} on y");
+        // The binding axis: no wider than the data and its margins need.
+        let spare_x = (xr.end - xr.start) - (x1 - x0 + 2.0 * pad);
+        let spare_y = (yr.end - yr.start) - (y1 - y0 + 2.0 * pad);
+        assert!(
+            spare_x.min(spare_y).abs() < tol,
+            "{spare_x} cm spare on x, {spare_y} on y: neither axis is tight"
+        );
+        (xr, yr)
+    }
+
+    fn close(r: &Range<f64>, want: Range<f64>) -> bool {
+        (r.start - want.start).abs() < 1e-9 && (r.end - want.end).abs() < 1e-9
+    }
+
+    /// Wide data, x binding: points (100, 10) and (40, -5) with the origin span x 0..100,
+    /// y -5..10; the margin is 0.12 × 100 = 12 cm, so x is -12..112 (124 cm over 500 px,
+    /// 0.248 cm/px) and y, 400 px at 0.248 cm/px = 99.2 cm centred on 2.5, is
+    /// -47.1..52.1.
+    #[test]
+    fn ranges_hold_wide_data_with_a_twelve_percent_margin_at_one_scale() {
+        let (xr, yr) = check_ranges(&[(100.0, 10.0), (40.0, -5.0)], (500, 400));
+        assert!(close(&xr, -12.0..112.0), "{xr:?}");
+        assert!(close(&yr, -47.1..52.1), "{yr:?}");
+    }
+
+    /// Tall data, y binding: points (-30, -80) and (5, 20) span x -30..5, y -80..20; the
+    /// margin is 12 cm, so y is -92..32 (124 cm over 400 px, 0.31 cm/px) and x, 600 px
+    /// at 0.31 cm/px = 186 cm centred on -12.5, is -105.5..80.5.
+    #[test]
+    fn ranges_hold_tall_data_with_a_twelve_percent_margin_at_one_scale() {
+        let (xr, yr) = check_ranges(&[(-30.0, -80.0), (5.0, 20.0)], (600, 400));
+        assert!(close(&xr, -105.5..80.5), "{xr:?}");
+        assert!(close(&yr, -92.0..32.0), "{yr:?}");
+    }
+
+    /// Data within 5 cm of the origin still get 0.12 × 5 = 0.6 cm of margin: the point
+    /// (1, 2) in 100 × 100 px gives y -0.6..2.6 and x, centred on 0.5, -1.1..2.1.
+    #[test]
+    fn ranges_of_small_data_keep_a_margin_of_twelve_percent_of_five_cm() {
+        let (xr, yr) = check_ranges(&[(1.0, 2.0)], (100, 100));
+        assert!(close(&xr, -1.1..2.1), "{xr:?}");
+        assert!(close(&yr, -0.6..2.6), "{yr:?}");
+    }
+}

@@ -256,4 +256,25 @@ mod tests {
             );
         }
     }
+
+    /// Dashes of 3 with gaps of 2 along a straight leg, as (start, end) x values.
+    fn along_x(len: f64) -> Vec<(f64, f64)> {
+        dashes(&[(0.0, 0.0), (len, 0.0)], 3.0, 2.0)
+            .into_iter()
+            .map(|d| {
+                assert!(d.iter().all(|p| p.1 == 0.0), "{d:?} off the leg");
+                (d[0].0, d[1].0)
+            })
+            .collect()
+    }
+
+    /// Dash 3, gap 2 (a period of 5): a leg of 10 ends in a gap (dashes 0..3 and 5..8), so
+    /// a quarter dash, 9.25..10, marks its corner; a leg of 8 ends with the dash 5..8 on
+    /// the corner and one of 6 with 5..6 cut there, and neither gets another piece.
+    #[test]
+    fn dashes_mark_a_corner_only_when_the_pattern_ends_in_a_gap() {
+        assert_eq!(along_x(10.0), [(0.0, 3.0), (5.0, 8.0), (9.25, 10.0)]);
+        assert_eq!(along_x(8.0), [(0.0, 3.0), (5.0, 8.0)]);
+        assert_eq!(along_x(6.0), [(0.0, 3.0), (5.0, 6.0)]);
+    }
 }
