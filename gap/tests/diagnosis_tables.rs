@@ -309,3 +309,22 @@ fn the_spread_is_added_by_the_bic_margin_only() {
         d.which.winner_reason
     );
 }
+
+/// On data the model as it is explains (nothing hidden) no effect lowers the BIC, and the
+/// notes say so; on data with an effect hidden (Ed) the winner does, and they do not.
+#[test]
+fn the_notes_say_when_no_effect_improves_the_model() {
+    let says = |d: &Diagnosis| {
+        d.notes
+            .iter()
+            .any(|n| n.starts_with("no effect improves the BIC of the model as it is"))
+    };
+    let candidates = [WHEEL_DIAMETER_RATIO, TOE, COAST];
+    let nothing = diagnosis(&EffectParams::new(), &candidates);
+    assert!(says(&nothing), "{:?}", nothing.notes);
+    let ed = diagnosis(
+        &EffectParams::new().with(WHEEL_DIAMETER_RATIO, 1.008),
+        &candidates,
+    );
+    assert!(!says(&ed), "{:?}", ed.notes);
+}
