@@ -38,22 +38,27 @@
 use serde::Serialize;
 
 use crate::breakdown::{decompose_all, Decomposition};
-use crate::data::SplitRule;
 use crate::data::{Group, HeldOutSet, TrainSet};
 use crate::effects::{EffectParams, ParamSpec, Unsupported};
 use crate::fit::{
     bootstrap, fit_candidate, grid_start, reduction, CandidateFit, Evaluator, FitOptions, Gap,
 };
-use crate::manifest::{load_dataset, LoadedManifest};
-use crate::model::{Experiment, Model, TestKind};
-use crate::series::{motor_holdout, series_gap, LevelSplit, MotorHoldout, SeriesGap};
+use crate::model::Model;
+use crate::series::{MotorHoldout, SeriesGap};
 use crate::GapError;
-use rules::{
-    degenerate, extension_gain, improves, separable, separation_score, worth_adding, STRONG_BIC,
-    TIE_BIC,
-};
+use rules::{degenerate, extension_gain, improves, separable, worth_adding, STRONG_BIC, TIE_BIC};
 
+mod manifests;
+mod probe;
 mod rules;
+mod steps;
+
+pub use manifests::diagnose_manifests;
+use probe::find_separating_test;
+#[cfg(test)]
+use probe::probes;
+pub use probe::separating_measurement;
+use steps::{extension_start, heldout_worse_notes, pair_starts, path_pairs};
 
 /// Options of [`diagnose`].
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -227,163 +232,6 @@ fn rank(fits: Vec<CandidateFit>, base_heldout: &Gap) -> Vec<RankedFit> {
         })
         .collect();
     out.sort_by_key(|r| r.rank_bic);
-    out
-}
-
-/// Physical knowledge of what separates two effects.
-pub fn separating_measurement(a: &str, b: &str) -> String {
-    use crate::effects::*;
-    let pair = |x: &str, y: &str| (a == x && b == y) || (a == y && b == x);
-    let turn_scalers = [WHEELBASE_RATIO, TURN_SLIP, DISTANCE_SCALE];
-    if pair(WHEELBASE_RATIO, TURN_SLIP) {
-        "both scale every spin by the same factor; drive arcs with both wheels forward at a \
-         known speed ratio (their curvature depends on the wheelbase, hardly on spin slip), \
-         repeat the spins at another speed or on another floor (slip changes, the wheelbase \
-         does not), or measure the wheelbase at the contact patches"
-            .into()
-    } else if (a == COAST && turn_scalers.contains(&b)) || (b == COAST && turn_scalers.contains(&a))
-    {
-        "coast adds a constant angle per turn, the others scale with the turn: drive turns of \
-         two different angles (the triangle's 120° next to the square's 90°, or spins of 45° \
-         and 180°)"
-            .into()
-    } else if pair(WHEEL_DIAMETER_RATIO, TOE) {
-        "Ed curves the legs (the heading error carries into the next leg), toe only shifts \
-         them sideways: drive a square, or measure the end heading of the straight line"
-            .into()
-    } else if pair(DISTANCE_SCALE, WHEELBASE_RATIO) || pair(DISTANCE_SCALE, TURN_SLIP) {
-        "Es also lengthens the legs: measure the length of a straight line (the x of the line \
-         test)"
-            .into()
-    } else if a == FLOOR_NOISE || b == FLOOR_NOISE {
-        "floor noise only spreads the runs: more runs per test, or the same tests on another \
-         floor"
-            .into()
-    } else {
-        "a test on which the two fitted models predict different end points (see the probe \
-         above), or a direct measurement of one of the two parameters"
-            .into()
-    }
-}
-
-/// The probe experiments: variations of a template experiment.
-/// The starts of a pair's joint fit, from its two singles' fitted `values` and the effects'
-/// `neutrals`: both singles' values; and when neither effect is `stochastic` (a
-/// deterministic fit is cheap), each single's value with the other effect neutral too.
-fn pair_starts(values: [f64; 2], neutrals: [f64; 2], stochastic: [bool; 2]) -> Vec<Vec<f64>> {
-    let [vi, vj] = values;
-    let [ni, nj] = neutrals;
-    if stochastic[0] || stochastic[1] {
-        vec![vec![vi, vj]]
-    } else {
-        vec![vec![vi, vj], vec![vi, nj], vec![ni, vj]]
-    }
-}
-
-fn probes(template: &Experiment) -> Vec<(String, Experiment)> {
-    let mut out = Vec::new();
-    for kind in TestKind::ALL {
-        let mut e = template.clone();
-        e.test = kind;
-        out.push((format!("{kind} as in the training data"), e));
-    }
-    for deg in [45.0, 180.0] {
-        let mut e = template.clone();
-        e.test = TestKind::UmbmarkCcw;
-        e.firmware.turn_umbmark_deg = deg;
-        out.push((format!("umbmark_ccw with {deg}° corners"), e));
-    }
-    for k in [0.5, 2.0] {
-        let mut e = template.clone();
-        e.test = TestKind::Line;
-        e.firmware.leg_mm *= k;
-        out.push((format!("line of {:.0} mm", e.firmware.leg_mm), e));
-    }
-    let mut e = template.clone();
-    e.test = TestKind::UmbmarkCcw;
-    e.firmware.wheelbase_mm *= 0.9;
-    out.push((
-        format!(
-            "umbmark_ccw with the firmware wheelbase at {:.1} mm",
-            e.firmware.wheelbase_mm
-        ),
-        e,
-    ));
-    out
-}
-
-fn find_separating_test(
-    ev: &Evaluator,
-    template: &Experiment,
-    a: &EffectParams,
-    b: &EffectParams,
-) -> Result<Option<String>, GapError> {
-    let mut best: Option<(f64, f64, String)> = None;
-    for (name, exp) in probes(template) {
-        let pa = ev.predict_experiment(a, &exp, &name)?;
-        let pb = ev.predict_experiment(b, &exp, &name)?;
-        let d = (pa.mean_x - pb.mean_x).hypot(pa.mean_y - pb.mean_y);
-        let dth = (pa.mean_theta_deg - pb.mean_theta_deg).abs();
-        let score = separation_score(d, dth);
-        if best.as_ref().is_none_or(|(s, _, _)| score > *s) {
-            best = Some((
-                score,
-                d,
-                format!("{name}: end points differ by {d:.2} cm, end headings by {dth:.2}°"),
-            ));
-        }
-    }
-    Ok(best.and_then(|(s, _, text)| (s >= 1.0).then_some(text)))
-}
-
-/// Where the fit of `winner` with effect `n` more starts: the winner's values, then n's
-/// value fitted alone (one of `singles`).
-fn extension_start(winner: &CandidateFit, singles: &[CandidateFit], n: &str) -> Vec<f64> {
-    let single = singles
-        .iter()
-        .find(|s| s.effects == [n])
-        .expect("every candidate is fitted alone");
-    let mut start: Vec<f64> = winner.estimates.iter().map(|e| e.value).collect();
-    start.push(single.estimates[0].value);
-    start
-}
-
-/// A note for each step of forward selection (`steps`, from [`path_pairs`]) whose added
-/// effect raised the held-out gap (total, cm).
-fn heldout_worse_notes(steps: &[(&CandidateFit, &CandidateFit)]) -> Vec<String> {
-    let total = |f: &CandidateFit| f.heldout.as_ref().expect("computed").total_cm;
-    steps
-        .iter()
-        .filter(|(a, b)| total(b) > total(a))
-        .map(|(a, b)| {
-            format!(
-                "adding {} lowered the training BIC but not the held-out gap ({:.2} → {:.2} cm): \
-                 it fits something of the training data that does not carry over",
-                b.effects.last().expect("non-empty"),
-                total(a),
-                total(b)
-            )
-        })
-        .collect()
-}
-
-/// Consecutive steps of forward selection: (pair, first extension), (first, second), ...
-fn path_pairs<'a>(
-    extended: &'a [CandidateFit],
-    pairs: &'a [CandidateFit],
-    winner: &CandidateFit,
-) -> Vec<(&'a CandidateFit, &'a CandidateFit)> {
-    let Some(first) = extended.first() else {
-        return vec![];
-    };
-    let Some(pair) = pairs.iter().find(|p| p.effects[..] == first.effects[..2]) else {
-        return vec![];
-    };
-    let _ = winner;
-    let mut out = vec![(pair, first)];
-    for w in extended.windows(2) {
-        out.push((&w[0], &w[1]));
-    }
     out
 }
 
@@ -764,82 +612,6 @@ pub fn diagnose(
         motor: vec![],
         notes,
     })
-}
-
-/// Everything the manifests hold, diagnosed: the endpoint groups split by `rule` and
-/// diagnosed with `model`; each step-response manifest's motors fitted on its
-/// `train_levels` and checked on the others ([`motor_holdout`]); each telemetry manifest
-/// compared with the model's series ([`series_gap`]) when the model has one (otherwise a
-/// note says it was not compared).
-pub fn diagnose_manifests(
-    model: &dyn Model,
-    manifests: &[LoadedManifest],
-    rule: &SplitRule,
-    opts: &DiagnoseOptions,
-) -> Result<Diagnosis, GapError> {
-    let with_endpoints: Vec<LoadedManifest> = manifests
-        .iter()
-        .filter(|m| m.manifest.endpoints.is_some())
-        .cloned()
-        .collect();
-    let (data, data_notes) = load_dataset(&with_endpoints)?;
-    let (train, held) = data.split(rule)?;
-    let mut d = diagnose(model, &train, &held, opts)?;
-    d.notes.splice(0..0, data_notes);
-    for m in manifests {
-        if let Some(s) = &m.manifest.step_response {
-            for (side, steps) in m.step_responses()? {
-                let all: Vec<u16> = steps.levels.iter().filter_map(|c| c.pwm).collect();
-                let split =
-                    LevelSplit::new(&all, &s.train_levels).map_err(|e| GapError::Manifest {
-                        path: m.path.clone(),
-                        message: e.to_string(),
-                    })?;
-                d.motor.push(motor_holdout(&steps, side, &split)?);
-            }
-        }
-        if let Some(real) = m.telemetry()? {
-            let t = m.manifest.telemetry.as_ref().expect("has telemetry");
-            let (Some(fw), Some(reference)) = (&m.manifest.firmware, m.reference) else {
-                d.notes.push(format!(
-                    "{}: telemetry not compared (the manifest gives no [firmware] and [reference] \
-                     to simulate it with)",
-                    m.manifest.experiment
-                ));
-                continue;
-            };
-            let exp = Experiment {
-                test: t.test,
-                firmware: crate::model::Firmware {
-                    c_left: fw.c_left,
-                    c_right: fw.c_right,
-                    wheelbase_mm: fw.wheelbase_mm,
-                    mm_per_count: fw.mm_per_count,
-                    leg_mm: fw.leg_mm,
-                    turn_umbmark_deg: fw.turn_umbmark_deg,
-                    turn_triangle_deg: fw.turn_triangle_deg,
-                    setpoint_left: fw.setpoint_left,
-                    setpoint_right: fw.setpoint_right,
-                    straight_legs: fw.straight_legs,
-                },
-                reference,
-                runs: 1,
-                seed: opts.fit.seed,
-            };
-            let winner = d.winner_fit().map(|f| f.params.clone()).unwrap_or_default();
-            match model.predict_series(&winner, &exp) {
-                Ok(sim) => {
-                    let g = series_gap(&m.manifest.experiment, &real, &sim)?;
-                    d.series.push(g);
-                }
-                Err(e) => d.notes.push(format!(
-                    "{}: telemetry not compared: {e}",
-                    m.manifest.experiment
-                )),
-            }
-        }
-    }
-    Ok(d)
 }
 
 #[cfg(test)]
