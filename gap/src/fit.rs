@@ -7,7 +7,7 @@
 //!
 //! * the centroid residual `(x̄_real − x̄_model) / se`, `se² = s²/n + floor²`, and
 //! * the scatter residual `(s_real − c4(n)·s_model) / se_s`, `se_s² = s²/(2(n − 1)) + floor²`
-//!   (c4(n) = E[s]/σ for n Gaussian runs: 0.94 for five runs),
+//!   (c4(n) = E\[s\]/σ for n Gaussian runs: 0.94 for five runs),
 //!
 //! where `s²` is the within-group variance pooled over the training groups of the same test
 //! kind (five runs give a poor variance each), `n` the group's runs and `floor` a small
@@ -387,7 +387,7 @@ impl<'a> Evaluator<'a> {
     }
 }
 
-/// E[s]/σ for the sample standard deviation of n Gaussian values (c4; 1 for n < 2).
+/// E\[s\]/σ for the sample standard deviation of n Gaussian values (c4; 1 for n < 2).
 pub fn c4(n: usize) -> f64 {
     if n < 2 {
         return 1.0;

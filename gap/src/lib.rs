@@ -12,7 +12,7 @@
 //! * Data ([`data`], [`manifest`]): endpoint tables, step responses and telemetry, each
 //!   described by a TOML manifest (layouts in `gap/README.md`); [`Dataset::split`] hands out
 //!   disjoint training and held-out sets ([`SplitRule`]: by experiment, leave-out, by test).
-//! * [`diagnose`]: the three answers in a serialisable [`Diagnosis`]; [`render_text`],
+//! * [`diagnose()`]: the three answers in a serialisable [`Diagnosis`]; [`render_text`],
 //!   [`render_markdown`] and [`plot_svg`] show it.
 //! * [`series`]: the telemetry layout, the per-segment residual of a time series with its
 //!   whiteness (Ljung-Box) and input cross-correlation, and the motor model's held-out check

@@ -1,6 +1,6 @@
 //! [`Scorer`]: the diagnosis' own measures of a model on groups, for searches that live
 //! outside this crate (the bench-backed diagnosis runs its own bounded 1-D fits and its
-//! cross-validation, but must score exactly as [`crate::diagnose`] does).
+//! cross-validation, but must score exactly as [`crate::diagnose()`] does).
 
 use crate::data::{Group, TrainSet};
 use crate::effects::EffectParams;
@@ -9,7 +9,7 @@ use crate::model::Model;
 use crate::GapError;
 
 /// Scores a model's predictions against measured groups, weighted by the pooled scatter of
-/// a training set (the weights [`crate::diagnose`] uses).
+/// a training set (the weights [`crate::diagnose()`] uses).
 pub struct Scorer<'a> {
     ev: Evaluator<'a>,
 }

@@ -314,7 +314,7 @@ pub fn self_test_with(model: &dyn Model, seed: u64, design: &SelfTestDesign) -> 
 pub struct ConfusionTable {
     /// Effect names, rows and columns.
     pub effects: Vec<String>,
-    /// counts[i][j]: hidden effect i ranked first as effect j.
+    /// `counts[i][j]`: hidden effect i ranked first as effect j.
     pub counts: Vec<Vec<usize>>,
     /// Trials per effect.
     pub trials: usize,
