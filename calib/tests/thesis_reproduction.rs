@@ -432,3 +432,34 @@ fn compat_constants_are_reported_ignored_in_the_correct_mode() {
         assert!(ignored(Some(125.0), Some(61.5)));
     }
 }
+
+/// `%g` leaves fixed notation below 1e-4 and from 1e6, with a signed two-digit exponent:
+/// 0.0000123456 is `1.23456e-05`, 1234567 is `1.23457e+06`, 0.0001 stays `0.0001`.
+#[test]
+fn gui_display_is_matlab_g_with_a_signed_exponent() {
+    assert_eq!(gui_display(0.0000123456), "1.23456e-05");
+    assert_eq!(gui_display(1234567.0), "1.23457e+06");
+    assert_eq!(gui_display(0.0001), "0.0001");
+    assert_eq!(gui_display(-2.5e-7), "-2.5e-07");
+}
+
+/// UMBmark's discrepancy list names the GUI's two wheelbase constants only where they
+/// disagree: with neither given both are the robot's (125 mm, b/2 62.5 mm), nothing to
+/// name; with b/2 = 61.5 mm against b = 125 mm, the pair (61.5, 62.5).
+#[test]
+fn umbmark_discrepancies_name_the_gui_constants_only_where_they_disagree() {
+    let constants = |base: Option<f64>, half: Option<f64>| {
+        let params = UmbmarkParams {
+            wheelbase_mm: 125.0,
+            compat_base_mm: base,
+            compat_half_wheelbase_mm: half,
+            ..umbmark_params_for_experiment(1).unwrap()
+        };
+        umbmark_discrepancies(&thesis_umbmark(1), &params)
+            .into_iter()
+            .find(|x| x.formula.starts_with("GUI b/2 constant"))
+            .map(|x| (x.thesis_value, x.correct_value))
+    };
+    assert_eq!(constants(None, None), None);
+    assert_eq!(constants(Some(125.0), Some(61.5)), Some((61.5, 62.5)));
+}

@@ -278,3 +278,35 @@ fn invalid_runs_are_refused() {
     )
     .is_err());
 }
+
+/// Ed is meaningless, and said to be, when the legs bend tighter than half the wheelbase
+/// (13 cm here): on 10 cm legs a β of 0.5 rad is a radius of about 20 cm (no warning), one
+/// of 2 rad about 5.9 cm (the warning).
+#[test]
+fn a_leg_radius_below_half_the_wheelbase_is_reported() {
+    let warned = |x_cm: f64| {
+        let runs = calib::UmbmarkRuns::new(
+            vec![calib::Endpoint::new(-x_cm, 0.0)],
+            vec![calib::Endpoint::new(x_cm, 0.0)],
+        )
+        .unwrap();
+        let r = calib::umbmark_correction(
+            &runs,
+            &calib::UmbmarkParams {
+                side_cm: 10.0,
+                wheelbase_mm: 130.0,
+                ..calib::UmbmarkParams::default()
+            },
+        );
+        let radius = r.radius_cm.unwrap().abs();
+        let says = r
+            .warnings
+            .iter()
+            .any(|w| w.contains("radius of curvature is below half the wheelbase"));
+        (radius, says)
+    };
+    let (radius, says) = warned(10.0);
+    assert!((radius - 20.0).abs() < 0.5 && !says, "{radius} {says}");
+    let (radius, says) = warned(40.0);
+    assert!((radius - 5.94).abs() < 0.01 && says, "{radius} {says}");
+}
