@@ -619,3 +619,106 @@ fn short_vectors_have_half_length_heads_and_hidden_ones_none() {
     let ccw = vector(&s, "#000000");
     assert!(ccw.is_none(), "a vector to a centroid under its dot");
 }
+
+/// The trajectory plot's legend marks sit in its framed box, each beside its label as
+/// plotters lays an entry out: the box (911, 50, 218 × 107 here) holds a 10 px margin,
+/// a 30 px area for the mark and the label, so an entry's mark is drawn from x = 911 +
+/// 10 = 921 and its label starts at 921 + 30 = 951, and the mark's y is the middle of
+/// its label's line, 6 px below the label's top (labels at y 60, 79, 98, 116, 135, marks
+/// at 66, 85, 104, 122, 141). From that origin (x0, y): the ideal squares' sample is a
+/// dash from x0 to x0 + 8, each group's line runs from x0 to x0 + 20, the end points' dot
+/// (radius 4, grey #787878) is centred at x0 + 10, and the start's cross (size 5) too:
+/// its two strokes, the last black 2 px `<line>`s drawn, are the diagonals of the square
+/// from (x0 + 5, y - 5) to (x0 + 15, y + 5), centred at (931, 141), 10 px right of the
+/// entry's origin and 20 px left of "start".
+#[test]
+fn trajectory_legend_marks_sit_beside_their_labels() {
+    let (s, _) = square_runs_plot("trajectories_legend");
+    let in_legend = in_legend(&s);
+    let frame = tags(&s, "rect")
+        .into_iter()
+        .find(|t| attr(t, "fill").as_deref() == Some("none"))
+        .map(|t| (num(t, "x"), num(t, "y")))
+        .unwrap();
+    let x0 = frame.0 + 10.0;
+    let label = |what: &str| {
+        let t = texts(&s);
+        let t = t.iter().find(|t| t.content == what).unwrap();
+        assert_eq!(t.anchor, "start", "{what:?}");
+        assert!(in_legend(&(t.x, t.y)), "{what:?} at ({}, {})", t.x, t.y);
+        assert_eq!(t.x, x0 + 30.0, "{what:?} starts at x {}", t.x);
+        (t.x, t.y)
+    };
+    // The mark's row y, which must be the middle of its label's line.
+    let beside = |what: &str, y: f64| {
+        let (_, ty) = label(what);
+        assert!(
+            (y - (ty + 6.0)).abs() <= 1.0,
+            "{what:?}'s mark at y {y}, its label's top at {ty}"
+        );
+    };
+    let legend_line = |colour: &str| {
+        let l: Vec<_> = polylines(&s, colour)
+            .into_iter()
+            .filter(|l| l.iter().all(&in_legend))
+            .collect();
+        assert_eq!(l.len(), 1, "{colour} legend lines: {l:?}");
+        l[0].clone()
+    };
+    for (what, colour, length) in [
+        ("ideal squares, L = 200 cm", "#5A5A5A", 8.0),
+        ("clockwise", "#C81E1E", 20.0),
+        ("counter-clockwise", "#1E50C8", 20.0),
+    ] {
+        let l = legend_line(colour);
+        let y = l[0].1;
+        assert_eq!(l, [(x0, y), (x0 + length, y)], "{what:?}'s legend line");
+        beside(what, y);
+    }
+    let dots: Vec<_> = tags(&s, "circle")
+        .into_iter()
+        .filter(|t| attr(t, "r").as_deref() == Some("4"))
+        .map(|t| (num(t, "cx"), num(t, "cy"), attr(t, "fill").unwrap()))
+        .collect();
+    assert_eq!(dots.len(), 1, "{dots:?}");
+    let (cx, cy, fill) = &dots[0];
+    assert!(in_legend(&(*cx, *cy)), "end points' dot at ({cx}, {cy})");
+    assert_eq!(
+        (*cx, fill.as_str()),
+        (x0 + 10.0, "#787878"),
+        "end points' dot"
+    );
+    beside("end points", *cy);
+    let strokes: Vec<[f64; 4]> = tags(&s, "line")
+        .into_iter()
+        .filter(|t| attr(t, "stroke").as_deref() == Some("#000000"))
+        .filter(|t| attr(t, "stroke-width").as_deref() == Some("2"))
+        .map(|t| ["x1", "y1", "x2", "y2"].map(|a| num(t, a)))
+        .collect();
+    assert_eq!(strokes.len(), 4, "two crosses' strokes: {strokes:?}");
+    let cross = &strokes[2..];
+    let (mx, my) = (
+        (cross[0][0] + cross[0][2]) / 2.0,
+        (cross[0][1] + cross[0][3]) / 2.0,
+    );
+    for c in cross {
+        for p in [(c[0], c[1]), (c[2], c[3])] {
+            assert!(in_legend(&p), "start's cross {cross:?} leaves the legend");
+        }
+    }
+    assert_eq!(mx, x0 + 10.0, "start's cross {cross:?}, entry at x {x0}");
+    let y = my;
+    assert_eq!(
+        cross,
+        [
+            [x0 + 5.0, y - 5.0, x0 + 15.0, y + 5.0],
+            [x0 + 5.0, y + 5.0, x0 + 15.0, y - 5.0]
+        ],
+        "start's cross"
+    );
+    assert!(
+        x0 + 15.0 < label("start").0,
+        "start's cross reaches its label"
+    );
+    beside("start", y);
+}
