@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+pub mod svg;
+
 use calib::csv::{read_triangle_csv, read_umbmark_csv, CsvOptions, TriangleExperiment};
 use calib::UmbmarkRuns;
 
