@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use serde::Serialize;
+use serde_json::Value;
 
 use super::{close, EndpointLayout, LoadedManifest, FORMAT};
 use crate::model::{Firmware, TestKind};
@@ -167,43 +168,42 @@ impl LoadedManifest {
     /// wrong run.
     pub(super) fn check_same_run(&self, group: &crate::data::Group) -> Result<(), GapError> {
         let e = &group.experiment;
-        let differs = |what: &str, ours: serde_json::Value, theirs: serde_json::Value| {
-            let (serde_json::Value::Object(ours), serde_json::Value::Object(theirs)) =
-                (ours, theirs)
-            else {
-                return None;
-            };
-            let same = |a: &serde_json::Value, b: Option<&serde_json::Value>| match (a.as_f64(), b)
-            {
-                (Some(x), Some(b)) => b.as_f64().is_some_and(|y| close(x, y)),
-                _ => b == Some(a),
-            };
-            let field = ours.iter().find(|(k, v)| !same(v, theirs.get(*k)))?;
-            Some(self.err(format!(
-                "telemetry.run_of: `{what}.{}` is {} here but {} in {}, the run this log \
-                 is of (a log of one run must state the firmware and reference of its group)",
-                field.0,
-                field.1,
-                theirs.get(field.0).unwrap_or(&serde_json::Value::Null),
-                group.id
-            )))
-        };
-        if let Some(fw) = &self.manifest.firmware {
-            if let Some(err) = differs("firmware", to_json(&fw.to_firmware()), to_json(&e.firmware))
-            {
-                return Err(err);
-            }
-        }
-        if let Some(r) = &self.reference {
-            if let Some(err) = differs("reference", to_json(r), to_json(&e.reference)) {
-                return Err(err);
+        let firmware = self
+            .manifest
+            .firmware
+            .as_ref()
+            .and_then(|fw| first_difference(&fw.to_firmware(), &e.firmware));
+        let reference = self
+            .reference
+            .as_ref()
+            .and_then(|r| first_difference(r, &e.reference));
+        for (what, difference) in [("firmware", firmware), ("reference", reference)] {
+            if let Some((field, ours, theirs)) = difference {
+                return Err(self.err(format!(
+                    "telemetry.run_of: `{what}.{field}` is {ours} here but {theirs} in {}, the \
+                     run this log is of (a log of one run must state the firmware and reference \
+                     of its group)",
+                    group.id
+                )));
             }
         }
         Ok(())
     }
 }
 
-/// Plain data (numbers, strings, enums) as JSON, to compare field by field.
-fn to_json<T: Serialize>(v: &T) -> serde_json::Value {
-    serde_json::to_value(v).expect("plain data serialises")
+/// The first field (in name order) where two values of plain data (numbers, strings, enums)
+/// differ, with both values; numbers the same to rounding ([`close`]) do not differ.
+fn first_difference<T: Serialize>(ours: &T, theirs: &T) -> Option<(String, Value, Value)> {
+    let json = |v: &T| serde_json::to_value(v).expect("plain data serialises");
+    let (Value::Object(ours), Value::Object(theirs)) = (json(ours), json(theirs)) else {
+        return None;
+    };
+    let same = |a: &Value, b: &Value| match (a.as_f64(), b.as_f64()) {
+        (Some(x), Some(y)) => close(x, y),
+        _ => a == b,
+    };
+    ours.into_iter().find_map(|(field, v)| {
+        let t = theirs.get(&field).cloned().unwrap_or(Value::Null);
+        (!same(&v, &t)).then_some((field, v, t))
+    })
 }
