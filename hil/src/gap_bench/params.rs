@@ -189,6 +189,27 @@ pub fn bench_parameters() -> Vec<ParamSpec> {
     ]
 }
 
+/// The other name of a library effect's value, when the plant makes the same robot under
+/// two names: turn slip `s` keeps `1 − s` of each differential arc, a wheelbase `Eb` times
+/// the nominal turns the robot by `1/Eb` of it, and the ground computes the same pose from
+/// either (to rounding; nothing there feeds back into the encoders). So `turn_slip = s` is
+/// `wheelbase_ratio = 1/(1 − s)`, and no test of any shape can tell them apart on the
+/// bench's candidates (they differ only where another effect reads the wheelbase: the
+/// castor's lever, the floor noise's turning share). None when the value has no equal
+/// inside the other's range of [`bench_parameters`] (a wheelbase below nominal would be a
+/// negative slip).
+pub fn equivalent(effect: &str, value: f64) -> Option<(&'static str, f64)> {
+    let (other, v) = match effect {
+        TURN_SLIP => (WHEELBASE_RATIO, 1.0 / (1.0 - value)),
+        WHEELBASE_RATIO => (TURN_SLIP, 1.0 - 1.0 / value),
+        _ => return None,
+    };
+    bench_parameters()
+        .iter()
+        .any(|s| s.name == other && (s.lower..=s.upper).contains(&v) && v.is_finite())
+        .then_some((other, v))
+}
+
 /// `value` split into (left, right) by its sign: positive on the left.
 fn sided(value: f64) -> (f64, f64) {
     if value >= 0.0 {
@@ -329,6 +350,60 @@ pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The robot a spin, a straight leg and a spin the other way leave: both wheels
+    /// driven from `duties` for 0.6 s each, then 0.4 s coasting.
+    fn end_pose(config: &RobotConfig) -> plant_model::Pose<plant_model::World> {
+        use plant_model::{Duty, Seconds, Side};
+        let mut robot = plant_model::Robot::new(config, 7).expect("a valid config");
+        let signed = |d: f64| {
+            let duty = Duty::new(d.abs()).expect("a duty");
+            if d >= 0.0 {
+                (duty, Duty::OFF)
+            } else {
+                (Duty::OFF, duty)
+            }
+        };
+        let mut t = 0.0;
+        for (l, r) in [(-0.7, 0.7), (0.6, 0.65), (0.8, -0.5), (0.0, 0.0)] {
+            for (side, d) in [(Side::Left, l), (Side::Right, r)] {
+                let (a, b) = signed(d);
+                robot.set_bridge(side, a, b);
+            }
+            t += 0.6;
+            robot.advance_to(Seconds(t)).expect("a run");
+        }
+        robot.pose()
+    }
+
+    /// Turn slip and the wheelbase it is equivalent to make the same robot: the same end
+    /// pose after spins both ways and a curved leg (to rounding), while a slip 10 % off
+    /// the equivalent value is visibly elsewhere. Values outside the other's range have no
+    /// equivalent, and other effects none at all.
+    #[test]
+    fn turn_slip_and_its_equivalent_wheelbase_make_the_same_robot() {
+        let nominal = RobotConfig::default();
+        let slip = 0.06;
+        let (other, eb) = equivalent(TURN_SLIP, slip).expect("an equivalent wheelbase");
+        assert_eq!(other, WHEELBASE_RATIO);
+        let back = equivalent(WHEELBASE_RATIO, eb).expect("and back");
+        assert_eq!(back.0, TURN_SLIP);
+        assert!((back.1 - slip).abs() < 1e-12, "{back:?}");
+        let with =
+            |name: &str, v: f64| end_pose(&apply(&nominal, &EffectParams::new().with(name, v)));
+        let (a, b) = (with(TURN_SLIP, slip), with(WHEELBASE_RATIO, eb));
+        let off = with(TURN_SLIP, 1.1 * slip);
+        let apart = |p: &plant_model::Pose<plant_model::World>,
+                     q: &plant_model::Pose<plant_model::World>| {
+            (p.x().0 - q.x().0).hypot(p.y().0 - q.y().0) + (p.theta().0 - q.theta().0).abs()
+        };
+        assert!(apart(&a, &b) < 1e-9, "{a:?} vs {b:?}");
+        assert!(apart(&a, &off) > 1e-2, "{a:?} vs {off:?}");
+        assert!(apart(&a, &with(TURN_SLIP, 0.0)) > 1.0);
+        assert_eq!(equivalent(WHEELBASE_RATIO, 0.9), None);
+        assert_eq!(equivalent(TURN_SLIP, 0.25), None);
+        assert_eq!(equivalent(DEAD_BAND, 0.1), None);
+    }
 
     /// Every library effect is a parameter, and each non-neutral value switches on exactly
     /// its own table, valid for the plant.

@@ -113,6 +113,16 @@ pub fn choose(
         }
         None => None,
     };
+    let winner_equivalent = winner.and_then(|(_, c)| {
+        crate::gap_bench::params::equivalent(&c.effect, c.value).map(|(n, v)| (n.to_owned(), v))
+    });
+    if let (Some((_, w)), Some((other, v))) = (winner, &winner_equivalent) {
+        notes.push(format!(
+            "{} = {:.4} is, in this plant, the same robot as {other} = {v:.4}: the ground \
+             computes one pose from either, so no test can tell them apart",
+            w.effect, w.value
+        ));
+    }
     let vectors: Vec<Vec<f64>> = fitted.iter().map(|f| f.train_residuals.clone()).collect();
     let alike_ix = winner.map_or(Vec::new(), |(i, _)| {
         alike(i, &candidates, &vectors, nominal_train_chi2)
@@ -183,6 +193,7 @@ pub fn choose(
         model: plan.model.clone(),
         rule: plan.rule.clone(),
         winner: winner.map(|(_, c)| (c.effect.clone(), c.value)),
+        winner_equivalent,
         alike: alike_ix
             .iter()
             .map(|&j| candidates[j].effect.clone())
@@ -251,5 +262,109 @@ mod tests {
         let few = [candidate("winner", 1.0), candidate("close", 3.0)];
         assert_eq!(alike(0, &few, &vectors[..2], 6.0), Vec::<usize>::new());
         assert_eq!(alike(0, &few, &vectors[..2], 9.0), vec![1]);
+    }
+
+    /// A held-out gap of `systematic_cm`, `excess_cm` of it beyond sampling error.
+    fn gap_of(systematic_cm: f64, excess_cm: f64) -> gap::fit::Gap {
+        gap::fit::Gap {
+            systematic_cm,
+            scatter_cm: 0.0,
+            total_cm: systematic_cm,
+            systematic_excess_cm: excess_cm,
+            scatter_excess_cm: 0.0,
+            groups: vec![],
+        }
+    }
+
+    /// The choice over `fitted` (effect, value, training χ², held-out gap and its excess)
+    /// against a nominal robot of training χ² 100 and held-out gap 4 cm (3 cm beyond
+    /// noise), one training group.
+    fn choose_among(fitted: &[(&str, f64, f64, f64, f64)]) -> BenchDiagnosis {
+        let plan = FitPlan {
+            model: "test".to_owned(),
+            rule: "test".to_owned(),
+            candidates: fitted
+                .iter()
+                .map(|f| (f.0.to_owned(), "test".to_owned()))
+                .collect(),
+            by_experiment: false,
+            folds: vec!["g".to_owned()],
+        };
+        let nominal = NominalFit {
+            train_chi2: 100.0,
+            residuals: 6,
+            train_gap: gap_of(5.0, 5.0),
+            heldout: gap_of(4.0, 3.0),
+            bench_runs: 0,
+            series_chi2: None,
+            series_rms_rpm: None,
+            series_residuals: 0,
+            series_gaps: vec![],
+        };
+        let fitted = fitted
+            .iter()
+            .enumerate()
+            .map(
+                |(index, &(effect, value, chi2, held, excess))| FittedCandidate {
+                    index,
+                    candidate: BenchCandidate {
+                        value,
+                        heldout_systematic_cm: held,
+                        ..candidate(effect, chi2)
+                    },
+                    train_gap: gap_of(0.5, 0.0),
+                    heldout: gap_of(held, excess),
+                    train_residuals: vec![index as f64 * 10.0],
+                    series_gaps: vec![],
+                },
+            )
+            .collect();
+        choose(&plan, &nominal, fitted, 0)
+    }
+
+    /// A winner the plant makes under a second name gets it, with its value, and a note
+    /// says no test can tell them apart; a winner with no other name gets none.
+    #[test]
+    fn a_winner_with_an_equal_in_the_plant_is_named_with_it() {
+        let d = choose_among(&[(gap::effects::TURN_SLIP, 0.06, 2.0, 0.5, 0.2)]);
+        let (name, v) = d.winner_equivalent.clone().expect("turn slip has an equal");
+        assert_eq!(name, gap::effects::WHEELBASE_RATIO);
+        assert!((v - 1.0 / 0.94).abs() < 1e-12, "{v}");
+        assert!(
+            d.notes
+                .iter()
+                .any(|n| n.contains("the same robot as wheelbase_ratio")),
+            "{:?}",
+            d.notes
+        );
+        assert!(d
+            .render()
+            .contains("the same robot as wheelbase_ratio = 1.0638"));
+        let d = choose_among(&[(gap::effects::DEAD_BAND, 0.1, 2.0, 0.5, 0.2)]);
+        assert_eq!(
+            d.winner.as_ref().map(|w| w.0.as_str()),
+            Some(gap::effects::DEAD_BAND)
+        );
+        assert_eq!(d.winner_equivalent, None);
+        assert!(!d.notes.iter().any(|n| n.contains("the same robot")));
+    }
+
+    /// The held-out cut is that of the gap beyond the centroids' sampling error (3 cm before
+    /// here, 0.6 cm after: 80 %, where the raw 4 -> 1 cm would be 75 %), and there is none
+    /// when the nominal robot's gap is within that error.
+    #[test]
+    fn the_held_out_cut_is_of_the_gap_beyond_sampling_error() {
+        let d = choose_among(&[(gap::effects::DEAD_BAND, 0.1, 2.0, 1.0, 0.6)]);
+        let cut = d.heldout_cut().expect("a gap beyond noise before");
+        assert!((cut - 0.8).abs() < 1e-12, "{cut}");
+        assert!(
+            d.render().contains("0.60 cm after (-80 %)"),
+            "{}",
+            d.render()
+        );
+        let mut d = d;
+        d.heldout_before.systematic_excess_cm = 0.0;
+        assert_eq!(d.heldout_cut(), None);
+        assert!(d.render().contains("nothing beyond the noise to cut"));
     }
 }
