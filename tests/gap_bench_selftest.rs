@@ -27,7 +27,7 @@ fn the_hidden_effect_is_found_by_the_bench() {
         assert!(c.named_first(), "{}: {}", c.effect, t.render());
         assert!(c.value_close(), "{}: {}", c.effect, t.render());
         assert!(
-            c.heldout_cut_pct() >= 50.0,
+            c.heldout_cut_pct().is_some_and(|v| v >= 50.0),
             "{}: held-out gap {:.2} -> {:.2} cm",
             c.effect,
             c.heldout_before_cm,

@@ -9,17 +9,16 @@ impl BenchDiagnosis {
         self.candidates.iter().find(|c| c.effect == *name)
     }
 
-    /// 1 − held-out systematic gap after / before.
-    pub fn heldout_cut(&self) -> f64 {
+    /// 1 − held-out systematic gap after / before, both beyond the sampling error of the
+    /// centroids (`Gap::systematic_excess_cm`): the share of the systematic gap the model
+    /// explains, not of the real centroids' own noise, which no model can. None when the
+    /// nominal robot's gap is within that error already (nothing systematic to cut).
+    pub fn heldout_cut(&self) -> Option<f64> {
         let (b, a) = (
-            self.heldout_before.systematic_cm,
-            self.heldout_after.systematic_cm,
+            self.heldout_before.systematic_excess_cm,
+            self.heldout_after.systematic_excess_cm,
         );
-        if b > 0.0 {
-            1.0 - a / b
-        } else {
-            0.0
-        }
+        (b > 0.0).then(|| 1.0 - a / b)
     }
 
     /// The report as text.
@@ -64,7 +63,13 @@ impl BenchDiagnosis {
         match &self.winner {
             Some((name, v)) => {
                 let unit = self.winner_candidate().map_or("", |c| c.unit.as_str());
-                let _ = writeln!(s, "  winner: {name} = {v:.4} {unit}");
+                let same = self
+                    .winner_equivalent
+                    .as_ref()
+                    .map_or(String::new(), |(other, w)| {
+                        format!(" (in this plant the same robot as {other} = {w:.4})")
+                    });
+                let _ = writeln!(s, "  winner: {name} = {v:.4} {unit}{same}");
             }
             None => {
                 let _ = writeln!(s, "  winner: none (the nominal bench robot)");
@@ -72,10 +77,16 @@ impl BenchDiagnosis {
         }
         let _ = writeln!(
             s,
-            "  held out: systematic gap {:.2} cm before, {:.2} cm after ({:+.0} %){}",
+            "  held out: systematic gap {:.2} cm before, {:.2} cm after; beyond the centroids' \
+             sampling error {:.2} cm before, {:.2} cm after ({}){}",
             self.heldout_before.systematic_cm,
             self.heldout_after.systematic_cm,
-            -100.0 * self.heldout_cut(),
+            self.heldout_before.systematic_excess_cm,
+            self.heldout_after.systematic_excess_cm,
+            self.heldout_cut()
+                .map_or("nothing beyond the noise to cut".to_owned(), |c| {
+                    format!("{:+.0} %", -100.0 * c)
+                }),
             self.heldout_after_range_cm
                 .map_or(String::new(), |(lo, hi)| format!(
                     "; {lo:.2} to {hi:.2} cm with the candidates alike to the winner ({})",
