@@ -15,7 +15,8 @@
 //! [`SelectOptions::series`] is on, every bench run of a group's centroid records its series
 //! too (the same run, no extra one), and each value's score is the centroid χ² plus the
 //! series χ² of [`super::series_chi2`]: per group, four residuals per segment kind (both
-//! wheels' mean real − bench speed and duty over the segment), each over its standard error
+//! wheels' mean real − bench speed and duty over the segment; the bench's speeds from its
+//! encoder counts, as a robot's firmware logs them), each over its standard error
 //! σ/√n, σ the real series' own noise ([`super::series_noise`]: the long-run deviation of
 //! its steady legs, by batch means). The fits, the cross-validation (a left-out
 //! group's series is predicted too), the ranking and the comparison with the nominal robot
@@ -120,6 +121,10 @@ pub struct BenchDiagnosis {
     pub folds: Vec<String>,
     /// The chosen effect and its value (None: none taken).
     pub winner: Option<(String, f64)>,
+    /// The winner's other name in the plant's library, with its value, when the plant makes
+    /// the same robot under both ([`super::params::equivalent`]): no data can prefer one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub winner_equivalent: Option<(String, f64)>,
     /// The candidates these data cannot tell from the winner (see [`alike`]), and the
     /// held-out systematic gap predicted with each of them and the winner: (least, most),
     /// cm (None: no such candidate).
