@@ -317,6 +317,8 @@ mod tests {
             sd_x: 0.0,
             sd_y: 0.0,
             mean_theta_deg: 0.0,
+            se_x: 0.0,
+            se_y: 0.0,
         };
         let gap = GroupGap {
             group: g.id.to_string(),

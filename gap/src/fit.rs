@@ -5,14 +5,16 @@
 //!
 //! For every training group and every recorded axis (x, y):
 //!
-//! * the centroid residual `(x̄_real − x̄_model) / se`, `se² = s²/n + floor²`, and
+//! * the centroid residual `(x̄_real − x̄_model) / se`, `se² = s²/n + se²_model + floor²`, and
 //! * the scatter residual `(s_real − c4(n)·s_model) / se_s`, `se_s² = s²/(2(n − 1)) + floor²`
 //!   (c4(n) = E\[s\]/σ for n Gaussian runs: 0.94 for five runs),
 //!
 //! where `s²` is the within-group variance pooled over the training groups of the same test
 //! kind (five runs give a poor variance each), `n` the group's runs and `floor` a small
 //! length (0.1 cm by default) so that noise-free data do not divide by zero. The model's
-//! centroid comes from one run of [`crate::Model::predict`] with the stochastic effects off
+//! centroid comes from [`FitOptions::centroid_runs`] runs of [`crate::Model::predict`] (one
+//! by default, `se_model` 0; with k of them their mean, and `se_model` their spread over
+//! √k) with the stochastic effects off
 //! (a stochastic effect is zero-mean by definition: its second-order pull on the centroid is
 //! neglected, and Monte Carlo noise cannot tie it to the centroids); its spread from
 //! [`FitOptions::prediction_runs`] runs with everything on (common random numbers: the same
@@ -71,6 +73,16 @@ pub struct FitOptions {
     /// Largest number of effects the winner may grow to by forward selection beyond the
     /// best pair (each added effect must lower the BIC by more than 6 and stay determined).
     pub max_effects: usize,
+    /// Runs a centroid is predicted from (see the module docs): 1 for a model whose run is
+    /// a smooth function of its parameters; more for one whose runs differ by what no
+    /// parameter holds (the bench's start phase), so that the centroid is their mean and
+    /// its own standard error weighs the residuals.
+    #[serde(default = "one")]
+    pub centroid_runs: usize,
+}
+
+fn one() -> usize {
+    1
 }
 
 impl Default for FitOptions {
@@ -84,6 +96,7 @@ impl Default for FitOptions {
             bootstrap: 40,
             pairs: true,
             max_effects: 4,
+            centroid_runs: 1,
         }
     }
 }
@@ -101,6 +114,12 @@ pub struct Predicted {
     pub sd_y: f64,
     /// Mean heading error, degrees.
     pub mean_theta_deg: f64,
+    /// Standard error of the predicted centroid's x and y, cm: 0 when it is one run
+    /// ([`FitOptions::centroid_runs`]).
+    #[serde(default)]
+    pub se_x: f64,
+    #[serde(default)]
+    pub se_y: f64,
 }
 
 /// The gap of one group.
@@ -245,7 +264,8 @@ impl<'a> Evaluator<'a> {
         self.predict_experiment(params, &group.experiment, &group.id.to_string())
     }
 
-    /// The one run the centroid of `experiment` is predicted from: its seed from `tag`.
+    /// The runs the centroid of `experiment` is predicted from
+    /// ([`FitOptions::centroid_runs`]): its seed from `tag`.
     pub fn centroid_experiment(
         &self,
         experiment: &crate::model::Experiment,
@@ -253,7 +273,7 @@ impl<'a> Evaluator<'a> {
     ) -> crate::model::Experiment {
         let mut exp = experiment.clone();
         exp.seed = self.opts.seed ^ hash(tag);
-        exp.runs = 1;
+        exp.runs = self.opts.centroid_runs.max(1);
         exp
     }
 
@@ -275,11 +295,26 @@ impl<'a> Evaluator<'a> {
             }
         }
         let centre = self.model.predict(&systematic, &exp)?;
-        let first = centre.first().ok_or_else(|| {
-            GapError::Model(crate::ModelError::InvalidExperiment(
+        if centre.is_empty() {
+            return Err(GapError::Model(crate::ModelError::InvalidExperiment(
                 "the model returned no runs".into(),
-            ))
-        })?;
+            )));
+        }
+        let k = centre.len();
+        let (cx, cy): (Vec<f64>, Vec<f64>) = centre.iter().map(|r| (r.x_cm, r.y_cm)).unzip();
+        let middle = Stats::of(&cx, Some(&cy));
+        // One run is its own centroid, bit for bit (no mean taken).
+        let (mean_x, mean_y, mean_theta_deg) = if k == 1 {
+            (cx[0], cy[0], centre[0].theta_rad.to_degrees())
+        } else {
+            let theta = centre.iter().map(|r| r.theta_rad).sum::<f64>() / k as f64;
+            (
+                middle.mean_x,
+                middle.mean_y.unwrap_or(0.0),
+                theta.to_degrees(),
+            )
+        };
+        let se = |sd: f64| if k >= 2 { sd / (k as f64).sqrt() } else { 0.0 };
         let (mut sd_x, mut sd_y) = (0.0, 0.0);
         if self.stochastic(params) {
             exp.runs = self.opts.prediction_runs.max(2);
@@ -291,11 +326,13 @@ impl<'a> Evaluator<'a> {
             sd_y = st.sd_y.unwrap_or(0.0);
         }
         Ok(Predicted {
-            mean_x: first.x_cm,
-            mean_y: first.y_cm,
+            mean_x,
+            mean_y,
             sd_x,
             sd_y,
-            mean_theta_deg: first.theta_rad.to_degrees(),
+            mean_theta_deg,
+            se_x: se(middle.sd_x),
+            se_y: se(middle.sd_y.unwrap_or(0.0)),
         })
     }
 
@@ -308,9 +345,9 @@ impl<'a> Evaluator<'a> {
             let st = g.stats();
             let (vx, vy) = self.weights.var(g.id.test);
             let n = st.n as f64;
-            r.push((st.mean_x - p.mean_x) / (vx / n + floor2).sqrt());
+            r.push((st.mean_x - p.mean_x) / (vx / n + p.se_x.powi(2) + floor2).sqrt());
             if let Some(my) = st.mean_y {
-                r.push((my - p.mean_y) / (vy / n + floor2).sqrt());
+                r.push((my - p.mean_y) / (vy / n + p.se_y.powi(2) + floor2).sqrt());
             }
             if st.n >= 2 {
                 let d = 2.0 * (n - 1.0);
@@ -346,7 +383,12 @@ impl<'a> Evaluator<'a> {
             let axes: Vec<(f64, f64)> = std::iter::once((st.sd_x, p.sd_x))
                 .chain(st.sd_y.map(|s| (s, p.sd_y)))
                 .collect();
-            let se_mean: f64 = axes.iter().map(|(so, sp)| so * so / n + sp * sp / m).sum();
+            let se_mean: f64 = axes
+                .iter()
+                .map(|(so, sp)| so * so / n + sp * sp / m)
+                .sum::<f64>()
+                + p.se_x.powi(2)
+                + st.sd_y.map_or(0.0, |_| p.se_y.powi(2));
             let se_sd: f64 = if st.n >= 2 {
                 axes.iter()
                     .map(|(so, sp)| so * so / (2.0 * (n - 1.0)) + sp * sp / (2.0 * (m - 1.0)))

@@ -35,15 +35,18 @@ impl<'a> Scorer<'a> {
         let (vx, vy) = self.ev.weights.var(group.id.test);
         let n = st.n as f64;
         let floor2 = self.ev.opts.floor_cm.powi(2);
-        let mut r = vec![(st.mean_x - p.mean_x) / (vx / n + floor2).sqrt()];
+        // The predicted centroid's own standard error adds to the real one's (0 for a
+        // centroid of one run: the weights as they were).
+        let mut r = vec![(st.mean_x - p.mean_x) / (vx / n + p.se_x.powi(2) + floor2).sqrt()];
         if let Some(my) = st.mean_y {
-            r.push((my - p.mean_y) / (vy / n + floor2).sqrt());
+            r.push((my - p.mean_y) / (vy / n + p.se_y.powi(2) + floor2).sqrt());
         }
         Ok(r)
     }
 
-    /// The experiment of the one run `group`'s centroid is predicted from (its seed made from
-    /// the group's name): the run whose telemetry goes with that centroid.
+    /// The experiment of the runs `group`'s centroid is predicted from (its seed made from
+    /// the group's name; [`crate::FitOptions::centroid_runs`] runs): run 0's telemetry goes
+    /// with that centroid.
     pub fn centroid_experiment(&self, group: &Group) -> crate::model::Experiment {
         self.ev
             .centroid_experiment(&group.experiment, &group.id.to_string())

@@ -111,3 +111,79 @@ fn the_excess_gaps_are_beyond_the_sampling_errors() {
     let sys = (sys2 - vx / 5.0 - vy / 5.0).max(0.0).sqrt();
     assert!((g.systematic_excess_cm - sys).abs() < 1e-12, "{g:?}");
 }
+
+/// A model whose runs alternate about x = 10 cm (11, 9, 11, ...) and y = 0: what no
+/// parameter holds, as the bench's start phase.
+struct Alternating;
+
+impl Model for Alternating {
+    fn name(&self) -> String {
+        "alternating".to_owned()
+    }
+    fn parameters(&self) -> Vec<ParamSpec> {
+        vec![]
+    }
+    fn predict(
+        &self,
+        _params: &EffectParams,
+        exp: &crate::model::Experiment,
+    ) -> Result<Vec<crate::model::RunEndpoint>, crate::ModelError> {
+        Ok((0..exp.runs)
+            .map(|i| crate::model::RunEndpoint {
+                x_cm: if i % 2 == 0 { 11.0 } else { 9.0 },
+                y_cm: 0.0,
+                theta_rad: 0.0,
+            })
+            .collect())
+    }
+}
+
+/// With several centroid runs the centroid is their mean and its standard error (their
+/// spread over √k) adds to the real one's in the residual's weight and is subtracted, as
+/// sampling error, from the excess gap; with one run the centroid is that run, with no
+/// error of its own.
+#[test]
+fn a_centroid_of_several_runs_is_their_mean_and_weighs_its_own_error() {
+    let runs: Vec<ObservedRun> = [12.0, 12.0, 12.0, 12.0]
+        .iter()
+        .map(|&x| ObservedRun {
+            x_cm: x,
+            y_cm: Some(0.0),
+            theta_rad: None,
+        })
+        .collect();
+    let mut d = Dataset::default();
+    for name in ["a", "b"] {
+        d.push(Group::new(name, experiment(TestKind::Line, 2000.0, 4), runs.clone()).unwrap())
+            .unwrap();
+    }
+    let (train, _) = d.split(&SplitRule::LeaveOut(vec!["b".into()])).unwrap();
+    let g = &train.groups()[0];
+    let with = |k: usize| FitOptions {
+        centroid_runs: k,
+        ..FitOptions::default()
+    };
+    let one = Evaluator::new(&Alternating, &train, &with(1));
+    let p = one.predict(&EffectParams::new(), g).unwrap();
+    assert_eq!((p.mean_x, p.se_x, p.se_y), (11.0, 0.0, 0.0));
+    let four = Evaluator::new(&Alternating, &train, &with(4));
+    let p = four.predict(&EffectParams::new(), g).unwrap();
+    let se = (4.0f64 / 3.0).sqrt() / 2.0;
+    assert_eq!(p.mean_x, 10.0);
+    assert!((p.se_x - se).abs() < 1e-12 && p.se_y == 0.0, "{p:?}");
+    // The real runs agree exactly: the weight is the model's error and the floor.
+    let floor2 = FitOptions::default().floor_cm.powi(2);
+    let r = crate::Scorer::new(&Alternating, &train, &with(4))
+        .centroid_residuals(&EffectParams::new(), g)
+        .unwrap();
+    assert!(
+        (r[0] - 2.0 / (se * se + floor2).sqrt()).abs() < 1e-12,
+        "{r:?}"
+    );
+    let gap = four.gap(&EffectParams::new(), train.groups()).unwrap();
+    let excess = (4.0 - se * se).sqrt();
+    assert!(
+        (gap.groups[0].systematic_excess_cm - excess).abs() < 1e-12,
+        "{gap:?}"
+    );
+}
