@@ -9,7 +9,7 @@ use gap::effects::DEAD_BAND;
 use gap::model::{Experiment, Firmware, Model, TestKind};
 use gap::series::{segments, SegmentKind, Telemetry};
 use gap::EffectParams;
-use hil::gap_bench::{BenchModel, CONTROL_PERIOD_S};
+use hil::gap_bench::{series_chi2, series_chi2_of_runs, BenchModel, CONTROL_PERIOD_S};
 use plant_model::RobotConfig;
 
 const LEG_MM: f64 = 300.0;
@@ -181,7 +181,8 @@ fn a_recorded_run_is_the_unrecorded_run() {
         .unwrap()
         .unwrap();
     assert_eq!(plain, ends);
-    let s = series.unwrap();
+    assert_eq!(series.len(), 1);
+    let s = series.into_iter().next().unwrap();
     assert_eq!(s.exact, b.predict_series(&p, &exp).unwrap());
     assert_eq!(s.exact.samples.len(), s.counted.samples.len());
     // One count per 15 ms is 60 / 602.22 / 0.015 / 6 = 1.107 thesis RPM.
@@ -191,4 +192,83 @@ fn a_recorded_run_is_the_unrecorded_run() {
         assert!((e.rpm_right - c.rpm_right).abs() <= 1.01 * count_rpm);
         assert_eq!((e.pwm_left, e.pwm_right), (c.pwm_left, c.pwm_right));
     }
+}
+
+/// Every run of a request records its series, each from its own start phase (so the two
+/// differ); scored together against a real log, the bias is their mean and its variance
+/// holds their spread: two copies of one run score as that run alone, and a second run whose
+/// steady left duty is 2 higher moves that bias by 1 and weighs it by
+/// `σ²/n + s²(1 + 1/2)`, s² the two runs' variance (2).
+#[test]
+fn the_series_of_several_runs_score_by_their_mean_and_their_spread() {
+    let b = bench();
+    let exp = Experiment {
+        runs: 2,
+        ..experiment(&b, TestKind::Line)
+    };
+    let (_, series) = b
+        .run_many(&[(EffectParams::new(), exp)], true)
+        .pop()
+        .unwrap()
+        .unwrap();
+    assert_eq!(series.len(), 2);
+    assert_ne!(series[0].counted, series[1].counted);
+    let real = &series[0].counted;
+    let sim = &series[1].counted;
+    let one = series_chi2("line", real, sim).unwrap();
+    let twice = series_chi2_of_runs("line", real, &[sim.clone(), sim.clone()]).unwrap();
+    assert_eq!(one.chi2, twice.chi2);
+    let mut raised = sim.clone();
+    let kinds = segments(real);
+    for (s, k) in raised.samples.iter_mut().zip(&kinds) {
+        if *k == SegmentKind::Steady {
+            s.pwm_left += 2.0;
+        }
+    }
+    let both = series_chi2_of_runs("line", real, &[sim.clone(), raised]).unwrap();
+    let steady = |s: &hil::gap_bench::SeriesScore| {
+        s.segments
+            .iter()
+            .find(|f| f.segment == SegmentKind::Steady)
+            .cloned()
+            .unwrap()
+    };
+    let (a, c) = (steady(&one), steady(&both));
+    assert!(
+        (c.bias_pwm[0] - (a.bias_pwm[0] - 1.0)).abs() < 1e-9,
+        "{a:?} {c:?}"
+    );
+    let n = a.n as f64;
+    let sigma = one.noise.pwm[0];
+    let z = c.bias_pwm[0] / (sigma * sigma / n + 2.0 * 1.5).sqrt();
+    assert!((c.z[2] - z).abs() < 1e-9, "{} vs {z}", c.z[2]);
+    // The other three series of the steady part are the same in both runs: unchanged.
+    for i in [0, 1, 3] {
+        assert!((c.z[i] - a.z[i]).abs() < 1e-9, "{i}: {a:?} {c:?}");
+    }
+}
+
+/// Runs start at a phase of the control period drawn from their seed: runs of the nominal
+/// robot (nothing random in its plant) end apart from one another, and the same seed gives
+/// the same runs.
+#[test]
+fn runs_start_at_a_phase_drawn_from_their_seed() {
+    let b = bench();
+    let exp = Experiment {
+        runs: 4,
+        ..experiment(&b, TestKind::UmbmarkCcw)
+    };
+    let ends = b.predict(&EffectParams::new(), &exp).unwrap();
+    let mut xs: Vec<u64> = ends.iter().map(|e| e.x_cm.to_bits()).collect();
+    xs.sort_unstable();
+    xs.dedup();
+    assert!(xs.len() >= 2, "{ends:?}");
+    assert_eq!(ends, b.predict(&EffectParams::new(), &exp).unwrap());
+    let phases: Vec<f64> = (0..64).map(hil::gap_bench::start_phase_s).collect();
+    assert!(phases.iter().all(|p| (0.0..CONTROL_PERIOD_S).contains(p)));
+    let mean = phases.iter().sum::<f64>() / 64.0;
+    assert!(
+        (mean - CONTROL_PERIOD_S / 2.0).abs() < 0.15 * CONTROL_PERIOD_S,
+        "{mean}"
+    );
 }

@@ -57,6 +57,10 @@ pub struct TestOptions {
     /// How a firmware without the bench interface is run (see
     /// [`crate::description`]); None: the firmware's `HT_` interface.
     pub description: Option<std::sync::Arc<Description>>,
+    /// Robot time the host waits, once the firmware is ready, before it sends anything:
+    /// where in the firmware's control period the run starts. A person starts runs at no
+    /// particular phase of it; 0 (the default) starts at the same cycle every time.
+    pub start_delay_s: f64,
 }
 
 impl Default for TestOptions {
@@ -72,6 +76,7 @@ impl Default for TestOptions {
             tell: Tell::Robot,
             hang_after_s: None,
             description: None,
+            start_delay_s: 0.0,
         }
     }
 }
@@ -232,7 +237,11 @@ fn run_on(
     observer: Option<Box<dyn Observer>>,
 ) -> Result<TestRun, BenchError> {
     let name = bench.firmware().name();
-    let (done_before, start_cycle) = crate::line::make_ready(bench, opts.leg_mm)?;
+    let (done_before, mut start_cycle) = crate::line::make_ready(bench, opts.leg_mm)?;
+    if opts.start_delay_s > 0.0 {
+        bench.run_for(opts.start_delay_s)?;
+        start_cycle = bench.cycle();
+    }
     let vars = *bench.vars()?;
     bench.set_observer(observer);
     let told = start(bench, robot, test, opts);

@@ -100,6 +100,7 @@ pub fn execute(
                 hang_after_s: None,
                 description: plan.description.clone(),
                 tell: crate::firmware_params::Tell::Keep,
+                start_delay_s: 0.0,
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;

@@ -397,6 +397,7 @@ fn run_case(
         hang_after_s: Some(options.hang_after_s),
         tell: Default::default(),
         description: options.description.clone(),
+        start_delay_s: 0.0,
     };
     let run = run_test(fw.clone(), robot, case.test, &opts)?;
     Ok(Observed::from_run(

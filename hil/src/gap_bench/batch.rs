@@ -6,7 +6,7 @@
 //! the answers. Scoring asks the same questions whatever the answers are (it has no
 //! branches on them), so the second pass sees only answered questions; answers are kept,
 //! so a question asked again (the nominal model's) is not run again. With telemetry
-//! ([`Batched::with_series`]) each question's run 0 records its series as it runs, kept
+//! ([`Batched::with_series`]) each question's runs record their series as they run, kept
 //! beside the answer for [`Batched::series`]: the series costs no run of its own.
 
 use std::collections::HashMap;
@@ -30,7 +30,7 @@ pub struct Batched<'a> {
     answers: Mutex<HashMap<String, Answer>>,
     /// Whether runs record their series, and the series of the questions run.
     with_series: bool,
-    series: Mutex<HashMap<String, SeriesRun>>,
+    series: Mutex<HashMap<String, Vec<SeriesRun>>>,
     runs: AtomicUsize,
 }
 
@@ -69,7 +69,7 @@ impl<'a> Batched<'a> {
         Self::with_series(bench, false)
     }
 
-    /// No answers yet; with `series`, every question's run 0 records its telemetry.
+    /// No answers yet; with `series`, every question's runs record their telemetry.
     pub fn with_series(bench: &'a BenchModel, series: bool) -> Self {
         Batched {
             bench,
@@ -85,9 +85,9 @@ impl<'a> Batched<'a> {
         self.with_series
     }
 
-    /// The telemetry of run 0 of `(params, exp)`, run now if it was not asked before
+    /// The telemetry of every run of `(params, exp)`, run now if it was not asked before
     /// (None: the bench could not run it, or this batch records no series).
-    pub fn series(&self, params: &EffectParams, exp: &Experiment) -> Option<SeriesRun> {
+    pub fn series(&self, params: &EffectParams, exp: &Experiment) -> Option<Vec<SeriesRun>> {
         if !self.with_series {
             return None;
         }
@@ -140,7 +140,7 @@ impl<'a> Batched<'a> {
         let mut series = self.series.lock().expect("series lock");
         for ((k, _), a) in todo.into_iter().zip(got) {
             let a = a.map(|(ends, s)| {
-                if let Some(s) = s {
+                if !s.is_empty() {
                     series.insert(k.clone(), s);
                 }
                 ends

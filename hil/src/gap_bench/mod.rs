@@ -48,10 +48,26 @@ pub use select::{
 };
 pub use selftest::{bench_self_test, BenchCase, BenchSelfTest, DEFAULT_CASES, RUNS_PER_GROUP};
 pub use series::{
-    series_chi2, series_noise, SegmentFit, SeriesNoise, SeriesRun, SeriesScore, CONTROL_PERIOD_S,
+    series_chi2, series_chi2_of_runs, series_noise, SegmentFit, SeriesNoise, SeriesRun,
+    SeriesScore, CONTROL_PERIOD_S,
 };
 pub use shard::{merge, partial_path, run_shard, MergeError, Partial, ShardPlan, PARTIAL_KIND};
 pub use speed::{measure_diagnosis, DiagnosisSpeed, SpeedPlan, Timed, BUDGET_S};
+
+/// Where in the firmware's control period run `seed` starts, s: uniform over one period,
+/// drawn from the seed. A person starts each run at no particular phase of the
+/// controller's tick, and the firmware's discrete decisions (the tick a turn's count is
+/// reached at, the count a leg stops on) depend on it: runs of one robot from one start
+/// phase would all make the same of them, and a prediction from one phase jumps with the
+/// smallest change of an effect. Drawn apart from the plant's own streams (the seed's mix
+/// with a constant of its own).
+pub fn start_phase_s(seed: u64) -> f64 {
+    use plant_model::rng::{mix, unit};
+    unit(mix(seed ^ START_PHASE_STREAM)) * CONTROL_PERIOD_S
+}
+
+/// The stream constant of [`start_phase_s`].
+const START_PHASE_STREAM: u64 = 0x57a2_7fa5_e000_0001;
 
 /// Robot time without progress after which a run is ended as hung, s.
 const HANG_AFTER_S: f64 = 5.0;
@@ -81,8 +97,8 @@ struct RunJob {
 }
 
 /// The answer to one request of [`BenchModel::run_many`]: the end of every run, and the
-/// telemetry of run 0 when it was asked for.
-type Runs = (Vec<RunEndpoint>, Option<SeriesRun>);
+/// telemetry of every run when it was asked for (else none).
+type Runs = (Vec<RunEndpoint>, Vec<SeriesRun>);
 
 impl BenchModel {
     /// `firmware` on `nominal` (whose geometry is the reference of the effects), `jobs`
@@ -209,7 +225,7 @@ impl BenchModel {
                         continue;
                     }
                 };
-            answers.push(Ok((Vec::new(), None)));
+            answers.push(Ok((Vec::new(), Vec::new())));
             robots.push(apply(&self.nominal, params));
             let fw_params = Self::firmware_params(exp);
             let legs = exp.test.legs() as f64;
@@ -224,7 +240,7 @@ impl BenchModel {
                     leg_mm: exp.firmware.leg_mm,
                     seed: run_seed(exp.seed, run),
                     heading_rad,
-                    series: series && run == 0,
+                    series,
                 });
             }
         }
@@ -234,9 +250,9 @@ impl BenchModel {
                 .iter()
                 .cloned()
                 .collect::<Result<Vec<_>, _>>()
-                .map(|mut v| {
-                    let telemetry = v.first_mut().and_then(|(_, t)| t.take());
-                    (v.into_iter().map(|(e, _)| e).collect(), telemetry)
+                .map(|v| v.into_iter().unzip())
+                .map(|(ends, telemetry): (Vec<_>, Vec<Option<SeriesRun>>)| {
+                    (ends, telemetry.into_iter().flatten().collect())
                 });
         }
         answers
@@ -292,6 +308,7 @@ impl BenchModel {
             // A robot that cannot move (a dead band beyond its drive) stops the run early
             // instead of using the whole time limit.
             hang_after_s: Some(HANG_AFTER_S),
+            start_delay_s: start_phase_s(job.seed),
             ..TestOptions::default()
         };
         let probe = job
@@ -352,6 +369,10 @@ impl Model for BenchModel {
             .run_many(&[(params.clone(), one)], true)
             .pop()
             .expect("one answer per request")?;
-        Ok(series.expect("run 0 records its series").exact)
+        Ok(series
+            .into_iter()
+            .next()
+            .expect("run 0 records its series")
+            .exact)
     }
 }

@@ -284,6 +284,25 @@ pub fn series_noise(real: &Telemetry) -> SeriesNoise {
     }
 }
 
+/// `sim` as long as `real`: a simulated run shorter than the real one is taken to stand
+/// still after its end (zero speed, zero duty, its last pose).
+fn padded_to(sim: &Telemetry, real: &Telemetry) -> Telemetry {
+    let mut sim = sim.clone();
+    let pose = sim.samples.last().and_then(|s| s.pose);
+    while sim.samples.len() < real.samples.len() {
+        let t_s = real.samples[sim.samples.len()].t_s;
+        sim.samples.push(Sample {
+            t_s,
+            rpm_left: 0.0,
+            rpm_right: 0.0,
+            pwm_left: 0.0,
+            pwm_right: 0.0,
+            pose,
+        });
+    }
+    sim
+}
+
 /// One segment kind of a series comparison: the mean of real − sim of both wheels' speeds
 /// and duties, each also over its standard error (the noise over √n).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -320,7 +339,18 @@ pub struct SeriesScore {
     pub gap: SeriesGap,
 }
 
-/// Scores `sim` against `real` (`label` names the comparison), per segment kind of the real
+/// Scores `sim` against `real` (`label` names the comparison): [`series_chi2_of_runs`] of
+/// one simulated run.
+pub fn series_chi2(
+    label: &str,
+    real: &Telemetry,
+    sim: &Telemetry,
+) -> Result<SeriesScore, GapError> {
+    series_chi2_of_runs(label, real, std::slice::from_ref(sim))
+}
+
+/// Scores the simulated runs `sims` (at least one) against `real` (`label` names the
+/// comparison), per segment kind of the real
 /// series: for each wheel the mean of real − sim speed and of real − sim duty over the
 /// segment's samples, each over its standard error σ/√n with σ the real series' own noise
 /// ([`series_noise`]): four residuals per segment kind, about 1 each when the model is
@@ -330,28 +360,26 @@ pub struct SeriesScore {
 /// controller's ripple, which a mean averages out and an RMS does not (the RMS is reported,
 /// [`SeriesScore::rms_rpm`]). A simulated run shorter than the real one is taken to stand
 /// still after its end (zero speed, zero duty).
-pub fn series_chi2(
+///
+/// With several runs (each from its own start phase), the bias is that of their mean, and
+/// its standard error also holds how much the runs' own segment means differ: the real run
+/// is one start phase, the mean of k runs k of them, so the spread s of the k runs' biases
+/// adds `s²(1 + 1/k)` to the variance (a start-up's speeds depend on the phase far more
+/// than the steady legs' ripple says). One run: σ/√n alone.
+pub fn series_chi2_of_runs(
     label: &str,
     real: &Telemetry,
-    sim: &Telemetry,
+    sims: &[Telemetry],
 ) -> Result<SeriesScore, GapError> {
-    let mut sim = sim.clone();
-    let pose = sim.samples.last().and_then(|s| s.pose);
-    while sim.samples.len() < real.samples.len() {
-        let t_s = real.samples[sim.samples.len()].t_s;
-        sim.samples.push(Sample {
-            t_s,
-            rpm_left: 0.0,
-            rpm_right: 0.0,
-            pwm_left: 0.0,
-            pwm_right: 0.0,
-            pose,
-        });
-    }
-    let gap = series_gap(label, real, &sim)?;
+    let padded: Vec<Telemetry> = sims.iter().map(|s| padded_to(s, real)).collect();
+    let first = padded
+        .first()
+        .ok_or_else(|| GapError::Fit(format!("{label}: no simulated run to score")))?;
+    let gap = series_gap(label, real, first)?;
     let noise = series_noise(real);
     let seg = gap::series::segments(real);
     let n = gap.n;
+    let k = padded.len() as f64;
     let mut segments = Vec::new();
     for kind in SegmentKind::ALL {
         let idx: Vec<usize> = (0..n).filter(|&i| seg[i] == kind).collect();
@@ -359,26 +387,43 @@ pub fn series_chi2(
             continue;
         }
         let m = idx.len() as f64;
-        let mean = |f: &dyn Fn(&Sample) -> f64| {
-            idx.iter()
-                .map(|&i| f(&real.samples[i]) - f(&sim.samples[i]))
-                .sum::<f64>()
-                / m
+        // Each run's mean of real − sim over the segment kind, for each of the four series.
+        let of = |f: &dyn Fn(&Sample) -> f64| -> Vec<f64> {
+            padded
+                .iter()
+                .map(|sim| {
+                    idx.iter()
+                        .map(|&i| f(&real.samples[i]) - f(&sim.samples[i]))
+                        .sum::<f64>()
+                        / m
+                })
+                .collect()
         };
-        let bias_rpm = [mean(&|s| s.rpm_left), mean(&|s| s.rpm_right)];
-        let bias_pwm = [mean(&|s| s.pwm_left), mean(&|s| s.pwm_right)];
-        let se = |sigma: f64| sigma / m.sqrt();
+        let series: [Vec<f64>; 4] = [
+            of(&|s| s.rpm_left),
+            of(&|s| s.rpm_right),
+            of(&|s| s.pwm_left),
+            of(&|s| s.pwm_right),
+        ];
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / k;
+        let spread2 = |v: &[f64]| {
+            if v.len() < 2 {
+                return 0.0;
+            }
+            let c = mean(v);
+            v.iter().map(|x| (x - c).powi(2)).sum::<f64>() / (k - 1.0)
+        };
+        let sigma = [noise.rpm[0], noise.rpm[1], noise.pwm[0], noise.pwm[1]];
+        let z: [f64; 4] = std::array::from_fn(|c| {
+            let se2 = sigma[c].powi(2) / m + spread2(&series[c]) * (1.0 + 1.0 / k);
+            mean(&series[c]) / se2.sqrt()
+        });
         segments.push(SegmentFit {
             segment: kind,
             n: idx.len(),
-            z: [
-                bias_rpm[0] / se(noise.rpm[0]),
-                bias_rpm[1] / se(noise.rpm[1]),
-                bias_pwm[0] / se(noise.pwm[0]),
-                bias_pwm[1] / se(noise.pwm[1]),
-            ],
-            bias_rpm,
-            bias_pwm,
+            z,
+            bias_rpm: [mean(&series[0]), mean(&series[1])],
+            bias_pwm: [mean(&series[2]), mean(&series[3])],
         });
     }
     let chi2 = segments

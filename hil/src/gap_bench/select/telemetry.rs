@@ -58,7 +58,8 @@ pub(super) fn series_total(
         // A robot's log holds what its firmware measured: the bench's counted speeds are
         // the like of it (an encoder that loses counts makes a wheel turn faster than its
         // log says, on the robot as on the bench).
-        let s = super::super::series_chi2(&g.id.to_string(), real, &sim.counted)?;
+        let counted: Vec<_> = sim.into_iter().map(|r| r.counted).collect();
+        let s = super::super::series_chi2_of_runs(&g.id.to_string(), real, &counted)?;
         t.chi2 += s.chi2;
         t.residuals += s.residuals;
         sq += s.rms_rpm.powi(2) * (2 * s.gap.n) as f64;
