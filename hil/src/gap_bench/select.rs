@@ -1,24 +1,32 @@
 //! The bench-backed diagnosis: the kinematic diagnosis ranks candidates as a fast
 //! surrogate; the bench then fits its shortlist (by default every effect it has) and every
-//! effect the kinematic model cannot represent, each alone by a bounded 1-D search (a grid over the effect's range, then a
-//! golden-section refinement around the best point), ranks them by the bench's training
-//! residual, and chooses by cross-validation inside the training data: leave one experiment
-//! out when there are several, else one group (experiment/test). A candidate whose
+//! effect the kinematic model cannot represent, each alone by a bounded 1-D search (a grid
+//! over the effect's range, then a golden-section refinement around the best point), ranks
+//! them by the bench's training residual, and chooses by cross-validation inside the
+//! training data: leave one experiment out when there are several, else one group
+//! (experiment/test), each fold's fit refined from the best value the whole fit's search
+//! has seen for the fold's groups. A candidate whose
 //! cross-validated error is not below the nominal robot's is not taken. The held-out gap
 //! before and after is the bench's.
 //!
 //! Only centroids are scored (the weighted χ² of the end points' means, as [`gap::Scorer`]
 //! weighs them): every candidate here is systematic, and the bench's nominal robot has no
-//! floor noise, so the spreads would add the same constant to every candidate.
+//! floor noise, so the spreads would add the same constant to every candidate. Each
+//! centroid is the mean of [`CENTROID_RUNS`] runs, each started at its own phase of the
+//! firmware's control period ([`super::start_phase_s`]), its spread weighing the residual
+//! beside the real centroid's: one run's end jumps as the firmware's discrete decisions flip
+//! with the smallest change of an effect, and a search over such a function finds jumps,
+//! not the effect.
 //!
 //! When training groups carry telemetry (one run logged every control period) and
 //! [`SelectOptions::series`] is on, every bench run of a group's centroid records its series
-//! too (the same run, no extra one), and each value's score is the centroid χ² plus the
+//! too (the same runs, no extra one), and each value's score is the centroid χ² plus the
 //! series χ² of [`super::series_chi2`]: per group, four residuals per segment kind (both
 //! wheels' mean real − bench speed and duty over the segment; the bench's speeds from its
 //! encoder counts, as a robot's firmware logs them), each over its standard error
 //! σ/√n, σ the real series' own noise ([`super::series_noise`]: the long-run deviation of
-//! its steady legs, by batch means). The fits, the cross-validation (a left-out
+//! its steady legs, by batch means), plus the spread of the bench runs' own segment means
+//! ([`super::series_chi2_of_runs`]). The fits, the cross-validation (a left-out
 //! group's series is predicted too), the ranking and the comparison with the nominal robot
 //! all use that sum, so a candidate that fits the end points but not the speeds ranks below
 //! one that fits both. The p-value stays the end points' alone. Without telemetry nothing
@@ -41,8 +49,16 @@ pub(super) use choose::heldout_worse_note;
 pub(super) use choose::HELDOUT_WORSE;
 mod render;
 mod telemetry;
+#[cfg(test)]
+mod tests;
 pub use choose::choose;
 use telemetry::{scores_series, series_total};
+
+/// Runs each centroid is predicted from, each from its own start phase
+/// ([`super::start_phase_s`]): their mean is smooth in the effects' values where one run's
+/// end jumps with the firmware's discrete decisions, and their spread says how well the
+/// mean is known.
+pub const CENTROID_RUNS: usize = 3;
 
 /// Options of [`diagnose_bench`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -71,8 +87,11 @@ impl Default for SelectOptions {
             shortlist: 7,
             grid: 7,
             refine: 8,
-            fold_refine: 4,
-            fit: FitOptions::default(),
+            fold_refine: 2,
+            fit: FitOptions {
+                centroid_runs: CENTROID_RUNS,
+                ..FitOptions::default()
+            },
             series: true,
         }
     }
@@ -225,20 +244,11 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// The grid over the range, with the neutral value.
-    fn grid(&self, n: usize) -> Vec<f64> {
-        let s = &self.spec;
-        let n = n.max(3);
-        let mut g: Vec<f64> = (0..n)
-            .map(|i| {
-                (s.lower + (s.upper - s.lower) * i as f64 / (n - 1) as f64).clamp(s.lower, s.upper)
-            })
-            .collect();
-        if !g.contains(&s.neutral) {
-            g.push(s.neutral);
-        }
-        g.sort_by(f64::total_cmp);
-        g
+    /// Every value evaluated so far, in order.
+    fn evaluated(&self) -> Vec<f64> {
+        let mut v: Vec<f64> = self.seen.keys().map(|&b| f64::from_bits(b)).collect();
+        v.sort_by(f64::total_cmp);
+        v
     }
 
     /// The best value for the groups `keep` selects: the best grid point, then `steps` of
@@ -287,6 +297,32 @@ impl<'a> Search<'a> {
         }
         Ok(found)
     }
+}
+
+/// `n` points over `spec`'s range (at least 3), with its neutral value, in order, each
+/// once.
+fn grid(s: &ParamSpec, n: usize) -> Vec<f64> {
+    let n = n.max(3);
+    // A point that rounding put a hair beside the neutral value is the neutral value:
+    // two points with one answer would leave the search a bracket on one side of it.
+    let tie = 1e-9 * (s.upper - s.lower);
+    let mut g: Vec<f64> = (0..n)
+        .map(|i| {
+            let v =
+                (s.lower + (s.upper - s.lower) * i as f64 / (n - 1) as f64).clamp(s.lower, s.upper);
+            if (v - s.neutral).abs() <= tie {
+                s.neutral
+            } else {
+                v
+            }
+        })
+        .collect();
+    if !g.contains(&s.neutral) {
+        g.push(s.neutral);
+    }
+    g.sort_by(f64::total_cmp);
+    g.dedup();
+    g
 }
 
 fn chi2(r: &[f64]) -> f64 {
@@ -545,14 +581,17 @@ pub fn fit_candidates(
             seen: BTreeMap::new(),
             series: BTreeMap::new(),
         };
-        let grid = search.grid(opts.grid);
+        let grid = grid(&search.spec, opts.grid);
         search.eval(&grid)?;
         let (value, _) = search.fit(&grid, opts.refine, &|_| true)?;
         let (train_chi2, series_chi2) = search.parts(value);
         let cv_chi2 = if cv {
             let mut total = 0.0;
             for f in folds {
-                let (v, _) = search.fit(&grid, opts.fold_refine, &|g| {
+                // From the best value the search has seen for this fold's groups: the points
+                // near the whole fit's value are dense there, a grid's are far apart.
+                let seen = search.evaluated();
+                let (v, _) = search.fit(&seen, opts.fold_refine, &|g| {
                     fold_of(g, by_experiment) != *f
                 })?;
                 total += search.at(v, &|g| fold_of(g, by_experiment) == *f);
