@@ -25,12 +25,14 @@ pub const FLOOR_NOISE_DEG_PER_SQRT_M: f64 = 1.0;
 /// the kinematic model cannot represent (a left dead band) and one it can (coasting), then
 /// more of each kind, until every effect of the library but the floor
 /// noise (which every case has) is hidden once. No value is a point of its effect's search
-/// grid ([`SelectOptions::grid`]), which would find it exactly.
+/// grid ([`SelectOptions::grid`]), which would find it exactly, and each is large enough to
+/// move the held-out end points beyond the floor's noise where the effect can at all
+/// (glitches and gear play cannot in these tests).
 pub const DEFAULT_CASES: [(&str, f64); 14] = [
     (gap::effects::DEAD_BAND, 0.18),
     (gap::effects::COAST, 0.12),
-    // Turn slip makes the same end points as a larger wheelbase in these tests (both cut
-    // the heading of each spin alone): the report says it cannot tell them apart.
+    // Turn slip is the same robot as a larger wheelbase in this plant (see
+    // `params::equivalent`): the report names the winner with its other name.
     (gap::effects::WHEELBASE_RATIO, 1.05),
     (gap::effects::MOTOR_GAIN_ASYMMETRY, 0.25),
     (gap::effects::WHEEL_DIAMETER_RATIO, 1.02),
