@@ -336,6 +336,21 @@ impl<'a> Evaluator<'a> {
         })
     }
 
+    /// The weighted centroid residuals of a group of `test` with stats `st` against the
+    /// prediction `p` (x, and y when recorded): real − model over the centroid's standard
+    /// error, the real one's (pooled scatter over √n), the model's own (0 for a centroid of
+    /// one run) and the floor.
+    pub(crate) fn centroid_part(&self, p: &Predicted, st: &Stats, test: TestKind) -> Vec<f64> {
+        let floor2 = self.opts.floor_cm.powi(2);
+        let (vx, vy) = self.weights.var(test);
+        let n = st.n as f64;
+        let mut r = vec![(st.mean_x - p.mean_x) / (vx / n + p.se_x.powi(2) + floor2).sqrt()];
+        if let Some(my) = st.mean_y {
+            r.push((my - p.mean_y) / (vy / n + p.se_y.powi(2) + floor2).sqrt());
+        }
+        r
+    }
+
     /// Weighted residuals (see the module docs).
     pub fn residuals(&self, params: &EffectParams, groups: &[Group]) -> Result<Vec<f64>, GapError> {
         let floor2 = self.opts.floor_cm.powi(2);
@@ -345,10 +360,7 @@ impl<'a> Evaluator<'a> {
             let st = g.stats();
             let (vx, vy) = self.weights.var(g.id.test);
             let n = st.n as f64;
-            r.push((st.mean_x - p.mean_x) / (vx / n + p.se_x.powi(2) + floor2).sqrt());
-            if let Some(my) = st.mean_y {
-                r.push((my - p.mean_y) / (vy / n + p.se_y.powi(2) + floor2).sqrt());
-            }
+            r.extend(self.centroid_part(&p, &st, g.id.test));
             if st.n >= 2 {
                 let d = 2.0 * (n - 1.0);
                 let c4 = c4(st.n);

@@ -31,17 +31,7 @@ impl<'a> Scorer<'a> {
         group: &Group,
     ) -> Result<Vec<f64>, GapError> {
         let p = self.ev.predict(params, group)?;
-        let st = group.stats();
-        let (vx, vy) = self.ev.weights.var(group.id.test);
-        let n = st.n as f64;
-        let floor2 = self.ev.opts.floor_cm.powi(2);
-        // The predicted centroid's own standard error adds to the real one's (0 for a
-        // centroid of one run: the weights as they were).
-        let mut r = vec![(st.mean_x - p.mean_x) / (vx / n + p.se_x.powi(2) + floor2).sqrt()];
-        if let Some(my) = st.mean_y {
-            r.push((my - p.mean_y) / (vy / n + p.se_y.powi(2) + floor2).sqrt());
-        }
-        Ok(r)
+        Ok(self.ev.centroid_part(&p, &group.stats(), group.id.test))
     }
 
     /// The experiment of the runs `group`'s centroid is predicted from (its seed made from
