@@ -167,8 +167,8 @@ fn a_left_dead_band_shows_in_the_left_duty() {
 }
 
 /// Recording the series changes nothing in the run: its end is the unrecorded run's, bit for
-/// bit; the counted series (the firmware's view) follows the exact one to within one count
-/// per period.
+/// bit; the counted series (the firmware's view, what `predict_series` gives, as a robot's
+/// log has it) follows the exact one to within one count per period.
 #[test]
 fn a_recorded_run_is_the_unrecorded_run() {
     let b = bench();
@@ -183,7 +183,7 @@ fn a_recorded_run_is_the_unrecorded_run() {
     assert_eq!(plain, ends);
     assert_eq!(series.len(), 1);
     let s = series.into_iter().next().unwrap();
-    assert_eq!(s.exact, b.predict_series(&p, &exp).unwrap());
+    assert_eq!(s.counted, b.predict_series(&p, &exp).unwrap());
     assert_eq!(s.exact.samples.len(), s.counted.samples.len());
     // One count per 15 ms is 60 / 602.22 / 0.015 / 6 = 1.107 thesis RPM.
     let count_rpm = 60.0 / (6.0 * 100.37) / CONTROL_PERIOD_S / 6.0;

@@ -355,7 +355,10 @@ impl Model for BenchModel {
 
     /// One run of `experiment` (seed `run_seed(experiment.seed, 0)`, the run 0 of
     /// [`Model::predict`]), sampled once per control period ([`CONTROL_PERIOD_S`]); see
-    /// `series.rs` for what a row holds.
+    /// `series.rs` for what a row holds. Its speeds are the encoder counts' of each period
+    /// ([`series::SeriesRun::counted`]), as a robot's firmware logs them: the telemetry it
+    /// is compared with is such a log, and the plant's exact wheel angles would differ from
+    /// it by up to a count per period even where the model is the robot.
     fn predict_series(
         &self,
         params: &EffectParams,
@@ -373,6 +376,6 @@ impl Model for BenchModel {
             .into_iter()
             .next()
             .expect("run 0 records its series")
-            .exact)
+            .counted)
     }
 }
