@@ -198,7 +198,9 @@ fn a_recorded_run_is_the_unrecorded_run() {
 /// differ); scored together against a real log, the bias is their mean and its variance
 /// holds their spread: two copies of one run score as that run alone, and a second run whose
 /// steady left duty is 2 higher moves that bias by 1 and weighs it by
-/// `σ²/n + s²(1 + 1/2)`, s² the two runs' variance (2).
+/// `σ²/n + s²(1 + 1/2)`, s² the two runs' variance (2). What the spread widens is charged
+/// back (`ln` of the variance over its real part): two runs that scatter about the one
+/// run's series have a smaller χ² than it and a larger deviance.
 #[test]
 fn the_series_of_several_runs_score_by_their_mean_and_their_spread() {
     let b = bench();
@@ -218,14 +220,18 @@ fn the_series_of_several_runs_score_by_their_mean_and_their_spread() {
     let one = series_chi2("line", real, sim).unwrap();
     let twice = series_chi2_of_runs("line", real, &[sim.clone(), sim.clone()]).unwrap();
     assert_eq!(one.chi2, twice.chi2);
-    let mut raised = sim.clone();
+    assert_eq!((one.spread_penalty, twice.spread_penalty), (0.0, 0.0));
     let kinds = segments(real);
-    for (s, k) in raised.samples.iter_mut().zip(&kinds) {
-        if *k == SegmentKind::Steady {
-            s.pwm_left += 2.0;
+    let raised = |by: f64| {
+        let mut r = sim.clone();
+        for (s, k) in r.samples.iter_mut().zip(&kinds) {
+            if *k == SegmentKind::Steady {
+                s.pwm_left += by;
+            }
         }
-    }
-    let both = series_chi2_of_runs("line", real, &[sim.clone(), raised]).unwrap();
+        r
+    };
+    let both = series_chi2_of_runs("line", real, &[sim.clone(), raised(2.0)]).unwrap();
     let steady = |s: &hil::gap_bench::SeriesScore| {
         s.segments
             .iter()
@@ -242,6 +248,20 @@ fn the_series_of_several_runs_score_by_their_mean_and_their_spread() {
     let sigma = one.noise.pwm[0];
     let z = c.bias_pwm[0] / (sigma * sigma / n + 2.0 * 1.5).sqrt();
     assert!((c.z[2] - z).abs() < 1e-9, "{} vs {z}", c.z[2]);
+    let penalty = (1.0 + 2.0 * 1.5 / (sigma * sigma / n)).ln();
+    assert!(
+        (both.spread_penalty - penalty).abs() < 1e-9,
+        "{} vs {penalty}",
+        both.spread_penalty
+    );
+    let wide = series_chi2_of_runs("line", real, &[raised(10.0), raised(-10.0)]).unwrap();
+    assert!(wide.chi2 < one.chi2, "{} vs {}", wide.chi2, one.chi2);
+    assert!(
+        wide.deviance() > one.deviance(),
+        "{} vs {}",
+        wide.deviance(),
+        one.deviance()
+    );
     // The other three series of the steady part are the same in both runs: unchanged.
     for i in [0, 1, 3] {
         assert!((c.z[i] - a.z[i]).abs() < 1e-9, "{i}: {a:?} {c:?}");

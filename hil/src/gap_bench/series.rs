@@ -326,6 +326,12 @@ pub struct SeriesScore {
     pub label: String,
     /// The residuals of [`SegmentFit::z`] of every segment kind, squared and summed.
     pub chi2: f64,
+    /// The sum over the same residuals of ln(v / v₀), v a residual's variance and v₀ its
+    /// real series' part alone (0 for one simulated run): the Gaussian deviance's term for
+    /// the variance the simulated runs' own spread adds. Without it, a candidate that made
+    /// the bench's runs scatter (encoder glitches that move counts between periods) would
+    /// lower the χ² by widening its own error bars and "fit" a series it does not explain.
+    pub spread_penalty: f64,
     /// Residuals that sum.
     pub residuals: usize,
     /// RMS of real − sim speed over every sample and both wheels, thesis RPM.
@@ -337,6 +343,15 @@ pub struct SeriesScore {
     /// The speeds' comparison of `gap::series` (per segment, whiteness, input correlation).
     #[serde(skip)]
     pub gap: SeriesGap,
+}
+
+impl SeriesScore {
+    /// What the diagnosis minimises: [`SeriesScore::chi2`] plus
+    /// [`SeriesScore::spread_penalty`] (−2 ln of the Gaussian likelihood, less a constant
+    /// that no candidate changes).
+    pub fn deviance(&self) -> f64 {
+        self.chi2 + self.spread_penalty
+    }
 }
 
 /// Scores `sim` against `real` (`label` names the comparison): [`series_chi2_of_runs`] of
@@ -365,7 +380,9 @@ pub fn series_chi2(
 /// its standard error also holds how much the runs' own segment means differ: the real run
 /// is one start phase, the mean of k runs k of them, so the spread s of the k runs' biases
 /// adds `s²(1 + 1/k)` to the variance (a start-up's speeds depend on the phase far more
-/// than the steady legs' ripple says). One run: σ/√n alone.
+/// than the steady legs' ripple says). One run: σ/√n alone. What that spread widens is
+/// charged back in [`SeriesScore::spread_penalty`]; the score a search minimises is
+/// [`SeriesScore::deviance`].
 pub fn series_chi2_of_runs(
     label: &str,
     real: &Telemetry,
@@ -381,6 +398,7 @@ pub fn series_chi2_of_runs(
     let n = gap.n;
     let k = padded.len() as f64;
     let mut segments = Vec::new();
+    let mut spread_penalty = 0.0;
     for kind in SegmentKind::ALL {
         let idx: Vec<usize> = (0..n).filter(|&i| seg[i] == kind).collect();
         if idx.is_empty() {
@@ -414,10 +432,11 @@ pub fn series_chi2_of_runs(
             v.iter().map(|x| (x - c).powi(2)).sum::<f64>() / (k - 1.0)
         };
         let sigma = [noise.rpm[0], noise.rpm[1], noise.pwm[0], noise.pwm[1]];
-        let z: [f64; 4] = std::array::from_fn(|c| {
-            let se2 = sigma[c].powi(2) / m + spread2(&series[c]) * (1.0 + 1.0 / k);
-            mean(&series[c]) / se2.sqrt()
-        });
+        let real2: [f64; 4] = std::array::from_fn(|c| sigma[c].powi(2) / m);
+        let se2: [f64; 4] =
+            std::array::from_fn(|c| real2[c] + spread2(&series[c]) * (1.0 + 1.0 / k));
+        let z: [f64; 4] = std::array::from_fn(|c| mean(&series[c]) / se2[c].sqrt());
+        spread_penalty += (0..4).map(|c| (se2[c] / real2[c]).ln()).sum::<f64>();
         segments.push(SegmentFit {
             segment: kind,
             n: idx.len(),
@@ -439,6 +458,7 @@ pub fn series_chi2_of_runs(
     Ok(SeriesScore {
         label: label.to_owned(),
         chi2,
+        spread_penalty,
         residuals: 4 * segments.len(),
         rms_rpm: (sq / (2 * n).max(1) as f64).sqrt(),
         noise,

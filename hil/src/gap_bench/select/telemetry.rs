@@ -18,10 +18,11 @@ pub(super) fn scores_series(train: &TrainSet, opts: &SelectOptions) -> bool {
 /// The training groups' series under one set of parameters.
 #[derive(Debug, Clone)]
 pub(super) struct SeriesTotal {
+    /// The series' deviance ([`SeriesScore::deviance`]: χ² and the spread's term), summed.
     pub(super) chi2: f64,
     pub(super) rms_rpm: f64,
     pub(super) residuals: usize,
-    /// The χ² of every training group (0 without telemetry).
+    /// The deviance of every training group (0 without telemetry).
     pub(super) per_group: Vec<f64>,
     /// The score of every group with telemetry.
     pub(super) gaps: Vec<SeriesScore>,
@@ -60,11 +61,11 @@ pub(super) fn series_total(
         // log says, on the robot as on the bench).
         let counted: Vec<_> = sim.into_iter().map(|r| r.counted).collect();
         let s = super::super::series_chi2_of_runs(&g.id.to_string(), real, &counted)?;
-        t.chi2 += s.chi2;
+        t.chi2 += s.deviance();
         t.residuals += s.residuals;
         sq += s.rms_rpm.powi(2) * (2 * s.gap.n) as f64;
         n += 2 * s.gap.n;
-        t.per_group.push(s.chi2);
+        t.per_group.push(s.deviance());
         t.gaps.push(s);
     }
     t.rms_rpm = (sq / n.max(1) as f64).sqrt();
@@ -114,8 +115,9 @@ impl BenchDiagnosis {
         };
         let _ = writeln!(
             s,
-            "  series: {} residuals (segment × wheel × speed, duty of each training group with telemetry); \
-             nominal bench robot χ² {chi2:.1}, RMS {rms:.2} RPM",
+            "  series: {} residuals (segment × wheel × speed, duty of each training group with telemetry), \
+             scored as χ² + Σ ln(v/v₀) for the variance the bench runs' spread adds; \
+             nominal bench robot {chi2:.1}, RMS {rms:.2} RPM",
             self.series_residuals
         );
         for (i, c) in self.candidates.iter().enumerate() {
