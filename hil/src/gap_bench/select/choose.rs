@@ -12,9 +12,16 @@ use gap::Scorer;
 const ALIKE_SE: f64 = 2.0;
 /// A candidate "improves markedly" on the nominal robot when its training χ² is at least
 /// this much lower, and at most [`MARKED_FRACTION`] of the nominal's (the kinematic
-/// diagnosis' thresholds).
-const MARKED_CHI2: f64 = 6.0;
+/// diagnosis' thresholds). It is also the margin by which a winner must predict the
+/// left-out data better than the nominal robot.
+pub(crate) const MARKED_CHI2: f64 = 6.0;
 const MARKED_FRACTION: f64 = 0.75;
+
+/// Whether a candidate's training χ² `score` improves markedly on the nominal robot's
+/// `nominal`.
+fn marked(nominal: f64, score: f64) -> bool {
+    nominal - score >= MARKED_CHI2 && score <= MARKED_FRACTION * nominal
+}
 
 /// The candidates (indices) the training data cannot tell from `winner`: each improves
 /// markedly on the nominal robot, and its fitted prediction of the training centroids
@@ -26,14 +33,14 @@ fn alike(
     vectors: &[Vec<f64>],
     nominal_chi2: f64,
 ) -> Vec<usize> {
-    let marked = |c: &BenchCandidate| {
-        nominal_chi2 - c.train_chi2 >= MARKED_CHI2 && c.train_chi2 <= MARKED_FRACTION * nominal_chi2
-    };
     (0..candidates.len())
-        .filter(|&j| j != winner && marked(&candidates[j]))
+        .filter(|&j| j != winner && marked(nominal_chi2, candidates[j].train_chi2))
         .filter(|&j| chi2(&difference(&vectors[winner], &vectors[j])).sqrt() < ALIKE_SE)
         .collect()
 }
+
+/// A residual is at noise level when its χ² p-value is at least this.
+const NOISE_P: f64 = 0.01;
 
 /// How the report's note that the choice worsens the held-out prediction begins.
 pub(crate) const HELDOUT_WORSE: &str = "the chosen effect makes the held-out prediction worse";
@@ -82,12 +89,38 @@ pub fn choose(
     let heldout_before = nominal.heldout.clone();
 
     let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_score());
+    // A candidate fitted at its neutral value is the nominal robot, whatever its folds'
+    // fits predict.
+    let specs = crate::gap_bench::bench_parameters();
+    let is_effect = |c: &BenchCandidate| {
+        specs
+            .iter()
+            .find(|s| s.name == c.effect)
+            .is_none_or(|s| c.value != s.neutral)
+    };
     let best = candidates
         .iter()
         .enumerate()
+        .filter(|(_, c)| is_effect(c))
         .min_by(|a, b| score(a.1).total_cmp(&score(b.1)));
+    // The nominal robot's own score over every training residual (centroids and series):
+    // when it is at noise level, the data ask for no effect, and the cross-validation's
+    // differences between candidates are its own scatter.
+    let nominal_dof = (residuals + nominal.series_residuals).max(1);
+    let nominal_p = gap::stats::chi2_sf(nominal_score, nominal_dof);
     let winner = match best {
-        Some((i, c)) if score(c) < nominal_score => {
+        _ if nominal_p >= NOISE_P => {
+            notes.push(format!(
+                "no candidate is taken: the nominal bench robot explains the training data at \
+                 noise level (score {nominal_score:.1} over {nominal_dof} residuals, p = \
+                 {nominal_p:.2}); nothing in these data needs an effect"
+            ));
+            None
+        }
+        // Cross-validation estimates each candidate's error on data it was not fitted to,
+        // but the estimate scatters: a candidate must predict the left-out data markedly
+        // better than the nominal robot.
+        Some((i, c)) if nominal_score - score(c) >= MARKED_CHI2 => {
             if i > 0 {
                 notes.push(format!(
                     "{} has the lowest training residual, but {} predicts the left-out {}s \
@@ -103,7 +136,7 @@ pub fn choose(
         Some((_, c)) => {
             notes.push(format!(
                 "no candidate is taken: the best, {} ({} χ² {:.1}), predicts no better than the \
-                 nominal bench robot ({:.1})",
+                 nominal bench robot ({:.1}) by {MARKED_CHI2} or more",
                 c.effect,
                 if cv { "cross-validated" } else { "training" },
                 score(c),
@@ -160,7 +193,7 @@ pub fn choose(
         None => (heldout_before.clone(), nominal_train_chi2, residuals.max(1)),
     };
     let p_value = gap::stats::chi2_sf(left_chi2, dof);
-    let at_noise_level = p_value >= 0.01;
+    let at_noise_level = p_value >= NOISE_P;
     if !at_noise_level {
         let train_gap = winner.map_or(&nominal.train_gap, |(i, _)| &fitted[i].train_gap);
         let worst = train_gap
@@ -280,6 +313,12 @@ mod tests {
     /// against a nominal robot of training χ² 100 and held-out gap 4 cm (3 cm beyond
     /// noise), one training group.
     fn choose_among(fitted: &[(&str, f64, f64, f64, f64)]) -> BenchDiagnosis {
+        choose_against(100.0, fitted)
+    }
+
+    /// [`choose_among`] against a nominal robot of training χ² `nominal_chi2` (over 6
+    /// residuals).
+    fn choose_against(nominal_chi2: f64, fitted: &[(&str, f64, f64, f64, f64)]) -> BenchDiagnosis {
         let plan = FitPlan {
             model: "test".to_owned(),
             rule: "test".to_owned(),
@@ -291,7 +330,7 @@ mod tests {
             folds: vec!["g".to_owned()],
         };
         let nominal = NominalFit {
-            train_chi2: 100.0,
+            train_chi2: nominal_chi2,
             residuals: 6,
             train_gap: gap_of(5.0, 5.0),
             heldout: gap_of(4.0, 3.0),
@@ -366,5 +405,35 @@ mod tests {
         d.heldout_before.systematic_excess_cm = 0.0;
         assert_eq!(d.heldout_cut(), None);
         assert!(d.render().contains("nothing beyond the noise to cut"));
+    }
+
+    /// No effect is taken where the data ask for none: a nominal robot at noise level (χ²
+    /// 12 over 6 residuals, p = 0.06) keeps a candidate that would improve it by 10, a
+    /// candidate only 4 better than the nominal robot's 100 is not taken, and one fitted
+    /// at its neutral value (the nominal robot itself) is passed over for the best effect
+    /// that is one.
+    #[test]
+    fn no_effect_is_taken_where_the_data_ask_for_none() {
+        use gap::effects::{DEAD_BAND, TOE};
+        let d = choose_against(12.0, &[(DEAD_BAND, 0.1, 2.0, 0.5, 0.2)]);
+        assert_eq!(d.winner, None);
+        assert!(
+            d.notes.iter().any(|n| n.contains("at noise level")),
+            "{:?}",
+            d.notes
+        );
+        let d = choose_against(30.0, &[(DEAD_BAND, 0.1, 2.0, 0.5, 0.2)]);
+        assert_eq!(d.winner, Some((DEAD_BAND.to_owned(), 0.1)));
+        let d = choose_among(&[(DEAD_BAND, 0.1, 96.0, 0.5, 0.2)]);
+        assert_eq!(d.winner, None);
+        assert!(
+            d.notes.iter().any(|n| n.contains("by 6 or more")),
+            "{:?}",
+            d.notes
+        );
+        let d = choose_among(&[(DEAD_BAND, 0.1, 94.0, 0.5, 0.2)]);
+        assert_eq!(d.winner, Some((DEAD_BAND.to_owned(), 0.1)));
+        let d = choose_among(&[(DEAD_BAND, 0.0, 2.0, 0.5, 0.2), (TOE, 1.0, 50.0, 0.5, 0.2)]);
+        assert_eq!(d.winner, Some((TOE.to_owned(), 1.0)));
     }
 }
