@@ -42,7 +42,7 @@ use super::series::SeriesScore;
 use gap::data::{Group, HeldOutSet, TrainSet};
 use gap::effects::ParamKind;
 use gap::fit::{FitOptions, Gap};
-use gap::{EffectParams, GapError, Model, ParamSpec, Scorer};
+use gap::{EffectParams, GapError, Model, Scorer};
 use serde::{Deserialize, Serialize};
 
 use super::{Batched, BenchModel};
@@ -52,10 +52,10 @@ mod choose;
 pub(super) use choose::heldout_worse_note;
 pub(super) use choose::{HELDOUT_WORSE, MARKED_CHI2};
 mod render;
+mod search;
 mod telemetry;
-#[cfg(test)]
-mod tests;
 pub use choose::choose;
+use search::{grid, Search};
 use telemetry::{scores_series, series_total};
 
 /// Runs each centroid is predicted from, each from its own start phase
@@ -178,155 +178,6 @@ pub struct BenchDiagnosis {
 
 fn is_zero(n: &usize) -> bool {
     *n == 0
-}
-
-/// The values of one candidate's search, each with every training group's χ².
-struct Search<'a> {
-    batched: &'a Batched<'a>,
-    train: &'a TrainSet,
-    fit: &'a FitOptions,
-    spec: ParamSpec,
-    /// value (bits) -> χ² per training group.
-    seen: BTreeMap<u64, Vec<f64>>,
-    /// value (bits) -> series χ² per training group (empty: no telemetry scored).
-    series: BTreeMap<u64, Vec<f64>>,
-}
-
-impl<'a> Search<'a> {
-    fn params(&self, v: f64) -> EffectParams {
-        EffectParams::new().with(&self.spec.name, v)
-    }
-
-    /// Every training group's χ² at each of `values`, in one batch.
-    fn eval(&mut self, values: &[f64]) -> Result<(), GapError> {
-        let todo: Vec<f64> = values
-            .iter()
-            .copied()
-            .filter(|v| !self.seen.contains_key(&v.to_bits()))
-            .collect();
-        if todo.is_empty() {
-            return Ok(());
-        }
-        let groups = self.train.groups();
-        let got = self.batched.eval(|m| -> Result<Vec<Vec<f64>>, GapError> {
-            let sc = Scorer::new(m, self.train, self.fit);
-            todo.iter()
-                .map(|&v| {
-                    groups
-                        .iter()
-                        .map(|g| Ok(chi2(&sc.centroid_residuals(&self.params(v), g)?)))
-                        .collect()
-                })
-                .collect()
-        })?;
-        for (v, c) in todo.iter().zip(got) {
-            self.seen.insert(v.to_bits(), c);
-        }
-        self.eval_series(&todo)
-    }
-
-    /// χ² over the groups `keep` selects at `v` (evaluated before).
-    fn at(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
-        let c = &self.seen[&v.to_bits()];
-        let ends = self
-            .train
-            .groups()
-            .iter()
-            .zip(c)
-            .filter(|(g, _)| keep(g))
-            .map(|(_, x)| x)
-            .sum();
-        self.series_at(v, keep).map_or(ends, |s| ends + s)
-    }
-
-    /// [`Search::at`], or infinity for a value not evaluated.
-    fn at_or_inf(&self, v: f64, keep: &dyn Fn(&Group) -> bool) -> f64 {
-        if self.seen.contains_key(&v.to_bits()) {
-            self.at(v, keep)
-        } else {
-            f64::INFINITY
-        }
-    }
-
-    /// Every value evaluated so far, in order.
-    fn evaluated(&self) -> Vec<f64> {
-        let mut v: Vec<f64> = self.seen.keys().map(|&b| f64::from_bits(b)).collect();
-        v.sort_by(f64::total_cmp);
-        v
-    }
-
-    /// The best value for the groups `keep` selects: the best grid point, then `steps` of
-    /// golden section between its neighbours. Returns (value, χ²).
-    fn fit(
-        &mut self,
-        grid: &[f64],
-        steps: usize,
-        keep: &dyn Fn(&Group) -> bool,
-    ) -> Result<(f64, f64), GapError> {
-        let best = (0..grid.len())
-            .min_by(|&a, &b| self.at(grid[a], keep).total_cmp(&self.at(grid[b], keep)))
-            .expect("a grid has points");
-        let (mut a, mut b) = (
-            grid[best.saturating_sub(1)],
-            grid[(best + 1).min(grid.len() - 1)],
-        );
-        let mut found = (grid[best], self.at(grid[best], keep));
-        let r = (5f64.sqrt() - 1.0) / 2.0;
-        let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-        if steps > 0 {
-            self.eval(&[c, d])?;
-        }
-        let (mut fc, mut fd) = (self.at_or_inf(c, keep), self.at_or_inf(d, keep));
-        // Each step keeps one of the two inner points: one new bench evaluation per step.
-        for step in 0..steps {
-            for (v, f) in [(c, fc), (d, fd)] {
-                if f < found.1 {
-                    found = (v, f);
-                }
-            }
-            if step + 1 == steps {
-                break;
-            }
-            if fc < fd {
-                (b, d, fd) = (d, c, fc);
-                c = b - r * (b - a);
-                self.eval(&[c])?;
-                fc = self.at(c, keep);
-            } else {
-                (a, c, fc) = (c, d, fd);
-                d = a + r * (b - a);
-                self.eval(&[d])?;
-                fd = self.at(d, keep);
-            }
-        }
-        Ok(found)
-    }
-}
-
-/// `n` points over `spec`'s range (at least 3), with its neutral value, in order, each
-/// once.
-fn grid(s: &ParamSpec, n: usize) -> Vec<f64> {
-    let n = n.max(3);
-    // A point that rounding put a hair beside the neutral value is the neutral value:
-    // two points with one answer would leave the search a bracket on one side of it.
-    let tie = 1e-9 * (s.upper - s.lower);
-    let mut g: Vec<f64> = (0..n)
-        .map(|i| {
-            let v =
-                (s.lower + (s.upper - s.lower) * i as f64 / (n - 1) as f64).clamp(s.lower, s.upper);
-            if (v - s.neutral).abs() <= tie {
-                s.neutral
-            } else {
-                v
-            }
-        })
-        .collect();
-    if !g.contains(&s.neutral) {
-        g.push(s.neutral);
-    }
-    g.sort_by(f64::total_cmp);
-    g.dedup();
-    g
 }
 
 fn chi2(r: &[f64]) -> f64 {
