@@ -114,3 +114,37 @@ fn the_series_gives_the_gain_asymmetry_its_sign() {
         c.diagnosis.render()
     );
 }
+
+/// A case the diagnosis does not pass fails the command: with only the effects the
+/// kinematic model cannot represent as candidates (`--shortlist 0`), a hidden wheelbase
+/// error has no candidate to be named by. The table prints, then one line names the failed
+/// case, and the exit code is 1.
+#[test]
+fn a_failed_case_fails_the_command() {
+    let out = support::hil(&[
+        "gap",
+        "--self-test",
+        "--bench",
+        "--hidden",
+        "wheelbase_ratio=1.05",
+        "--shortlist",
+        "0",
+        "--leg-mm",
+        "100",
+        "--jobs",
+        "2",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    let row = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("wheelbase_ratio"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(row.ends_with("FAIL"), "{row}");
+    assert_eq!(
+        stderr.lines().last(),
+        Some("error: self-test: 1 of 1 cases failed: wheelbase_ratio"),
+        "{stderr}"
+    );
+}

@@ -111,9 +111,10 @@ impl Gap {
         }
         if self.self_test {
             let cases = gap::self_test(&kinematic, self.seed);
-            return self
-                .json
-                .emit(&cases, || render_cases_with(&cases, CaseColumns::Measures));
+            self.json
+                .emit(&cases, || render_cases_with(&cases, CaseColumns::Measures))?;
+            let failed = cases.iter().filter(|c| c.identifiable && !c.passed());
+            return cases_failed(failed.map(|c| c.effect.as_str()), cases.len());
         }
         if self.real.is_empty() {
             anyhow::bail!("give --real DIR (manifests of real data, e.g. fixtures/real/thesis) or --self-test");
@@ -330,6 +331,22 @@ impl Gap {
             &self.select_options(),
             &|line| eprintln!("{line}"),
         )?;
-        self.json.emit(&t, || t.render())
+        self.json.emit(&t, || t.render())?;
+        let failed = t.cases.iter().filter(|c| !c.passed());
+        cases_failed(failed.map(|c| c.effect.as_str()), t.cases.len())
     }
+}
+
+/// A self-test whose cases did not all pass has not shown what it was asked to: after its
+/// table, one line naming the failed cases, and exit 1 (as `hil faults` and `hil test`).
+fn cases_failed<'a>(failed: impl Iterator<Item = &'a str>, total: usize) -> Result<()> {
+    let failed: Vec<&str> = failed.collect();
+    if failed.is_empty() {
+        return Ok(());
+    }
+    anyhow::bail!(
+        "self-test: {} of {total} cases failed: {}",
+        failed.len(),
+        failed.join(", ")
+    )
 }
