@@ -8,9 +8,9 @@ use std::process::Command;
 use std::sync::Arc;
 
 use hil::bench::BenchOptions;
-use hil::description::Description;
-use hil::elf::Firmware;
-use hil::experiment::{run_test, Test, TestOptions, TestRun};
+use hil::firmware::description::Description;
+use hil::firmware::elf::Firmware;
+use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
 
 const THESIS_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
 const DEMO_TESTS: &str = "fixtures/arduino/square-demo/tests.toml";

@@ -181,7 +181,7 @@ fn other_drivers_load(
 fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
     use hil::bench::{Bench, BenchOptions};
     use hil::board::{mega2560, BridgeInput, PwmSource};
-    use hil::line::{wait_ready, CMD_LINE};
+    use hil::runs::line::{wait_ready, CMD_LINE};
 
     #[path = "support/mod.rs"]
     mod support;

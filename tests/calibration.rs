@@ -16,7 +16,7 @@ mod support;
 
 use calib::Solution;
 use hil::bench::BenchOptions;
-use hil::umbmark::{self, Partial, Plan, RoundReport, Stop};
+use hil::runs::odometry::{self, Plan, RoundReport, RunSet, Stop};
 use plant_model::config::RobotConfig;
 
 const ED: f64 = 1.01;
@@ -32,7 +32,7 @@ fn ideal_with(extra: &str) -> RobotConfig {
 
 /// A UMBmark of `LEG_MM` sides on `robot`, Henrytwo's board, the robot's
 /// geometry told to the firmware.
-fn plan(fw: &hil::elf::Firmware, robot: &RobotConfig, seed: u64) -> Plan {
+fn plan(fw: &hil::firmware::elf::Firmware, robot: &RobotConfig, seed: u64) -> Plan {
     Plan::new(
         LEG_MM,
         seed,
@@ -52,7 +52,7 @@ fn measure(robot: &RobotConfig, triangle: bool) -> [(f64, f64); 2] {
     if triangle {
         plan = plan.triangle();
     }
-    let runs = umbmark::execute(
+    let runs = odometry::execute(
         &fw,
         robot,
         &plan,
@@ -65,7 +65,7 @@ fn measure(robot: &RobotConfig, triangle: bool) -> [(f64, f64); 2] {
         runs.iter().all(|r| r.completed),
         "every run completes: {runs:?}"
     );
-    let full = Partial {
+    let full = RunSet {
         kind: plan.experiment.kind().into(),
         plan,
         shard: None,
@@ -73,10 +73,10 @@ fn measure(robot: &RobotConfig, triangle: bool) -> [(f64, f64); 2] {
     };
     [Solution::FirstOrder, Solution::Exact].map(|s| {
         if triangle {
-            let r = umbmark::triangle_report(&full, WHEELBASE_MM, s).expect("triangle report");
+            let r = odometry::triangle_report(&full, WHEELBASE_MM, s).expect("triangle report");
             (r.result.ed, r.result.eb)
         } else {
-            let r = umbmark::report(&full, WHEELBASE_MM, s).expect("umbmark report");
+            let r = odometry::report(&full, WHEELBASE_MM, s).expect("umbmark report");
             (r.result.ed, r.result.eb)
         }
     })
@@ -130,11 +130,11 @@ fn calibration_rounds_shrink_the_default_robots_error() {
         if triangle {
             plan = plan.triangle();
         }
-        let rounds = umbmark::calibrate(
+        let rounds = odometry::calibrate(
             &fw,
             &robot,
             &plan,
-            &umbmark::RoundOptions {
+            &odometry::RoundOptions {
                 wheelbase_mm: WHEELBASE_MM,
                 rounds: 1,
                 until_cm: None,
@@ -146,7 +146,7 @@ fn calibration_rounds_shrink_the_default_robots_error() {
         .expect("calibration rounds");
         assert_eq!(rounds.stop, Stop::RoundsDone);
         let rounds = rounds.rounds;
-        let table = umbmark::table10(&rounds).expect("table 10");
+        let table = odometry::table10(&rounds).expect("table 10");
         let (_, round) = &table[0];
         println!(
             "{name}: error {:.2} cm -> {:.2} cm ({:.1} %), wheelbase {:.1} -> {:.1} mm",
@@ -194,11 +194,11 @@ fn rounds_converge_over_a_real_robots_errors() {
         ));
         let mut plan = plan(&fw, &robot, 3);
         plan.runs_per_direction = 1;
-        let c = umbmark::calibrate(
+        let c = odometry::calibrate(
             &fw,
             &robot,
             &plan,
-            &umbmark::RoundOptions {
+            &odometry::RoundOptions {
                 wheelbase_mm: WHEELBASE_MM,
                 rounds: 3,
                 until_cm: Some(15.0),

@@ -7,7 +7,7 @@
 mod support;
 
 use hil::bench::BenchOptions;
-use hil::experiment::{run_test, Test, TestOptions, TestRun};
+use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
 use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 

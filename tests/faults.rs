@@ -4,7 +4,7 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::faults::{library, run_fault, FaultOptions, Verdict};
+use hil::runs::faults::{library, run_fault, FaultOptions, Verdict};
 
 /// Faults the robust build is known not to meet, with why (the library
 /// says so in their expectations). Each must still fail: one that passes
@@ -117,7 +117,7 @@ fn reset_mid_test_fails_for_a_firmware_that_restarts_its_test() {
     case.faults.push(ScheduledFault::new(
         Trigger::Time { s: 4.5 },
         Action::HostSend {
-            bytes: vec![hil::experiment::Test::Line.command_byte()],
+            bytes: vec![hil::runs::experiment::Test::Line.command_byte()],
         },
     ));
     let row = run_fault(

@@ -7,8 +7,8 @@
 mod support;
 
 use hil::bench::{Bench, BenchOptions};
-use hil::line::wait_ready;
-use hil::link::{frame, replies, Command, Param, ProtoTest, Received};
+use hil::firmware::link::{frame, replies, Command, Param, ProtoTest, Received};
+use hil::runs::line::wait_ready;
 
 /// Another robot's geometry: 0.567 mm and 1/360 turn per count.
 const MM_PER_COUNT: f32 = 0.567;

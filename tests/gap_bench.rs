@@ -1,4 +1,4 @@
-//! The bench as the gap model (`hil::gap_bench::BenchModel`): effects move its predictions
+//! The bench as the gap model (`hil::runs::gap_bench::BenchModel`): effects move its predictions
 //! the way the physics says, the answer depends on the seed only (not on the job count), and
 //! the nominal robot's own behaviour is in the model: a nominal bench dataset leaves it a
 //! residual at noise level where the kinematic model shows a systematic gap.
@@ -10,7 +10,7 @@ use gap::data::{Dataset, Group, ObservedRun, SplitRule};
 use gap::effects::{DEAD_BAND, FLOOR_NOISE};
 use gap::model::{Experiment, Firmware, Model, TestKind};
 use gap::{EffectParams, FitOptions, KinematicModel, Scorer};
-use hil::gap_bench::BenchModel;
+use hil::runs::gap_bench::BenchModel;
 use plant_model::RobotConfig;
 
 const LEG_MM: f64 = 300.0;
@@ -114,7 +114,7 @@ fn the_nominal_robot_is_in_the_model() {
             .collect();
         (r.iter().map(|x| x * x).sum(), r.len())
     };
-    let (bench_chi2, n) = chi2(&b, &hil::gap_bench::SelectOptions::default().fit);
+    let (bench_chi2, n) = chi2(&b, &hil::runs::gap_bench::SelectOptions::default().fit);
     let (kin_chi2, _) = chi2(&KinematicModel, &FitOptions::default());
     let p = gap::stats::chi2_sf(bench_chi2, n);
     assert!(

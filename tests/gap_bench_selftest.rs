@@ -9,7 +9,7 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::gap_bench::{bench_self_test, BenchModel, SelectOptions, DEFAULT_CASES};
+use hil::runs::gap_bench::{bench_self_test, BenchModel, SelectOptions, DEFAULT_CASES};
 use plant_model::RobotConfig;
 
 #[test]

@@ -1,4 +1,4 @@
-//! The bench's time series (`hil::gap_bench`, `BenchModel::predict_series`): one row per
+//! The bench's time series (`hil::runs::gap_bench`, `BenchModel::predict_series`): one row per
 //! control period, the segments of the test in their order at the firmware's set-point, a
 //! dead band seen in the duties, and a run that records its series is the run that does not.
 
@@ -9,7 +9,7 @@ use gap::effects::DEAD_BAND;
 use gap::model::{Experiment, Firmware, Model, TestKind};
 use gap::series::{segments, SegmentKind, Telemetry};
 use gap::EffectParams;
-use hil::gap_bench::{series_chi2, series_chi2_of_runs, BenchModel, CONTROL_PERIOD_S};
+use hil::runs::gap_bench::{series_chi2, series_chi2_of_runs, BenchModel, CONTROL_PERIOD_S};
 use plant_model::RobotConfig;
 
 const LEG_MM: f64 = 300.0;
@@ -232,7 +232,7 @@ fn the_series_of_several_runs_score_by_their_mean_and_their_spread() {
         r
     };
     let both = series_chi2_of_runs("line", real, &[sim.clone(), raised(2.0)]).unwrap();
-    let steady = |s: &hil::gap_bench::SeriesScore| {
+    let steady = |s: &hil::runs::gap_bench::SeriesScore| {
         s.segments
             .iter()
             .find(|f| f.segment == SegmentKind::Steady)
@@ -284,7 +284,7 @@ fn runs_start_at_a_phase_drawn_from_their_seed() {
     xs.dedup();
     assert!(xs.len() >= 2, "{ends:?}");
     assert_eq!(ends, b.predict(&EffectParams::new(), &exp).unwrap());
-    let phases: Vec<f64> = (0..64).map(hil::gap_bench::start_phase_s).collect();
+    let phases: Vec<f64> = (0..64).map(hil::runs::gap_bench::start_phase_s).collect();
     assert!(phases.iter().all(|p| (0.0..CONTROL_PERIOD_S).contains(p)));
     let mean = phases.iter().sum::<f64>() / 64.0;
     assert!(

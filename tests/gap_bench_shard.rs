@@ -12,7 +12,9 @@ use std::process::Output;
 
 use support::hil;
 
-use hil::gap_bench::{measure_diagnosis, BenchModel, SelectOptions, SpeedPlan, DEFAULT_CASES};
+use hil::runs::gap_bench::{
+    measure_diagnosis, BenchModel, SelectOptions, SpeedPlan, DEFAULT_CASES,
+};
 use plant_model::RobotConfig;
 
 fn ok(out: &Output) {

@@ -17,7 +17,7 @@
 mod avr_asm;
 
 use avr_asm::{jmp, ldi, sts};
-use hil::sim::{Avr, Core, Handler, IoClaim, Irq, RESPONSE_CYCLES, WAKE_UP_CYCLES};
+use hil::mcu::sim::{Avr, Core, Handler, IoClaim, Irq, RESPONSE_CYCLES, WAKE_UP_CYCLES};
 
 const F_CPU: u32 = 16_000_000;
 /// Data-space addresses.

@@ -5,8 +5,8 @@
 mod support;
 
 use hil::bench::{Bench, BenchOptions};
-use hil::line::{run_line, wait_ready, LineOptions, LineRun};
-use hil::link::{frame, replies, Command, Param};
+use hil::firmware::link::{frame, replies, Command, Param};
+use hil::runs::line::{run_line, wait_ready, LineOptions, LineRun};
 use std::sync::OnceLock;
 
 fn line_2m() -> &'static LineRun {

@@ -18,8 +18,8 @@ fn driving_bench(served: bool) -> Bench {
     if served {
         bench.keep_latest_records();
     }
-    hil::line::wait_ready(&mut bench).unwrap();
-    hil::firmware_params::start_test(&mut bench, &[], true, Test::Line);
+    hil::runs::line::wait_ready(&mut bench).unwrap();
+    hil::runs::start::start_test(&mut bench, &[], true, Test::Line);
     bench
 }
 

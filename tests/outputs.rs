@@ -84,7 +84,7 @@ fn references() -> &'static ([Set; 2], Duration) {
             );
             read_set(&d).unwrap()
         });
-        assert_eq!(sets[0].len(), hil::umbmark::UMBMARK_FILES.len());
+        assert_eq!(sets[0].len(), hil::runs::odometry::UMBMARK_FILES.len());
         assert_ne!(sets[0], sets[1], "the two seeds must give different sets");
         (sets, wall)
     })

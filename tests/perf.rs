@@ -5,8 +5,8 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::experiment::Test;
-use hil::perf::{bench_run, bench_run_described, raw_replay};
+use hil::runs::experiment::Test;
+use hil::runs::perf::{bench_run, bench_run_described, raw_replay};
 
 #[test]
 fn a_raw_replay_ends_in_the_bench_runs_firmware_state() {
@@ -34,11 +34,11 @@ fn a_raw_replay_ends_in_the_bench_runs_firmware_state() {
 #[test]
 fn a_black_box_runs_replay_ends_in_the_bench_runs_firmware_state() {
     let root = hil::paths::workspace_root();
-    let d = hil::description::Description::load(
+    let d = hil::firmware::description::Description::load(
         root.join("firmware/arduino/henrytwo-thesis/tests.toml"),
     )
     .unwrap();
-    let fw = hil::elf::Firmware::load(d.elf.as_ref().unwrap())
+    let fw = hil::firmware::elf::Firmware::load(d.elf.as_ref().unwrap())
         .unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"));
     let rec = bench_run_described(&fw, &support::robot("henrytwo"), Test::Line, &d, true).unwrap();
     assert!(rec.completed, "the sketch's line did not end on the bench");
@@ -72,7 +72,7 @@ fn a_replay_missing_an_input_is_caught() {
 #[test]
 fn edges_raised_from_the_plan_change_nothing() {
     use hil::bench::BenchOptions;
-    use hil::line::ready_bench;
+    use hil::runs::line::ready_bench;
     let robot = support::robot("henrytwo");
     let run = |lean: bool, true_waveforms: bool| {
         let (mut bench, before, _) = ready_bench(

@@ -7,8 +7,8 @@
 mod support;
 
 use hil::bench::{Action, Bench, BenchOptions, Trigger};
-use hil::line::wait_ready;
-use hil::link::{frame, replies, Command, Param, ProtoTest, Received};
+use hil::firmware::link::{frame, replies, Command, Param, ProtoTest, Received};
+use hil::runs::line::wait_ready;
 
 fn bench(build: &str) -> Bench {
     let mut b = Bench::new(
@@ -160,7 +160,7 @@ fn battery_leds_follow_a0() {
 /// same afterwards (`hil fuzz` runs 100 000 of them).
 #[test]
 fn fuzzed_invalid_frames_change_nothing() {
-    let report = hil::fuzz::fuzz(
+    let report = hil::runs::fuzz::fuzz(
         support::firmware("robust"),
         &support::robot("henrytwo-ideal"),
         4000,

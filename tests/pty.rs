@@ -17,8 +17,8 @@ use std::time::{Duration, Instant};
 
 use henrytwo_protocol::message::{Command as Cmd, NOTIFY_TEST_DONE};
 use henrytwo_protocol::param::Param;
-use hil::link::{frame, replies};
-use hil::station::client::{Link, LinkOptions};
+use hil::clients::station::client::{Link, LinkOptions};
+use hil::firmware::link::{frame, replies};
 
 /// `hil serve --pty` of `build` at 10x: the child, the pty and the USB pty.
 fn serve(build: &str) -> (Killed, String, String) {

@@ -5,7 +5,7 @@
 mod support;
 
 use hil::bench::{Bench, BenchOptions};
-use hil::line::{wait_ready, CMD_LINE};
+use hil::runs::line::{wait_ready, CMD_LINE};
 
 /// Drive for a second and check every bridge input the firmware used.
 #[test]

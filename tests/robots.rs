@@ -12,8 +12,8 @@ mod support;
 
 use hil::bench::BenchOptions;
 use hil::board::Board;
-use hil::experiment::{run_test, Test, TestOptions, TestRun};
-use hil::firmware_params::Tell;
+use hil::firmware::params::Tell;
+use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
 use plant_model::RobotConfig;
 
 const LEG_MM: f64 = 2000.0;

@@ -11,8 +11,8 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use hil::bench::{Bench, BenchOptions, Observer, Step, CHECK_PERIOD_S};
-use hil::experiment::Test;
-use hil::line::ready_bench;
+use hil::runs::experiment::Test;
+use hil::runs::line::ready_bench;
 
 /// Keeps (cycle before, cycle after) of every step.
 struct Steps(Rc<RefCell<Vec<(u64, u64)>>>);

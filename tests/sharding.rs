@@ -7,9 +7,9 @@ mod support;
 use support::hil;
 
 use hil::bench::BenchOptions;
-use hil::umbmark::{execute, merge, report, Partial, Plan, Shard};
+use hil::runs::odometry::{execute, merge, report, Plan, RunSet, Shard};
 
-fn run(plan: &Plan, shard: Option<Shard>, threads: usize) -> Partial {
+fn run(plan: &Plan, shard: Option<Shard>, threads: usize) -> RunSet {
     let fw = support::firmware("robust");
     let robot = support::robot("henrytwo-ideal");
     let specs = match shard {
@@ -32,7 +32,7 @@ fn run(plan: &Plan, shard: Option<Shard>, threads: usize) -> Partial {
             )
         })
         .unwrap();
-    Partial {
+    RunSet {
         kind: "umbmark-partial".into(),
         plan: plan.clone(),
         shard,
@@ -57,10 +57,10 @@ fn shards_merge_into_the_single_machine_result() {
     let b = run(&plan, Some(Shard { k: 2, n: 2 }), 2);
     assert!(!a.runs.is_empty() && !b.runs.is_empty());
     // Through JSON, as shards travel between machines.
-    let a: Partial = serde_json::from_str(&serde_json::to_string(&a).unwrap()).unwrap();
-    let b: Partial = serde_json::from_str(&serde_json::to_string(&b).unwrap()).unwrap();
+    let a: RunSet = serde_json::from_str(&serde_json::to_string(&a).unwrap()).unwrap();
+    let b: RunSet = serde_json::from_str(&serde_json::to_string(&b).unwrap()).unwrap();
     let merged = merge(vec![b, a]).unwrap();
-    let json = |p: &Partial| {
+    let json = |p: &RunSet| {
         serde_json::to_string(&report(p, 130.0, calib::Solution::FirstOrder).unwrap()).unwrap()
     };
     assert_eq!(json(&merged), json(&whole));

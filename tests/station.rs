@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use henrytwo_protocol::message::{RunState, Test, VERSION};
 use henrytwo_protocol::param::Param;
-use hil::station::client::{Link, LinkError, LinkOptions, Notice};
+use hil::clients::station::client::{Link, LinkError, LinkOptions, Notice};
 
 /// `hil serve --pty` at `speed`, and the pty path it printed.
 fn serve(speed: &str) -> (Child, String) {

@@ -524,7 +524,7 @@ async fn the_page_drives_a_robot_on_a_serial_port() {
     wait_text(&c, "notice", 60, |t| t.contains("line done")).await;
     // A serial robot shows no pose: the page says to measure the floor.
     assert!(text(&c, "pose").await.contains("measure"));
-    let file = hil::station::session::file_name(&format!("serial-{pty}"));
+    let file = hil::clients::station::session::file_name(&format!("serial-{pty}"));
     assert!(sessions.join(&file).exists(), "no session file {file}");
 
     // The port vanishes: the page says so.

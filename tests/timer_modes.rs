@@ -12,7 +12,7 @@
 mod avr_asm;
 
 use avr_asm::{jmp, ldi, sts};
-use hil::sim::{Avr, Core, Handler, IoClaim};
+use hil::mcu::sim::{Avr, Core, Handler, IoClaim};
 
 /// GPIOR0 in data space, and as an IO address for `out`.
 const GPIOR0: u16 = 0x3E;

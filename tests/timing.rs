@@ -4,13 +4,13 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::experiment::{run_test_observed, Test, TestOptions};
-use hil::timing::{Budgets, TimingProbe, TimingReport};
+use hil::runs::experiment::{run_test_observed, Test, TestOptions};
+use hil::runs::timing::{Budgets, TimingProbe, TimingReport};
 use std::process::Command;
 use std::sync::OnceLock;
 
 /// A run of `test` with the timing probe on the robust firmware.
-fn measure(test: Test, leg_mm: f64) -> (hil::experiment::TestRun, TimingReport) {
+fn measure(test: Test, leg_mm: f64) -> (hil::runs::experiment::TestRun, TimingReport) {
     let fw = support::firmware("robust");
     let probe = TimingProbe::new(&fw, "ht_control_tick", 240_000).unwrap();
     let opts = TestOptions {
@@ -106,7 +106,7 @@ const ISR_TRIP_FIRES: [(&str, u64); 2] = [("INT4", 77), ("INT5", 78)];
 /// run that lost it measures less than the datasheet's figures.
 #[test]
 fn encoder_isrs_are_measured() {
-    use hil::timing::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
+    use hil::runs::timing::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
     let r = report();
     for ((name, unarmed), (_, fires)) in ISR_UNARMED_UP.into_iter().zip(ISR_TRIP_FIRES) {
         let isr = r.isrs.iter().find(|i| i.name == name).expect(name);

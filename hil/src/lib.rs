@@ -1,32 +1,45 @@
 //! Hardware-in-the-loop bench for the firmware of differential-drive robots
-//! on an ATmega2560 (reference robot: Henrytwo), as a library and as the
-//! `hil` command line.
+//! on AVR microcontrollers (reference robot: Henrytwo, an ATmega2560), as a
+//! library and as the `hil` command line.
 //!
-//! The firmware's real ELF runs inside simavr ([`sim`]); the plant model
+//! The firmware's real ELF runs inside simavr; the plant model
 //! (`plant-model`) drives the MCU's encoder pins at the exact cycles at which
 //! the physics says the edges happen, and sees the H-bridge inputs through the
-//! bench's own model of the PWM timers ([`pwm`]), wired as the robot's
-//! [`board`] says. [`bench`] ties them together on one event queue; [`line`] is
-//! the straight-line test. [`station`] is the operator's side: the protocol
-//! client for real and emulated robots, `hil serve` and the `hil ui` page.
+//! bench's own model of the PWM timers, wired as the robot's board says.
 //! Nothing in a run reads the host's clock: the same ELF, files and seed give
 //! the same run, bit for bit.
 //!
+//! The crate is read as rooms, each depending only on those above it in
+//! this table:
+//!
+//! | room | what |
+//! |---|---|
+//! | [`mcu`] | the MCU side: simavr (the only FFI), the PWM timers' model, supply, cycle time |
+//! | [`board`] | which MCU pin each robot signal is on, as data |
+//! | [`firmware`] | the firmware under test: its ELF, bench variables, what it is told, its protocol, test descriptions |
+//! | [`bench`](mod@bench) | one MCU wired to the plant on one event queue: drivers, edges, UARTs, power, faults, hangs, the gdb stub |
+//! | [`output`] | files written whole, VCD traces, JUnit XML |
+//! | [`runs`] | one pipeline per kind of run: experiments, the line, faults and scenarios, golden runs, timing, fuzzing, the gap, `hil bench` |
+//! | [`clients`] | programs that drive a bench: the harness for your own tests, the operator's station |
+//! | [`paths`] | default locations of the firmware ELFs and the fixtures |
+//!
+//! The `hil` command line (`src/cli/`) sits on top of all of them.
+//!
 //! # Your own firmware tests
 //!
-//! [`harness`] is the bench for a `cargo test` of your own: build it from a
+//! [`clients::harness`] is the bench for a `cargo test` of your own: build it from a
 //! robot config, a board file and an ELF, send bytes over the Bluetooth
 //! UART, run until a condition holds (a frame or bytes from the firmware, a
 //! motor or pin state, a firmware variable, a pose: a scenario file's
-//! [`scenario::Condition`]s), inject a fault ([`bench::Action`]) and assert
+//! [`runs::scenario::Condition`]s), inject a fault ([`bench::Action`]) and assert
 //! on the plant:
 //!
 //! ```
-//! use hil::harness::{
+//! use hil::clients::harness::{
 //!     Action, Command, Condition, EncoderFault, Harness, Side, Test, NOTIFY_TEST_DONE,
 //! };
 //!
-//! # fn main() -> Result<(), hil::harness::HarnessError> {
+//! # fn main() -> Result<(), hil::clients::harness::HarnessError> {
 //! // The robust build on Henrytwo: the robot config and the board are the
 //! // defaults (.robot(path), .board(path) for your own), seed 0.
 //! let mut h = Harness::builder()
@@ -57,49 +70,18 @@
 //! # Ok(()) }
 //! ```
 //!
-//! A condition that does not hold in time is a [`harness::HarnessError::Timeout`]
+//! A condition that does not hold in time is a [`clients::harness::HarnessError::Timeout`]
 //! naming it, the window and what the bench saw instead. `examples/firmware-test/`
 //! is a crate of such tests; `hil test FILE...` runs the same conditions from
-//! scenario files ([`scenario`]).
+//! scenario files ([`runs::scenario`]).
 
 #![deny(unsafe_code)]
 
 pub mod bench;
 pub mod board;
-pub mod calibrate;
-pub mod description;
-pub mod elf;
-pub mod experiment;
-pub mod experiments;
-pub mod faults;
-pub mod firmware_params;
-pub mod fuzz;
-pub mod fwvars;
-pub mod gap_bench;
-pub mod gdb;
-pub mod golden;
-pub mod hang;
-pub mod harness;
-pub mod inject;
-pub mod junit;
-pub mod line;
-pub mod link;
+pub mod clients;
+pub mod firmware;
+pub mod mcu;
 pub mod output;
 pub mod paths;
-pub mod perf;
-pub mod pwm;
-pub mod report;
-pub mod scenario;
-#[allow(unsafe_code)]
-pub mod sim;
-pub mod station;
-pub mod supply;
-#[allow(unsafe_code)]
-mod sys;
-pub mod time;
-pub mod timing;
-pub mod vcd;
-pub mod wiring;
-
-/// The experiments' former path (`hil::umbmark::Plan`), kept for callers.
-pub use experiments as umbmark;
+pub mod runs;

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
 
-use hil::elf::Firmware;
+use hil::firmware::elf::Firmware;
 use plant_model::config::RobotConfig;
 
 /// Build the firmware (incremental: about a second when nothing changed) once

@@ -1,5 +1,5 @@
 //! An example of a user's own firmware tests on the HIL bench: the tests in
 //! `tests/` build a bench from a robot config, a board file and the robust
-//! firmware's ELF with `hil::harness`, talk to the firmware over its
+//! firmware's ELF with `hil::clients::harness`, talk to the firmware over its
 //! Bluetooth UART, run until a condition holds, inject a fault and assert.
 //! Copy the folder to start a crate of your own; `cargo test` runs them.

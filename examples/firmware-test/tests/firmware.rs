@@ -3,7 +3,7 @@
 //! motors within 250 ms of losing an encoder. The last test runs the thesis
 //! build, which has no encoder watchdog, to show the dropout test catches it.
 
-use hil::harness::{
+use hil::clients::harness::{
     Action, Command, Condition, EncoderFault, Harness, HarnessError, Side, Test, VarType,
     NOTIFY_TEST_DONE, REPLY_FLAG, VERSION,
 };
@@ -127,8 +127,11 @@ fn bad_input_is_refused_with_its_range() {
         "leg_mm = 5: the firmware's legs are 10 to 5000 mm",
     );
     refused(
-        h.run_until(&Condition::pin("D99", hil::harness::Level::High), 1.0)
-            .unwrap_err(),
+        h.run_until(
+            &Condition::pin("D99", hil::clients::harness::Level::High),
+            1.0,
+        )
+        .unwrap_err(),
         "give an Arduino Mega pin, D0-D69 or A0-A15",
     );
     refused(

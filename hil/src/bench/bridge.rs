@@ -1,6 +1,6 @@
 //! The motor driver's inputs: what the firmware's PWM timers (those of the
 //! board's PWM pins, emulated by the bench from their registers, see
-//! `crate::pwm`) and the inputs' ports drive on them, and how a change
+//! `crate::mcu::pwm`) and the inputs' ports drive on them, and how a change
 //! reaches the plant (through the driver's truth table, `driver.rs`). Also
 //! the PWM statistics per pin, and the [`Motion`] the two motors make
 //! together.
@@ -12,8 +12,8 @@ use super::recorder::{DriveEvent, Motion, Recorder};
 use super::timers::Grace;
 use super::NEVER;
 use crate::board::{Board, BridgeInput, PwmSource};
-use crate::pwm::{Action, PinDrive, PwmError, PwmTimer};
-use crate::time::Clock;
+use crate::mcu::clock::Clock;
+use crate::mcu::pwm::{Action, PinDrive, PwmError, PwmTimer};
 
 /// Per-pin PWM statistics.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]

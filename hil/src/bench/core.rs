@@ -22,10 +22,10 @@ use super::requests::Requests;
 use super::timers::{Look, SimavrTimers};
 use super::uart::HostUart;
 use super::{BenchOptions, NEVER};
+use crate::bench::inject::Injection;
 use crate::board::Board;
-use crate::inject::Injection;
-use crate::sim::{Core, Handler, Irq};
-use crate::time::Clock;
+use crate::mcu::clock::Clock;
+use crate::mcu::sim::{Core, Handler, Irq};
 
 /// Tags of the IRQs the bench watches (see `BenchCore::irq`).
 /// A driver input port's PORT and DDR register: + the port's index in
@@ -43,7 +43,7 @@ pub struct BenchCore {
     pub(super) plant_cycle: u64,
     /// The firmware's wheel counters (32-bit variables), when known.
     counts: Option<[u16; 2]>,
-    /// The injection points (`crate::inject`): encoder lines, bridge, link.
+    /// The injection points (`crate::bench::inject`): encoder lines, bridge, link.
     pub(super) inject: Injection,
     pub(super) bridge: Bridge,
     pub(super) edges: Encoders,
@@ -348,7 +348,7 @@ impl BenchCore {
         }
     }
 
-    /// A write to a register of an emulated timer (see `crate::pwm`): the plant is brought to this
+    /// A write to a register of an emulated timer (see `crate::mcu::pwm`): the plant is brought to this
     /// cycle before the output can change.
     fn write_pwm_register(&mut self, core: &mut Core, addr: u16, value: u8) {
         let cycle = core.cycle();

@@ -2,7 +2,7 @@
 //! transitions happen (solved from the motor's analytic response), the bench
 //! plans them several at a time with the plant's levels at each, puts the
 //! next one on the event queue, and raises it on the MCU pins at its cycle,
-//! through the encoder faults and glitches of `crate::inject`.
+//! through the encoder faults and glitches of `crate::bench::inject`.
 //!
 //! Two economies, both exact for what the firmware can see:
 //! - A planned edge with nothing else due is raised from the plan alone;
@@ -18,10 +18,10 @@ use plant_model::{Robot, Seconds, Side};
 
 use super::recorder::Recorder;
 use super::NEVER;
+use crate::bench::inject::{EncoderFault, Injection};
 use crate::board::{Board, EncoderWiring};
-use crate::inject::{EncoderFault, Injection};
-use crate::sim::{Core, Irq};
-use crate::time::Clock;
+use crate::mcu::clock::Clock;
+use crate::mcu::sim::{Core, Irq};
 
 /// Transitions planned per wheel beyond the next when nothing tells how
 /// long the inputs will last (see `Encoders::plan_edge`).

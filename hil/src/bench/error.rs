@@ -4,10 +4,10 @@
 use thiserror::Error;
 
 use super::faults::Action;
-use crate::elf::{ElfError, Firmware, Location};
-use crate::pwm::PwmError;
-use crate::sim::SimError;
-use crate::time::Clock;
+use crate::firmware::elf::{ElfError, Firmware, Location};
+use crate::mcu::clock::Clock;
+use crate::mcu::pwm::PwmError;
+use crate::mcu::sim::SimError;
 
 #[derive(Debug, Error)]
 pub enum BenchError {
@@ -54,9 +54,9 @@ pub enum BenchError {
         robot_s: f64,
         at: Location,
     },
-    /// The firmware was busy in a test without progress (see [`crate::hang`]).
+    /// The firmware was busy in a test without progress (see [`crate::bench::hang`]).
     #[error("the firmware hung: busy in a test without progress (no wheel motion, no change of state, phase, segment or fault) for {still:.3} s of robot time, {report}", still = .0.still_s, report = .0)]
-    Hang(crate::hang::HangReport),
+    Hang(crate::bench::hang::HangReport),
     /// The debugger ended the run (`kill`, or its connection went away).
     #[error("the debugger ended the run: {0}")]
     Debugger(String),

@@ -18,8 +18,8 @@ use serde::{Deserialize, Serialize};
 
 use super::recorder::Motion;
 use super::NEVER;
-use crate::inject::{Channel, EncoderFault, LinkFault};
-use crate::time::Clock;
+use crate::bench::inject::{Channel, EncoderFault, LinkFault};
+use crate::mcu::clock::Clock;
 
 /// A change the bench makes at a cycle: a fault starting or ending.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -50,7 +50,7 @@ pub enum Action {
     },
     /// The battery's terminal voltage forced (None: the battery model again).
     /// Below the regulator's headroom VCC follows it; below the brown-out
-    /// level the MCU is held in reset (see [`crate::supply`]).
+    /// level the MCU is held in reset (see [`crate::mcu::supply`]).
     BatteryVolts {
         volts: Option<f64>,
     },

@@ -36,6 +36,9 @@ mod driver;
 mod edges;
 mod error;
 mod faults;
+pub mod gdb;
+pub mod hang;
+pub mod inject;
 mod log;
 mod power;
 mod recorder;
@@ -60,16 +63,16 @@ pub use self::recorder::{
     Retained, Sample, Snapshot,
 };
 pub use self::run::{Debugger, Observer, Step, CHECK_PERIOD_S};
-pub use crate::elf::Location;
+pub use crate::firmware::elf::Location;
 
 use self::registers::{MCUSR, MCUSR_EXTRF};
+use crate::bench::hang::{HangWatch, Progress};
 use crate::board::Board;
-use crate::elf::Firmware;
-use crate::fwvars::FwVars;
-use crate::hang::{HangWatch, Progress};
-use crate::sim::Avr;
-use crate::supply::Supply;
-use crate::time::Clock;
+use crate::firmware::elf::Firmware;
+use crate::firmware::vars::FwVars;
+use crate::mcu::clock::Clock;
+use crate::mcu::sim::Avr;
+use crate::mcu::supply::Supply;
 
 /// No event: a cycle never reached.
 const NEVER: u64 = u64::MAX;
@@ -112,7 +115,7 @@ pub struct Bench {
     firmware: Firmware,
     /// The bench interface of the firmware, when it has one (our builds);
     /// a firmware that knows nothing of the bench runs without it (see
-    /// [`crate::description`]).
+    /// [`crate::firmware::description`]).
     vars: Result<FwVars, String>,
     clock: Clock,
     sleep_cycles: u64,
@@ -136,7 +139,7 @@ impl Bench {
         // wrong size is an error of the build.
         let vars = match FwVars::resolve(&firmware) {
             Ok(v) => Ok(v),
-            Err(e @ crate::elf::ElfError::MissingSymbol { .. }) => Err(e.to_string()),
+            Err(e @ crate::firmware::elf::ElfError::MissingSymbol { .. }) => Err(e.to_string()),
             Err(e) => return Err(e.into()),
         };
         let counts = vars.as_ref().ok().map(|v| [v.left_count, v.right_count]);

@@ -1,12 +1,12 @@
 //! The robot's power as the MCU sees it: the battery on A0 through its
 //! divider, VCC (and with it the ADC's reference) from the battery through
 //! the regulator, and the brown-out detector's hold on the reset line (the
-//! models are `crate::supply`'s; this is their glue to the MCU).
+//! models are `crate::mcu::supply`'s; this is their glue to the MCU).
 
 use super::recorder::{AnalogEvent, AnalogInput, Recorder};
 use super::NEVER;
-use crate::sim::{Core, Irq};
-use crate::supply::{Bod, Supply};
+use crate::mcu::sim::{Core, Irq};
+use crate::mcu::supply::{Bod, Supply};
 
 /// What the brown-out detector did to the reset line.
 pub(super) enum Brownout {
@@ -78,7 +78,7 @@ impl Power {
     }
 
     /// VCC from the battery at `battery_v` now, the ADC's reference with it,
-    /// and the brown-out detector's reaction (see [`crate::supply`]), which
+    /// and the brown-out detector's reaction (see [`crate::mcu::supply`]), which
     /// the caller passes on to the run loop.
     pub(super) fn update_supply(
         &mut self,

@@ -7,7 +7,7 @@ use plant_model::{Robot, Side};
 
 use super::log::{Log, Retention, Thinned};
 use crate::board::{LedWiring, Pin};
-use crate::sim::Core;
+use crate::mcu::sim::Core;
 
 /// One trace sample of the plant.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -79,7 +79,7 @@ pub struct DriveEvent {
     /// When the timer drives the pin: its counter, compare value and
     /// output action, from which the exact waveform follows (see pwm.rs).
     #[serde(skip)]
-    pub wave: Option<crate::pwm::ChannelWave>,
+    pub wave: Option<crate::mcu::pwm::ChannelWave>,
 }
 
 /// The plant and the firmware's counters at one cycle.

@@ -1,6 +1,6 @@
 //! The ATmega2560 registers the bench itself reads or watches, by their
 //! data-space addresses (datasheet, register summary). The PWM timers'
-//! registers are the timer model's (`crate::pwm`), the PIN registers the
+//! registers are the timer model's (`crate::mcu::pwm`), the PIN registers the
 //! board's (`crate::board::Pin::pin_register`).
 
 /// MCUSR, its brown-out and its external reset flags.

@@ -6,7 +6,7 @@ use plant_model::Seconds;
 
 use super::registers::{MCUSR, MCUSR_BORF};
 use super::{Bench, BenchError};
-use crate::sim::{CpuState, Handler};
+use crate::mcu::sim::{CpuState, Handler};
 
 /// How often [`Bench::run_until`] checks its `done` (robot time: 1024
 /// cycles at 16 MHz). Short beside anything a test waits for, long beside
@@ -52,7 +52,7 @@ pub trait Observer: std::any::Any {
     fn into_any(self: Box<Self>) -> Box<dyn std::any::Any>;
 }
 
-/// A debugger driving the run loop (`crate::gdb`): told before and after
+/// A debugger driving the run loop (`crate::bench::gdb`): told before and after
 /// each step of every run loop, it pauses the run by serving its client
 /// inside [`Debugger::after_step`]. The run loop is the one without a
 /// debugger, step for step, so a run under a debugger that only pauses it
@@ -287,10 +287,10 @@ impl Bench {
         let Some(cycles) = self.hang.as_mut().and_then(|w| w.check(&progress)) else {
             return Ok(());
         };
-        Err(BenchError::Hang(crate::hang::HangReport {
+        Err(BenchError::Hang(crate::bench::hang::HangReport {
             still_s: self.clock.seconds(cycles).0,
             at: self.location(),
-            callers: crate::hang::callers(&self.avr, &self.firmware, 4),
+            callers: crate::bench::hang::callers(&self.avr, &self.firmware, 4),
         }))
     }
 

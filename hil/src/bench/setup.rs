@@ -8,8 +8,8 @@ use super::core::{BenchCore, TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_
 use super::registers::ACSR;
 use super::{BenchError, BenchOptions};
 use crate::board::Board;
-use crate::elf::Firmware;
-use crate::sim::{Avr, IoClaim, Irq, SimError};
+use crate::firmware::elf::Firmware;
+use crate::mcu::sim::{Avr, IoClaim, Irq, SimError};
 
 /// The MCU running `firmware`, its pins wired to `robot`'s parts as
 /// `options.board` says, the bench's first event scheduled.

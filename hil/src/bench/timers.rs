@@ -1,5 +1,5 @@
 //! When a timer's configuration is judged: the bench's own timers (the
-//! board's PWM pins', `crate::pwm`) and those simavr runs.
+//! board's PWM pins', `crate::mcu::pwm`) and those simavr runs.
 //!
 //! Firmware sets a timer up one register, often one bit, at a time:
 //! Arduino's `init()` passes timer 0 through mode 3 at clock/8 for an
@@ -31,8 +31,8 @@
 //! they are refused.
 
 use crate::board::{Board, PwmSource};
-use crate::pwm::{Kind, Mode, Top};
-use crate::sim::Core;
+use crate::mcu::pwm::{Kind, Mode, Top};
+use crate::mcu::sim::Core;
 
 use super::error::PendingError;
 use super::registers::{TimerRegs, CHECKED_TIMERS};

@@ -6,8 +6,8 @@ use std::collections::VecDeque;
 
 use super::log::Log;
 use super::NEVER;
-use crate::sim::Irq;
-use crate::time::Clock;
+use crate::mcu::clock::Clock;
+use crate::mcu::sim::Irq;
 
 /// Bytes kept of each USART's output and in the log: over 18 minutes of a
 /// USART sending without a pause at 9600 baud.

@@ -12,7 +12,7 @@ use super::{
     BatteryWiring, Board, BridgeInput, DriverKind, EncoderWiring, LedWiring, MotorWiring, Pin,
     PwmSource, UartWiring,
 };
-use crate::time::Clock;
+use crate::mcu::clock::Clock;
 
 /// Why a board file is refused.
 #[derive(Debug, Error)]

@@ -6,8 +6,8 @@ use anyhow::{Context, Result};
 use clap::ValueEnum;
 use hil::bench::BenchOptions;
 use hil::board::Board;
-use hil::elf::Firmware;
-use hil::experiment::TestOptions;
+use hil::firmware::elf::Firmware;
+use hil::runs::experiment::TestOptions;
 use plant_model::RobotConfig;
 
 /// A `clap::ValueEnum` for a library enum whose crate knows nothing of clap:
@@ -32,7 +32,7 @@ macro_rules! value_enum {
 
 value_enum! {
     /// `--method`: which calibration test.
-    MethodArg => hil::calibrate::Method { Umbmark, Triangle }
+    MethodArg => hil::runs::calibrate::Method { Umbmark, Triangle }
 }
 
 value_enum! {
@@ -66,7 +66,7 @@ pub struct Target {
     /// Rust): how it is ready, how each test starts and ends, its variable
     /// names. Runs its `elf` unless --elf is given. Checked before anything runs.
     #[arg(long = "tests", value_name = "FILE", value_parser = parse_description)]
-    pub description: Option<std::sync::Arc<hil::description::Description>>,
+    pub description: Option<std::sync::Arc<hil::firmware::description::Description>>,
     /// Robot config TOML (default: fixtures/robots/henrytwo.toml, the best
     /// estimate of the thesis robot).
     #[arg(long, value_name = "FILE")]
@@ -90,20 +90,22 @@ pub struct Target {
     /// (e.g. kp_left=1.5); repeat for more. Checked against the firmware's
     /// range before anything runs.
     #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
-    pub params: Vec<(hil::link::Param, f32)>,
+    pub params: Vec<(hil::firmware::link::Param, f32)>,
 }
 
 /// `--tests FILE`: a test description, read and checked.
-pub fn parse_description(s: &str) -> Result<std::sync::Arc<hil::description::Description>, String> {
-    hil::description::Description::load(s)
+pub fn parse_description(
+    s: &str,
+) -> Result<std::sync::Arc<hil::firmware::description::Description>, String> {
+    hil::firmware::description::Description::load(s)
         .map(std::sync::Arc::new)
         .map_err(|e| e.to_string())
 }
 
 /// `NAME=VALUE` of `--param`: a protocol parameter's name and a value in its
 /// range.
-pub fn parse_param(s: &str) -> Result<(hil::link::Param, f32), String> {
-    use hil::link::Param;
+pub fn parse_param(s: &str) -> Result<(hil::firmware::link::Param, f32), String> {
+    use hil::firmware::link::Param;
     let names = || {
         Param::ALL
             .iter()
@@ -136,11 +138,11 @@ pub fn parse_param(s: &str) -> Result<(hil::link::Param, f32), String> {
 
 impl Target {
     /// Whether runs tell the firmware the robot's geometry.
-    pub fn tell(&self) -> hil::firmware_params::Tell {
+    pub fn tell(&self) -> hil::firmware::params::Tell {
         if self.keep_firmware_params {
-            hil::firmware_params::Tell::Keep
+            hil::firmware::params::Tell::Keep
         } else {
-            hil::firmware_params::Tell::Robot
+            hil::firmware::params::Tell::Robot
         }
     }
 
@@ -226,8 +228,8 @@ pub struct Print {
 
 impl Print {
     /// A wall clock started now, which reads nothing under `--deterministic`.
-    pub fn wall_clock(self) -> hil::report::WallClock {
-        hil::report::WallClock::start(!self.deterministic)
+    pub fn wall_clock(self) -> hil::runs::report::WallClock {
+        hil::runs::report::WallClock::start(!self.deterministic)
     }
 }
 
@@ -406,7 +408,7 @@ pub fn parse_length(s: &str) -> Result<f64, String> {
 /// accepts (`leg_length_mm`), so no run is started that it would refuse.
 pub fn parse_leg(s: &str) -> Result<f64, String> {
     let v = parse_length(s)?;
-    let p = hil::link::Param::LegLengthMm;
+    let p = hil::firmware::link::Param::LegLengthMm;
     let r = p.range();
     p.check(v as f32).map_err(|_| {
         format!(

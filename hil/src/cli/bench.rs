@@ -5,8 +5,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use hil::elf::Firmware;
-use hil::experiment::Test;
+use hil::firmware::elf::Firmware;
+use hil::runs::experiment::Test;
 
 use super::args::{Common, Json, Leg, SideArg};
 
@@ -69,7 +69,7 @@ impl Bench {
         let sketch = match self.without_sketch {
             true => None,
             false => {
-                let d = hil::description::Description::load(&sketch_tests)?;
+                let d = hil::firmware::description::Description::load(&sketch_tests)?;
                 match d.elf.clone().filter(|p| p.exists()) {
                     Some(elf) => Some((Firmware::load(&elf)?, d)),
                     None => None,
@@ -78,7 +78,7 @@ impl Bench {
         };
         let spinner = indicatif::ProgressBar::new_spinner();
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
-        let report = hil::perf::measure(&hil::perf::BenchPlan {
+        let report = hil::runs::perf::measure(&hil::runs::perf::BenchPlan {
             robust: &firmware,
             thesis: thesis.as_ref(),
             sketch: sketch.as_ref().map(|(f, d)| (f, d)),
@@ -111,17 +111,17 @@ impl Bench {
             Some(_) => robot,
             None => plant_model::RobotConfig::default(),
         };
-        let bench = hil::gap_bench::BenchModel::new(firmware, robot, 1);
+        let bench = hil::runs::gap_bench::BenchModel::new(firmware, robot, 1);
         let spinner = indicatif::ProgressBar::new_spinner();
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
-        let speed = hil::gap_bench::measure_diagnosis(&hil::gap_bench::SpeedPlan {
+        let speed = hil::runs::gap_bench::measure_diagnosis(&hil::runs::gap_bench::SpeedPlan {
             bench: &bench,
-            hidden: hil::gap_bench::DEFAULT_CASES[0],
+            hidden: hil::runs::gap_bench::DEFAULT_CASES[0],
             leg_mm: self.common.leg_mm(self.leg)?,
-            runs_per_group: hil::gap_bench::RUNS_PER_GROUP,
+            runs_per_group: hil::runs::gap_bench::RUNS_PER_GROUP,
             seed: self.common.target.seed,
             jobs,
-            opts: &hil::gap_bench::SelectOptions::default(),
+            opts: &hil::runs::gap_bench::SelectOptions::default(),
             progress: &|what: &str| spinner.set_message(what.to_string()),
         });
         spinner.finish_and_clear();
@@ -145,7 +145,7 @@ impl Fuzz {
         let target = &self.common.target;
         let (robot, firmware) = target.load()?;
         let bar = indicatif::ProgressBar::new(self.frames as u64);
-        let report = hil::fuzz::fuzz(firmware, &robot, self.frames, target.seed, &|n| {
+        let report = hil::runs::fuzz::fuzz(firmware, &robot, self.frames, target.seed, &|n| {
             bar.set_position(n as u64)
         })?;
         bar.finish_and_clear();

@@ -5,10 +5,10 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
-use hil::elf::Firmware;
+use hil::firmware::elf::Firmware;
 use hil::output::OutputDir;
-use hil::report::{json_with_pace, Pace, PaceFields};
-use hil::umbmark::{execute, IndexedRun, Partial, Plan, RunSpec, Shard};
+use hil::runs::odometry::{execute, IndexedRun, Plan, RunSet, RunSpec, Shard};
+use hil::runs::report::{json_with_pace, Pace, PaceFields};
 use plant_model::RobotConfig;
 
 use super::args::{Common, Correction, FrameArg, Json, Leg, MethodArg, OutDir, Solve};
@@ -51,7 +51,7 @@ impl Umbmark {
         let (claim, _shared) = match (shard, &out.out) {
             (Some(_), _) => (None, Some(hil::output::share(&shard_dir)?)),
             (None, Some(dir)) => (
-                Some(OutputDir::claim(dir, hil::umbmark::UMBMARK_FILES)?),
+                Some(OutputDir::claim(dir, hil::runs::odometry::UMBMARK_FILES)?),
                 None,
             ),
             (None, None) => (None, None),
@@ -69,7 +69,7 @@ impl Umbmark {
             execute_with_progress(&firmware, &robot, &plan, &specs, common.target.bench())
         })?;
         let wall_s = clock.stop();
-        let partial = Partial {
+        let partial = RunSet {
             kind: if shard.is_some() {
                 "umbmark-partial".into()
             } else {
@@ -80,12 +80,12 @@ impl Umbmark {
             runs,
         };
         if let Some(s) = shard {
-            let path = hil::umbmark::partial_path(&shard_dir, s);
+            let path = hil::runs::odometry::partial_path(&shard_dir, s);
             hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
             eprintln!("wrote {} ({} runs)", path.display(), partial.runs.len());
             return Ok(());
         }
-        let report = hil::umbmark::report(
+        let report = hil::runs::odometry::report(
             &partial,
             correction
                 .firmware_wheelbase_mm
@@ -93,7 +93,7 @@ impl Umbmark {
             correction.solve.solution(),
         )?;
         if let Some(claim) = claim {
-            hil::umbmark::write_set(claim.staging(), &partial, &report)?;
+            hil::runs::odometry::write_set(claim.staging(), &partial, &report)?;
             for f in claim.commit()? {
                 eprintln!("wrote {}", f.display());
             }
@@ -142,7 +142,7 @@ impl Triangle {
         let (robot, firmware, plan) = setup(&common, leg)?;
         // Claimed before anything runs (see `Umbmark::run`).
         let claim = match &out.out {
-            Some(dir) => Some(OutputDir::claim(dir, hil::umbmark::TRIANGLE_FILES)?),
+            Some(dir) => Some(OutputDir::claim(dir, hil::runs::odometry::TRIANGLE_FILES)?),
             None => None,
         };
         let plan = plan.triangle();
@@ -155,13 +155,13 @@ impl Triangle {
             common.target.bench(),
         )?;
         let wall_s = clock.stop();
-        let full = Partial {
+        let full = RunSet {
             kind: "triangle".into(),
             plan,
             shard: None,
             runs,
         };
-        let report = hil::umbmark::triangle_report(
+        let report = hil::runs::odometry::triangle_report(
             &full,
             correction
                 .firmware_wheelbase_mm
@@ -169,7 +169,7 @@ impl Triangle {
             correction.solve.solution(),
         )?;
         if let Some(claim) = claim {
-            hil::umbmark::write_triangle_set(claim.staging(), &full, &report)?;
+            hil::runs::odometry::write_triangle_set(claim.staging(), &full, &report)?;
             for f in claim.commit()? {
                 eprintln!("wrote {}", f.display());
             }
@@ -206,14 +206,14 @@ impl Merge {
             let kind = serde_json::from_str::<serde_json::Value>(&text)
                 .ok()
                 .and_then(|v| v["kind"].as_str().map(str::to_owned));
-            if kind.as_deref() == Some(hil::gap_bench::PARTIAL_KIND) {
+            if kind.as_deref() == Some(hil::runs::gap_bench::PARTIAL_KIND) {
                 return Err(super::BadInput(format!(
                     "{} is a partial result of `hil gap --bench --shard`: merge it with `hil gap --merge`",
                     p.display()
                 ))
                 .into());
             }
-            let part: Partial = serde_json::from_str(&text)
+            let part: RunSet = serde_json::from_str(&text)
                 .with_context(|| {
                     format!(
                         "{} is not a partial result of `hil umbmark --shard`",
@@ -225,8 +225,8 @@ impl Merge {
         }
         // Parts that do not make one experiment are refused (exit 2), as
         // input that does not check: no order of them gives a result.
-        let full = hil::umbmark::merge_named(partials).map_err(super::bad_input)?;
-        let report = hil::umbmark::report(
+        let full = hil::runs::odometry::merge_named(partials).map_err(super::bad_input)?;
+        let report = hil::runs::odometry::report(
             &full,
             self.correction
                 .firmware_wheelbase_mm
@@ -313,7 +313,7 @@ impl Calibrate {
             .into());
         }
         let method = match self.method {
-            None => hil::calibrate::detect(path).map_err(super::bad_input)?,
+            None => hil::runs::calibrate::detect(path).map_err(super::bad_input)?,
             Some(m) => m.into(),
         };
         if let Some(l) = self.side_cm.filter(|l| !(l.is_finite() && *l > 0.0)) {
@@ -321,7 +321,7 @@ impl Calibrate {
                 "--side-cm {l}: give a positive length in centimetres"
             )));
         }
-        let opts = hil::calibrate::FromCsv {
+        let opts = hil::runs::calibrate::FromCsv {
             experiment: self.experiment,
             thesis_compat: self.thesis_compat,
             frame: self.frame.map(Into::into),
@@ -330,7 +330,7 @@ impl Calibrate {
             solution: self.solve.solution(),
             runs_per_group: self.runs_per_group.into(),
         };
-        let result = hil::calibrate::from_csv(path, method, &opts)
+        let result = hil::runs::calibrate::from_csv(path, method, &opts)
             .with_context(|| format!("{}", path.display()))
             .map_err(super::bad_input)?;
         self.common.print.json.emit(&result, || result.render())
@@ -339,7 +339,7 @@ impl Calibrate {
     /// The wheelbase the measured robot's odometry used: --wheelbase-mm,
     /// else the nominal one of the robot config given with --robot (a robot
     /// other than Henrytwo is not computed with Henrytwo's 130 mm), else
-    /// the default of [`hil::calibrate::FromCsv::wheelbase_mm`].
+    /// the default of [`hil::runs::calibrate::FromCsv::wheelbase_mm`].
     fn measured_wheelbase_mm(&self) -> Result<Option<f64>> {
         if self.wheelbase_mm.is_some() || self.common.target.robot.is_none() {
             return Ok(self.wheelbase_mm);
@@ -364,17 +364,19 @@ impl Calibrate {
         // Round 0 runs with the wheelbase asked for, as the later rounds do.
         let wheelbase_mm = self.wheelbase_mm.unwrap_or(plan.believed().wheelbase_mm);
         if self.wheelbase_mm.is_some() {
-            plan.params
-                .push((hil::link::Param::WheelbaseMm.id(), wheelbase_mm as f32));
+            plan.params.push((
+                hil::firmware::link::Param::WheelbaseMm.id(),
+                wheelbase_mm as f32,
+            ));
         }
         let total = 2 * plan.runs_per_direction;
         let rounds = usize::from(self.rounds);
         let bar = progress_bar((rounds + 1) * total, plan.leg_mm);
-        let calibration = hil::umbmark::calibrate(
+        let calibration = hil::runs::odometry::calibrate(
             &firmware,
             &robot,
             &plan,
-            &hil::umbmark::RoundOptions {
+            &hil::runs::odometry::RoundOptions {
                 wheelbase_mm,
                 rounds,
                 until_cm: self.until_cm,
@@ -391,7 +393,7 @@ impl Calibrate {
         )?;
         bar.finish_and_clear();
         let results = &calibration.rounds;
-        let table = hil::umbmark::table10(results)?;
+        let table = hil::runs::odometry::table10(results)?;
         if self.common.print.json.json {
             let v = serde_json::json!({
                 "rounds": results,
@@ -430,7 +432,7 @@ impl Calibrate {
             }
         }
         match calibration.stop {
-            hil::umbmark::Stop::Incomplete { .. } => {
+            hil::runs::odometry::Stop::Incomplete { .. } => {
                 Err(super::Incomplete(calibration.stop.describe()).into())
             }
             ref s if !s.done() => Err(anyhow::anyhow!("{}", s.describe())),
@@ -451,7 +453,7 @@ fn parse_until_cm(s: &str) -> Result<f64, String> {
 
 /// Ok when every run of `set` completed, else the error that says how many
 /// did not (exit code 3): a correction from them is no result.
-fn incomplete(set: &hil::experiments::RunSet) -> Result<()> {
+fn incomplete(set: &hil::runs::odometry::RunSet) -> Result<()> {
     let n = set.runs.iter().filter(|r| !r.completed).count();
     if n == 0 {
         return Ok(());

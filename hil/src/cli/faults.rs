@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use hil::elf::Firmware;
-use hil::faults::{FaultCase, FaultOptions, FaultRow, Verdict};
+use hil::firmware::elf::Firmware;
+use hil::runs::faults::{FaultCase, FaultOptions, FaultRow, Verdict};
 use rayon::prelude::*;
 
 use super::args::{parse_seconds, Common};
@@ -27,7 +27,7 @@ pub struct Faults {
     scenario: Option<PathBuf>,
     /// Robot seconds without progress after which a busy firmware is
     /// reported hung, with its PC and symbol.
-    #[arg(long, value_name = "S", default_value_t = hil::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
+    #[arg(long, value_name = "S", default_value_t = hil::bench::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
     hang_after: f64,
     /// Also write the verdicts as JUnit XML to FILE (one test case per
     /// fault, its robust build's reaction judged; the thesis build's is
@@ -51,11 +51,11 @@ impl Faults {
             description: self.common.target.description.clone(),
         };
         let library = match &self.scenario {
-            Some(path) => vec![hil::faults::from_scenario(
+            Some(path) => vec![hil::runs::faults::from_scenario(
                 path,
-                &hil::scenario::Scenario::load(path).map_err(super::bad_input)?,
+                &hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?,
             )],
-            None => hil::faults::library(),
+            None => hil::runs::faults::library(),
         };
         if self.list {
             for f in &library {
@@ -76,14 +76,16 @@ impl Faults {
             .transpose()?;
         let rows = selected
             .par_iter()
-            .map(|case| hil::faults::run_fault(case, &robust, thesis.as_ref(), &robot, &options))
+            .map(|case| {
+                hil::runs::faults::run_fault(case, &robust, thesis.as_ref(), &robot, &options)
+            })
             .collect::<Result<Vec<_>, _>>()?;
         self.common
             .print
             .json
-            .emit(&rows, || hil::faults::render(&rows))?;
+            .emit(&rows, || hil::runs::faults::render(&rows))?;
         if let Some(path) = &self.junit {
-            let suite = hil::junit::Suite {
+            let suite = hil::output::junit::Suite {
                 name: "hil faults".into(),
                 properties: vec![
                     ("seed".into(), self.common.target.seed.to_string()),
@@ -91,8 +93,11 @@ impl Faults {
                 ],
                 cases: rows.iter().map(junit_case).collect(),
             };
-            hil::output::write_atomic(path, hil::junit::render("hil faults", &[suite]).as_bytes())
-                .with_context(|| format!("writing {}", path.display()))?;
+            hil::output::write_atomic(
+                path,
+                hil::output::junit::render("hil faults", &[suite]).as_bytes(),
+            )
+            .with_context(|| format!("writing {}", path.display()))?;
         }
         let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
         let (failed, not_fired) = (count(Verdict::Fail), count(Verdict::NotFired));
@@ -130,16 +135,16 @@ impl Faults {
 /// A fault's row as a JUnit case: failed when its verdict fails the command
 /// (a reaction not as expected, a fault that never fired), skipped when it
 /// was run against no expectation (a scenario's faults).
-fn junit_case(row: &FaultRow) -> hil::junit::Case {
+fn junit_case(row: &FaultRow) -> hil::output::junit::Case {
     let out = format!(
         "fault: {}\nexpected: {}\nrobust: {}\nthesis: {}",
         row.what, row.expected, row.robust, row.thesis
     );
-    hil::junit::Case {
+    hil::output::junit::Case {
         name: row.fault.clone(),
         classname: "hil.faults".into(),
         time_s: row.robust_observed.robot_time_s,
-        failure: row.verdict.failed().then(|| hil::junit::Failure {
+        failure: row.verdict.failed().then(|| hil::output::junit::Failure {
             message: format!("{}: {}", row.verdict.tag(), row.why),
             kind: match row.verdict {
                 Verdict::NotFired => "not_fired",

@@ -1,14 +1,14 @@
 //! `hil gap`: the sim-to-real gap of real data, or the diagnosis' self-test; with `--bench`,
-//! the bench itself is the model (see `hil::gap_bench`).
+//! the bench itself is the model (see `hil::runs::gap_bench`).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use gap::selftest::{render_cases_with, CaseColumns};
 use gap::SplitRule;
-use hil::elf::Firmware;
-use hil::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES};
-use hil::umbmark::Shard;
+use hil::firmware::elf::Firmware;
+use hil::runs::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES};
+use hil::runs::odometry::Shard;
 use plant_model::RobotConfig;
 
 use super::args::{Build, Json};
@@ -243,12 +243,15 @@ impl Gap {
         }
         let (train, held) = data.split(rule)?;
         eprintln!("kinematic diagnosis (the shortlist)...");
-        let shortlist =
-            hil::gap_bench::kinematic_shortlist(&train, &held, &gap::DiagnoseOptions::default())?;
+        let shortlist = hil::runs::gap_bench::kinematic_shortlist(
+            &train,
+            &held,
+            &gap::DiagnoseOptions::default(),
+        )?;
         if let (Some(shard), Some(dir)) = (self.shard, &self.out) {
             // The folder is held before anything runs, as `hil umbmark --shard` holds it.
             let _shared = hil::output::share(dir)?;
-            let partial = hil::gap_bench::run_shard(
+            let partial = hil::runs::gap_bench::run_shard(
                 &bench,
                 &shortlist,
                 &train,
@@ -257,7 +260,7 @@ impl Gap {
                 shard,
                 &|line| eprintln!("{line}"),
             )?;
-            let path = hil::gap_bench::partial_path(dir, shard);
+            let path = hil::runs::gap_bench::partial_path(dir, shard);
             hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
             eprintln!(
                 "wrote {} ({} of {} candidates, {} bench runs)",
@@ -268,7 +271,7 @@ impl Gap {
             );
             return Ok(());
         }
-        let d = hil::gap_bench::diagnose_bench(
+        let d = hil::runs::gap_bench::diagnose_bench(
             &bench,
             &shortlist,
             &train,
@@ -287,7 +290,7 @@ impl Gap {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("reading {}", p.display()))
                 .map_err(super::bad_input)?;
-            let part: hil::gap_bench::Partial = serde_json::from_str(&text)
+            let part: hil::runs::gap_bench::Partial = serde_json::from_str(&text)
                 .with_context(|| {
                     format!(
                         "{} is not a partial result of `hil gap --bench --shard`",
@@ -297,7 +300,7 @@ impl Gap {
                 .map_err(super::bad_input)?;
             parts.push((p.display().to_string(), part));
         }
-        let d = hil::gap_bench::merge(parts).map_err(super::bad_input)?;
+        let d = hil::runs::gap_bench::merge(parts).map_err(super::bad_input)?;
         self.json.emit(&d, || d.render())
     }
 
@@ -323,7 +326,7 @@ impl Gap {
         } else {
             hidden.iter().map(|(n, v)| (n.as_str(), *v)).collect()
         };
-        let t = hil::gap_bench::bench_self_test(
+        let t = hil::runs::gap_bench::bench_self_test(
             &bench,
             &cases,
             f64::from(self.leg_mm),

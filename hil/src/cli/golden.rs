@@ -1,6 +1,6 @@
 //! `hil golden record` and `hil golden check`: a run's quantities written
 //! once, later runs compared to them within tolerances (see
-//! [`hil::golden`]).
+//! [`hil::runs::golden`]).
 //!
 //! A check makes the run again with what the golden file recorded (ELF,
 //! robot, board, seed, parameters, scenario), each overridable on the
@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use hil::bench::{BenchOptions, Observer};
-use hil::experiment::{run_test_observed, Test, TestOptions, TestRun};
-use hil::golden::{Golden, InForce, Quantity, Tolerances, CONTROL_FUNCTION};
-use hil::link::Param;
-use hil::timing::TimingProbe;
+use hil::firmware::link::Param;
+use hil::runs::experiment::{run_test_observed, Test, TestOptions, TestRun};
+use hil::runs::golden::{Golden, InForce, Quantity, Tolerances, CONTROL_FUNCTION};
+use hil::runs::timing::TimingProbe;
 
 use super::args::{parse_param, Build, Json, Leg, Target, DEFAULT_LEG_MM};
 
@@ -287,7 +287,7 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
         ..Default::default()
     };
     if let Some(path) = &c.scenario {
-        let s = hil::scenario::Scenario::load(path).map_err(super::bad_input)?;
+        let s = hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?;
         opts.faults = s.scheduled();
         opts.framed = s.framed;
     }
@@ -308,7 +308,7 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
                 &run.segment_starts(),
             )
         });
-    let quantities = hil::golden::measure(&run, report.as_ref(), clock);
+    let quantities = hil::runs::golden::measure(&run, report.as_ref(), clock);
     let shown = |p: &Path| for_golden(p);
     let in_force = InForce {
         firmware: match &target.elf {
@@ -320,7 +320,7 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
         elf: target.elf.as_deref().map(shown),
         elf_hash: firmware.content_hash(),
         robot: shown(&robot_path),
-        robot_hash: hil::golden::bytes_hash(&robot_bytes),
+        robot_hash: hil::runs::golden::bytes_hash(&robot_bytes),
         board: c.board.as_deref().map(shown),
         seed: target.seed,
         params: target
@@ -386,8 +386,8 @@ impl Check {
         let c = self.run.resolve(Some(&golden.recorded_with))?;
         let m = measure(&c, test, leg_mm)?;
         let tol = self.tol.over(golden.tolerances);
-        let rows = hil::golden::compare(&golden.quantities, &m.quantities, &tol);
-        let in_force = hil::golden::differences(&golden.recorded_with, &m.in_force);
+        let rows = hil::runs::golden::compare(&golden.quantities, &m.quantities, &tol);
+        let in_force = hil::runs::golden::differences(&golden.recorded_with, &m.in_force);
         let moved: Vec<&str> = rows
             .iter()
             .filter(|r| !r.ok)
@@ -418,7 +418,7 @@ impl Check {
                     m.run.finding.as_deref().unwrap_or("no reason found")
                 );
             }
-            print!("{}", hil::golden::render(&rows, &in_force));
+            print!("{}", hil::runs::golden::render(&rows, &in_force));
         }
         if !moved.is_empty() {
             anyhow::bail!(

@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
 use hil::board::Board;
-use hil::experiment::{run_test, Test, TestRun};
-use hil::line::{run_line, LineOptions};
-use hil::report::{json_with_pace, Pace, PaceFields};
+use hil::runs::experiment::{run_test, Test, TestRun};
+use hil::runs::line::{run_line, LineOptions};
+use hil::runs::report::{json_with_pace, Pace, PaceFields};
 
 use super::args::{parse_leg, parse_seconds, Common, Leg};
 
@@ -49,7 +49,7 @@ impl Run {
         let mut opts = common.test_options(common.leg_mm(leg)?);
         opts.hang_after_s = hang_after;
         if let Some(path) = &scenario {
-            let s = hil::scenario::Scenario::load(path).map_err(super::bad_input)?;
+            let s = hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?;
             opts.faults = s.scheduled();
             opts.framed = s.framed;
         }
@@ -60,13 +60,15 @@ impl Run {
         }
         let run = match gdb {
             Some(port) => {
-                let server = hil::gdb::GdbServer::bind(port)?;
+                let server = hil::bench::gdb::GdbServer::bind(port)?;
                 eprintln!(
                     "gdb: paused at reset; connect with avr-gdb {} -ex 'target remote {}'",
                     firmware.path.display(),
                     server.local_addr()?
                 );
-                match hil::experiment::run_test_debugged(firmware, &robot, test, &opts, server)? {
+                match hil::runs::experiment::run_test_debugged(
+                    firmware, &robot, test, &opts, server,
+                )? {
                     Some(run) => run,
                     None => {
                         eprintln!("gdb: the debugger killed the run");
@@ -89,7 +91,7 @@ impl Run {
             let v = json_with_pace(&run, pace, PaceFields::Rtf)?;
             println!("{}", serde_json::to_string_pretty(&v)?);
         } else {
-            print!("{}", hil::report::render_run(&run));
+            print!("{}", hil::runs::report::render_run(&run));
             if let Some(p) = pace {
                 println!("  real-time x    {:.1}", p.rtf());
             }
@@ -133,7 +135,7 @@ impl Line {
         let mut run = run_line(firmware, &robot, &opts)?;
         run.summary.rtf = Pace::of(run.summary.robot_time_s, clock.stop()).map(|p| p.rtf());
         if let Some(path) = &self.trace_csv {
-            hil::output::write_atomic(path, hil::report::trace_csv(&run.trace).as_bytes())
+            hil::output::write_atomic(path, hil::runs::report::trace_csv(&run.trace).as_bytes())
                 .with_context(|| format!("writing the trace to {}", path.display()))?;
         }
         self.common
@@ -144,7 +146,7 @@ impl Line {
 }
 
 fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool, board: &Board) -> Result<()> {
-    let text = hil::vcd::render(&hil::vcd::VcdInput {
+    let text = hil::output::vcd::render(&hil::output::vcd::VcdInput {
         clock_hz: BenchOptions::default().clock.hz(),
         board,
         edges: &run.edges,
@@ -159,7 +161,7 @@ fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool, board: &Board) -> Resu
     // A save file beside it, so that GTKWave opens with every signal shown.
     let save = path.with_extension("gtkw");
     let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    hil::output::write_atomic(&save, hil::vcd::gtkw(&absolute, board).as_bytes())
+    hil::output::write_atomic(&save, hil::output::vcd::gtkw(&absolute, board).as_bytes())
         .with_context(|| format!("writing {}", save.display()))?;
     eprintln!("wrote {} and {}", path.display(), save.display());
     Ok(())

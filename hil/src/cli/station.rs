@@ -4,8 +4,8 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use hil::elf::Firmware;
-use hil::station::emulated::{EmulatedRobot, ServeOptions};
+use hil::clients::station::emulated::{EmulatedRobot, ServeOptions};
+use hil::firmware::elf::Firmware;
 use plant_model::RobotConfig;
 
 use super::args::Common;
@@ -66,9 +66,9 @@ impl Ui {
         self.common
             .refuse_result_format("ui", "it serves the station's page until stopped")?;
         let target = &self.common.target;
-        let options = hil::station::ui::UiOptions {
+        let options = hil::clients::station::ui::UiOptions {
             sessions_dir: self.sessions,
-            robots: hil::station::ui::robot_configs(
+            robots: hil::clients::station::ui::robot_configs(
                 &hil::paths::workspace_root().join("fixtures/robots"),
                 target.robot.clone(),
             ),
@@ -111,7 +111,7 @@ fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Resu
         board.command_uart.baud,
         board.debug_uart.usart,
         board.debug_uart.baud,
-        hil::station::emulated::QUEUE_CAP / 1024,
+        hil::clients::station::emulated::QUEUE_CAP / 1024,
     );
     let mut warned = false;
     while !emu.finished() {
@@ -129,10 +129,10 @@ fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Resu
 }
 
 /// Run the station's web page on loopback until interrupted.
-fn ui(options: hil::station::ui::UiOptions, listen_port: u16) -> Result<()> {
+fn ui(options: hil::clients::station::ui::UiOptions, listen_port: u16) -> Result<()> {
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
     runtime.block_on(async {
-        let server = hil::station::ui::serve(options, listen_port, |addr| {
+        let server = hil::clients::station::ui::serve(options, listen_port, |addr| {
             // The address first and alone on stdout, for scripts and tests.
             println!("http://{addr}/");
             let _ = std::io::stdout().flush();

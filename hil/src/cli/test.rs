@@ -1,6 +1,6 @@
 //! `hil test FILE...`: the user's own firmware tests. Each scenario file is
 //! one test case: its faults injected, its `[[expect]]`s judged on the run
-//! (`hil::scenario::eval`); one line per case, a JUnit XML and a JSON report
+//! (`hil::runs::scenario::eval`); one line per case, a JUnit XML and a JSON report
 //! for CI, and for each failed case its VCD and last state saved for triage.
 
 use std::path::{Path, PathBuf};
@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
 use hil::board::Board;
-use hil::experiment::{run_test_observed, Test, TestOptions, TestRun};
-use hil::scenario::eval::{judge, Context as EvalContext, LastState, Outcome, Watch};
-use hil::scenario::Scenario;
+use hil::runs::experiment::{run_test_observed, Test, TestOptions, TestRun};
+use hil::runs::scenario::eval::{judge, Context as EvalContext, LastState, Outcome, Watch};
+use hil::runs::scenario::Scenario;
 use plant_model::RobotConfig;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -42,7 +42,7 @@ pub struct TestCmd {
     leg_mm: Option<f64>,
     /// Robot seconds without progress after which a busy firmware is
     /// reported hung (its expectations are still judged on what it did).
-    #[arg(long, value_name = "S", default_value_t = hil::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
+    #[arg(long, value_name = "S", default_value_t = hil::bench::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
     hang_after: f64,
     /// Parallel cases (default: all cores).
     #[arg(long)]
@@ -64,7 +64,7 @@ struct Prepared {
     name: String,
     scenario: Scenario,
     robot: RobotConfig,
-    firmware: hil::elf::Firmware,
+    firmware: hil::firmware::elf::Firmware,
     test: Test,
     opts: TestOptions,
     watch: Watch,
@@ -314,7 +314,7 @@ pub(super) fn save_artifacts(
 ) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let vcd = dir.join(format!("{slug}.vcd"));
-    let text = hil::vcd::render(&hil::vcd::VcdInput {
+    let text = hil::output::vcd::render(&hil::output::vcd::VcdInput {
         clock_hz: BenchOptions::default().clock.hz(),
         board,
         edges: &run.edges,
@@ -373,7 +373,7 @@ fn render(reports: &[CaseReport]) -> String {
 /// The JUnit report: a suite per case's file (its seed and firmware as
 /// properties), its one test case.
 fn junit(reports: &[CaseReport]) -> String {
-    let suites: Vec<hil::junit::Suite> = reports
+    let suites: Vec<hil::output::junit::Suite> = reports
         .iter()
         .map(|r| {
             let details: Vec<String> = r
@@ -381,7 +381,7 @@ fn junit(reports: &[CaseReport]) -> String {
                 .iter()
                 .map(|o| format!("{} {}", if o.pass { "pass" } else { "FAIL" }, o.message))
                 .collect();
-            hil::junit::Suite {
+            hil::output::junit::Suite {
                 name: format!("hil test {}", r.file.display()),
                 properties: vec![
                     ("seed".into(), r.seed.to_string()),
@@ -389,11 +389,11 @@ fn junit(reports: &[CaseReport]) -> String {
                     ("test".into(), r.test.name().into()),
                     ("file".into(), r.file.display().to_string()),
                 ],
-                cases: vec![hil::junit::Case {
+                cases: vec![hil::output::junit::Case {
                     name: r.case.clone(),
                     classname: format!("hil.test.{}", stem(&r.file)),
                     time_s: r.robot_time_s,
-                    failure: (!r.pass).then(|| hil::junit::Failure {
+                    failure: (!r.pass).then(|| hil::output::junit::Failure {
                         message: r.message.clone(),
                         kind: r.verdict.into(),
                         text: details.join("\n"),
@@ -410,5 +410,5 @@ fn junit(reports: &[CaseReport]) -> String {
             }
         })
         .collect();
-    hil::junit::render("hil test", &suites)
+    hil::output::junit::render("hil test", &suites)
 }

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
-use hil::experiment::{run_test_observed, Test};
-use hil::timing::{Budgets, TimingProbe};
+use hil::runs::experiment::{run_test_observed, Test};
+use hil::runs::timing::{Budgets, TimingProbe};
 
 use super::args::{Common, Leg};
 

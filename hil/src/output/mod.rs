@@ -20,8 +20,10 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
+pub mod junit;
 mod lock;
 mod set;
+pub mod vcd;
 
 pub use lock::{share, SharedLock};
 pub use set::OutputDir;

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::bench::timers::GRACE_CYCLES;
-use crate::time::Clock;
+use crate::mcu::clock::Clock;
 
 /// Timer 4 (Henrytwo's D6/D7): TCCR4A, TCCR4B, TIMSK4.
 const TCCR4A: u16 = 0xA0;

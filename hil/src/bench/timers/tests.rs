@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::board::Board;
-use crate::sim::{Avr, Handler, IoClaim};
+use crate::mcu::sim::{Avr, Handler, IoClaim};
 
 /// Judges every watched write and read, as the bench's core does.
 struct Judge {

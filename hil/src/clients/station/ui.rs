@@ -1,0 +1,660 @@
+//! `hil ui`: the operator's web page on loopback, in place of the thesis'
+//! MATLAB GUI. One static page (embedded in the binary), a small JSON API,
+//! and server-sent events for the live telemetry.
+//!
+//! Every robot, emulated or real, is driven through the same [`Link`] over a
+//! serial device: an emulated robot is an [`EmulatedRobot`] on a
+//! pseudo-terminal, opened like any port. Only the emulated robot's pose on
+//! the floor comes from the side (a real robot has no camera over it).
+
+use std::convert::Infallible;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::extract::{Json, State};
+use axum::http::{header, StatusCode};
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::Router;
+use henrytwo_protocol::param::Param;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+use thiserror::Error;
+use tokio::sync::{broadcast, Mutex};
+
+use super::client::{Link, LinkError, LinkOptions, Notice};
+use super::emulated::{EmulatedRobot, EmulatorError, ServeOptions};
+use super::session::{self, Evaluation, Params, RoundEntry, Session, SessionError};
+use crate::bench::BenchOptions;
+use crate::firmware::elf::Firmware;
+use crate::runs::experiment::Test;
+
+const INDEX_HTML: &str = include_str!("ui/index.html");
+const APP_JS: &str = include_str!("ui/app.js");
+const CHARTS_JS: &str = include_str!("ui/charts.js");
+
+mod floor;
+
+use floor::{end_error, in_start_frame, run_pose, StartPose};
+
+/// Telemetry polling period (wall clock): a GET_TELEMETRY and a GET_STATE
+/// take ~60 ms on the wire at 9600 baud, so 4 Hz leaves room for commands.
+const POLL: Duration = Duration::from_millis(250);
+
+/// The firmware's control tick (timer 1, exactly 15 ms): its telemetry
+/// counts them, the robot's own clock, emulated or real.
+const TICK_S: f64 = 0.015;
+
+#[derive(Debug, Error)]
+pub enum UiError {
+    #[error(transparent)]
+    Link(#[from] LinkError),
+    #[error(transparent)]
+    Emulator(#[from] EmulatorError),
+    #[error(transparent)]
+    Session(#[from] SessionError),
+    #[error("no robot connected: pick one and press Connect")]
+    NotConnected,
+    #[error("{0}")]
+    Input(String),
+    #[error("cannot listen on 127.0.0.1:{port}: {source}; pick another port with --listen-port")]
+    Listen { port: u16, source: std::io::Error },
+}
+
+impl IntoResponse for UiError {
+    fn into_response(self) -> Response {
+        let status = match &self {
+            UiError::Input(_) | UiError::Session(SessionError::Csv(_)) => StatusCode::BAD_REQUEST,
+            UiError::Session(
+                SessionError::WhichExperiment { .. } | SessionError::LegChanged { .. },
+            ) => StatusCode::BAD_REQUEST,
+            UiError::NotConnected => StatusCode::CONFLICT,
+            UiError::Link(LinkError::Refused { .. } | LinkError::OutOfRange { .. }) => {
+                StatusCode::CONFLICT
+            }
+            _ => StatusCode::BAD_GATEWAY,
+        };
+        (status, Json(json!({ "error": self.to_string() }))).into_response()
+    }
+}
+
+/// Where `hil ui` finds things.
+///
+/// [`robot_configs`] lists a folder of configs for [`UiOptions::robots`].
+#[derive(Debug, Clone)]
+pub struct UiOptions {
+    /// Session files, one per robot.
+    pub sessions_dir: PathBuf,
+    /// Robot configs offered as emulated robots: the name shown, the file.
+    /// The first is offered first.
+    pub robots: Vec<(String, PathBuf)>,
+    /// The firmware the emulated robots run.
+    pub firmware: Firmware,
+    /// A serial port offered first (`--port`).
+    pub port: Option<String>,
+    pub baud: u32,
+    /// The emulated robots' board (their wiring and links) and plant seed.
+    pub bench: BenchOptions,
+}
+
+impl UiOptions {
+    /// How an emulated robot is served at `speed`: on the board and seed asked for.
+    fn serve_options(&self, speed: f64) -> ServeOptions {
+        ServeOptions {
+            speed,
+            bench: self.bench,
+            ..Default::default()
+        }
+    }
+}
+
+/// The robot configs in `dir` (`*.toml`), by name, sorted; `first` (a
+/// config given on the command line) leads the list.
+pub fn robot_configs(dir: &std::path::Path, first: Option<PathBuf>) -> Vec<(String, PathBuf)> {
+    let name = |p: &std::path::Path| {
+        p.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let mut all: Vec<(String, PathBuf)> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .map(|p| (name(&p), p))
+                .collect()
+        })
+        .unwrap_or_default();
+    all.sort();
+    if let Some(f) = first {
+        all.retain(|(n, _)| *n != name(&f));
+        all.insert(0, (name(&f), f));
+    }
+    all
+}
+
+struct Connection {
+    label: String,
+    link: Arc<Mutex<Link>>,
+    emulator: Option<Arc<EmulatedRobot>>,
+    poller: tokio::task::JoinHandle<()>,
+}
+
+impl Drop for Connection {
+    fn drop(&mut self) {
+        self.poller.abort();
+    }
+}
+
+struct App {
+    options: UiOptions,
+    conn: Mutex<Option<Connection>>,
+    /// The session of the connected robot and its file.
+    session: Mutex<Option<(PathBuf, Session)>>,
+    start: std::sync::Mutex<Option<StartPose>>,
+    runs: std::sync::atomic::AtomicU64,
+    events: broadcast::Sender<String>,
+}
+
+type Shared = Arc<App>;
+
+/// Serve the page on 127.0.0.1:`port` (0: any free port); `ready` gets the
+/// address once listening.
+pub async fn serve(
+    options: UiOptions,
+    port: u16,
+    ready: impl FnOnce(SocketAddr),
+) -> Result<(), UiError> {
+    let listener = tokio::net::TcpListener::bind(("127.0.0.1", port))
+        .await
+        .map_err(|source| UiError::Listen { port, source })?;
+    let addr = listener
+        .local_addr()
+        .map_err(|source| UiError::Listen { port, source })?;
+    let (events, _) = broadcast::channel(256);
+    let app = Arc::new(App {
+        options,
+        conn: Mutex::new(None),
+        session: Mutex::new(None),
+        start: std::sync::Mutex::new(None),
+        runs: std::sync::atomic::AtomicU64::new(0),
+        events,
+    });
+    let router = Router::new()
+        .route("/", get(index))
+        .route("/app.js", get(app_js))
+        .route("/charts.js", get(charts_js))
+        .route("/api/robots", get(robots))
+        .route("/api/connect", post(connect))
+        .route("/api/disconnect", post(disconnect))
+        .route("/api/start", post(start))
+        .route("/api/stop", post(stop))
+        .route("/api/params", get(read_params))
+        .route("/api/session", get(get_session).put(put_session))
+        .route("/api/import", post(import))
+        .route("/api/apply", post(apply))
+        .route("/api/events", get(event_stream))
+        .with_state(app);
+    ready(addr);
+    axum::serve(listener, router)
+        .await
+        .map_err(|source| UiError::Listen { port, source })
+}
+
+async fn index() -> impl IntoResponse {
+    (
+        [(header::CONTENT_TYPE, "text/html; charset=utf-8")],
+        INDEX_HTML,
+    )
+}
+
+async fn app_js() -> impl IntoResponse {
+    (
+        [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
+        APP_JS,
+    )
+}
+
+async fn charts_js() -> impl IntoResponse {
+    (
+        [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
+        CHARTS_JS,
+    )
+}
+
+#[derive(Serialize)]
+struct Robots {
+    emulated: Vec<String>,
+    ports: Vec<String>,
+    default_port: Option<String>,
+    baud: u32,
+    connected: Option<String>,
+}
+
+async fn robots(State(app): State<Shared>) -> Json<Robots> {
+    let emulated = app.options.robots.iter().map(|(n, _)| n.clone()).collect();
+    let ports = tokio_serial::available_ports()
+        .map(|v| v.into_iter().map(|p| p.port_name).collect())
+        .unwrap_or_default();
+    let connected = app.conn.lock().await.as_ref().map(|c| c.label.clone());
+    Json(Robots {
+        emulated,
+        ports,
+        default_port: app.options.port.clone(),
+        baud: app.options.baud,
+        connected,
+    })
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+enum ConnectRequest {
+    Emulated { config: String, speed: f64 },
+    Serial { port: String, baud: u32 },
+}
+
+/// The robot's odometry parameters, read over the protocol.
+async fn robot_params(link: &mut Link) -> Result<Params, LinkError> {
+    Ok(Params {
+        c_left: link.get_param(Param::CorrLeft).await? as f64,
+        c_right: link.get_param(Param::CorrRight).await? as f64,
+        wheelbase_mm: link.get_param(Param::WheelbaseMm).await? as f64,
+    })
+}
+
+async fn connect(
+    State(app): State<Shared>,
+    Json(req): Json<ConnectRequest>,
+) -> Result<Json<serde_json::Value>, UiError> {
+    // One robot at a time: the previous link and emulator go first.
+    *app.conn.lock().await = None;
+    let (key, label, path, baud, emulator) = match req {
+        ConnectRequest::Emulated { config, speed } => {
+            // Only the configs offered: the page names no files.
+            let file = app
+                .options
+                .robots
+                .iter()
+                .find(|(n, _)| *n == config)
+                .map(|(_, f)| f.clone())
+                .ok_or_else(|| {
+                    UiError::Input(format!(
+                        "{config:?} is not one of the robot configs offered"
+                    ))
+                })?;
+            let robot = plant_model::RobotConfig::load(&file)
+                .map_err(|e| UiError::Input(format!("robot config {}: {e}", file.display())))?;
+            let options = app.options.serve_options(speed);
+            let baud = options.bench.board.command_uart.baud;
+            let firmware = app.options.firmware.clone();
+            let emu = tokio::task::spawn_blocking(move || {
+                EmulatedRobot::spawn(firmware, &robot, options)
+            })
+            .await
+            .map_err(|_| EmulatorError::Lost)??;
+            let path = emu.path().to_string_lossy().into_owned();
+            (
+                format!("emulated-{config}"),
+                format!("emulated {config} at {speed}x ({path})"),
+                path,
+                baud,
+                Some(Arc::new(emu)),
+            )
+        }
+        ConnectRequest::Serial { port, baud } => (
+            format!("serial-{port}"),
+            format!("{port} at {baud} baud"),
+            port,
+            baud,
+            None,
+        ),
+    };
+    let mut link = Link::open_serial(&path, baud, LinkOptions::default())?;
+    let version = link.ping().await?;
+    let params = robot_params(&mut link).await?;
+    let setpoints = (
+        link.get_param(Param::SetpointLeft).await?,
+        link.get_param(Param::SetpointRight).await?,
+    );
+    let leg_mm = link.get_param(Param::LegLengthMm).await?;
+    // The session of this robot, or a new one starting from its parameters.
+    let file = app.options.sessions_dir.join(session::file_name(&key));
+    let sess = match session::load(&file)? {
+        // A file edited by hand may have lost its rounds: start one.
+        Some(mut s) if s.rounds.is_empty() => {
+            s.rounds.push(RoundEntry::new(params));
+            s
+        }
+        Some(s) => s,
+        None => {
+            let s = Session::new(&key, params);
+            session::save(&file, &s)?;
+            s
+        }
+    };
+    let evaluation = session::evaluate(&sess);
+    let body = json!({
+        "robot": label,
+        "key": key,
+        "protocol_version": version,
+        "params": params,
+        "setpoints": [setpoints.0, setpoints.1],
+        "leg_mm": leg_mm,
+        "emulated": emulator.is_some(),
+        "session_file": file,
+        "session": sess,
+        "evaluation": evaluation,
+    });
+    *app.session.lock().await = Some((file, sess));
+    let link = Arc::new(Mutex::new(link));
+    let poller = tokio::spawn(poll(app.clone(), link.clone(), emulator.clone(), setpoints));
+    *app.conn.lock().await = Some(Connection {
+        label,
+        link,
+        emulator,
+        poller,
+    });
+    Ok(Json(body))
+}
+
+async fn disconnect(State(app): State<Shared>) -> Json<serde_json::Value> {
+    *app.conn.lock().await = None;
+    Json(json!({ "ok": true }))
+}
+
+/// Telemetry to the page until the link fails.
+async fn poll(
+    app: Shared,
+    link: Arc<Mutex<Link>>,
+    emulator: Option<Arc<EmulatedRobot>>,
+    setpoints: (f32, f32),
+) {
+    loop {
+        tokio::time::sleep(POLL).await;
+        let got = {
+            let mut l = link.lock().await;
+            match (l.telemetry().await, l.state().await) {
+                (Ok(t), Ok(s)) => Ok((t, s, l.take_notices())),
+                (Err(e), _) | (_, Err(e)) => Err(e),
+            }
+        };
+        let (t, s, notices) = match got {
+            Ok(v) => v,
+            Err(e) => {
+                let _ = app
+                    .events
+                    .send(json!({ "kind": "error", "message": e.to_string() }).to_string());
+                if matches!(e, LinkError::PortGone { .. }) {
+                    return;
+                }
+                continue;
+            }
+        };
+        let view = emulator.as_ref().map(|e| e.view());
+        let started = app.start.lock().ok().and_then(|s| *s);
+        let run = started
+            .zip(view.as_ref())
+            .map(|(s, v)| run_pose(&s, v.x_mm, v.y_mm, v.theta_rad));
+        let _ = app.events.send(
+            json!({
+                "kind": "telemetry",
+                "speed_left": t.speed_left,
+                "speed_right": t.speed_right,
+                "setpoint_left": setpoints.0,
+                "setpoint_right": setpoints.1,
+                "duty_left": t.duty_left,
+                "duty_right": t.duty_right,
+                "count_left": t.left_count,
+                "count_right": t.right_count,
+                "state": s.state,
+                "phase": s.phase,
+                "test": s.test,
+                "segment": s.segment,
+                "fault": s.fault,
+                "tests_done": s.tests_done,
+                "time_s": f64::from(t.ticks) * TICK_S,
+                "pose": view,
+                "run": run,
+            })
+            .to_string(),
+        );
+        for n in notices {
+            let start = match (n, &view) {
+                (Notice::TestDone { .. }, Some(_)) => {
+                    app.start.lock().ok().and_then(|mut s| s.take())
+                }
+                _ => None,
+            };
+            let end = start
+                .zip(view.as_ref())
+                .map(|(s, v)| end_error(&s, v.x_mm, v.y_mm));
+            let run_end = start.zip(view.as_ref()).map(|(s, v)| {
+                let (x, y) = in_start_frame(&s, v.x_mm, v.y_mm);
+                json!({ "id": s.run, "x_cm": x / 10.0, "y_cm": y / 10.0 })
+            });
+            let _ = app.events.send(
+                json!({
+                    "kind": "notice",
+                    "notice": n,
+                    "end_error_cm": end,
+                    "run_end": run_end,
+                    "leg_mm": start.map(|s| s.leg_mm),
+                })
+                .to_string(),
+            );
+        }
+        if let Some(e) = view.and_then(|v| v.error) {
+            let _ = app.events.send(
+                json!({ "kind": "error", "message": format!("the emulated robot stopped: {e}") })
+                    .to_string(),
+            );
+            return;
+        }
+    }
+}
+
+async fn link_of(app: &App) -> Result<(Arc<Mutex<Link>>, Option<Arc<EmulatedRobot>>), UiError> {
+    let conn = app.conn.lock().await;
+    let c = conn.as_ref().ok_or(UiError::NotConnected)?;
+    Ok((c.link.clone(), c.emulator.clone()))
+}
+
+#[derive(Deserialize)]
+struct StartRequest {
+    test: Test,
+    leg_mm: Option<f64>,
+}
+
+async fn start(
+    State(app): State<Shared>,
+    Json(req): Json<StartRequest>,
+) -> Result<Json<serde_json::Value>, UiError> {
+    let (link, emulator) = link_of(&app).await?;
+    // The session before the link, as `apply` takes them.
+    let mut guard = app.session.lock().await;
+    let mut l = link.lock().await;
+    let leg_mm = match req.leg_mm {
+        Some(v) => l.set_param(Param::LegLengthMm, v as f32).await?,
+        None => l.get_param(Param::LegLengthMm).await?,
+    } as f64;
+    // The leg the round's end points will come from, recorded before the
+    // robot moves: a round whose points came from another leg refuses it.
+    let recorded = match guard.as_mut() {
+        Some((file, s)) => {
+            let mut new = s.clone();
+            if session::record_leg(&mut new, req.test, leg_mm)? {
+                Some((file.clone(), new))
+            } else {
+                None
+            }
+        }
+        None => None,
+    };
+    if let Some(v) = emulator.as_ref().map(|e| e.view()) {
+        if let Ok(mut s) = app.start.lock() {
+            *s = Some(StartPose {
+                run: app.runs.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+                test: req.test,
+                leg_mm,
+                x_mm: v.x_mm,
+                y_mm: v.y_mm,
+                theta_rad: v.theta_rad,
+            });
+        }
+    }
+    l.start(req.test).await?;
+    let mut body = json!({ "started": req.test.name(), "leg_mm": leg_mm });
+    if let Some((file, new)) = recorded {
+        session::save(&file, &new)?;
+        body["session"] = json!(new);
+        body["evaluation"] = json!(session::evaluate(&new));
+        if let Some((_, s)) = guard.as_mut() {
+            *s = new;
+        }
+    }
+    Ok(Json(body))
+}
+
+/// Stop the robot; a test it was running gives no end point.
+async fn stop(State(app): State<Shared>) -> Result<Json<serde_json::Value>, UiError> {
+    let (link, _) = link_of(&app).await?;
+    link.lock().await.stop().await?;
+    if let Ok(mut s) = app.start.lock() {
+        *s = None;
+    }
+    Ok(Json(json!({ "stopped": true })))
+}
+
+async fn read_params(State(app): State<Shared>) -> Result<Json<Params>, UiError> {
+    let (link, _) = link_of(&app).await?;
+    let p = robot_params(&mut *link.lock().await).await?;
+    Ok(Json(p))
+}
+
+#[derive(Serialize)]
+struct SessionReply {
+    session: Session,
+    evaluation: Evaluation,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    session_file: Option<PathBuf>,
+}
+
+fn reply(s: &Session) -> Json<SessionReply> {
+    Json(SessionReply {
+        session: s.clone(),
+        evaluation: session::evaluate(s),
+        session_file: None,
+    })
+}
+
+/// The connected robot's session, for a page opened (again) after Connect.
+async fn get_session(State(app): State<Shared>) -> Result<Json<SessionReply>, UiError> {
+    let guard = app.session.lock().await;
+    let (file, s) = guard.as_ref().ok_or(UiError::NotConnected)?;
+    let mut r = reply(s);
+    r.session_file = Some(file.clone());
+    Ok(r)
+}
+
+/// The page sends the whole session as typed; it is saved before the reply.
+async fn put_session(
+    State(app): State<Shared>,
+    Json(mut new): Json<Session>,
+) -> Result<Json<SessionReply>, UiError> {
+    let mut guard = app.session.lock().await;
+    let (file, s) = guard.as_mut().ok_or(UiError::NotConnected)?;
+    // The page edits points and fields; rounds, their parameters and what
+    // was applied are the server's.
+    if new.rounds.len() != s.rounds.len() {
+        return Err(UiError::Input(
+            "the page is out of date (another tab applied a correction): reload it".into(),
+        ));
+    }
+    for (n, old) in new.rounds.iter_mut().zip(&s.rounds) {
+        n.params = old.params;
+        n.applied = old.applied;
+        n.leg_mm = old.leg_mm;
+    }
+    new.robot = s.robot.clone();
+    session::save(file, &new)?;
+    *s = new;
+    Ok(reply(s))
+}
+
+#[derive(Deserialize)]
+struct ImportRequest {
+    text: String,
+    experiment: Option<u32>,
+}
+
+async fn import(
+    State(app): State<Shared>,
+    Json(req): Json<ImportRequest>,
+) -> Result<Json<SessionReply>, UiError> {
+    let mut guard = app.session.lock().await;
+    let (file, s) = guard.as_mut().ok_or(UiError::NotConnected)?;
+    let mut new = s.clone();
+    let round = new.rounds.len() - 1;
+    session::import_csv(&mut new, round, &req.text, req.experiment)?;
+    session::save(file, &new)?;
+    *s = new;
+    Ok(reply(s))
+}
+
+/// Send the last round's correction (SET_PARAM cL, cR, wheelbase), read the
+/// parameters back (GET_PARAM), record them and open the next round.
+async fn apply(State(app): State<Shared>) -> Result<Json<serde_json::Value>, UiError> {
+    let (link, _) = link_of(&app).await?;
+    let mut guard = app.session.lock().await;
+    let (file, s) = guard.as_mut().ok_or(UiError::NotConnected)?;
+    let ev = session::evaluate(s);
+    let last = s.rounds.len() - 1;
+    let send = ev.rounds[last].send.ok_or_else(|| {
+        UiError::Input("the round is not complete: enter every end point first".into())
+    })?;
+    let readback = {
+        let mut l = link.lock().await;
+        l.set_param(Param::CorrLeft, send.c_left as f32).await?;
+        l.set_param(Param::CorrRight, send.c_right as f32).await?;
+        l.set_param(Param::WheelbaseMm, send.wheelbase_mm as f32)
+            .await?;
+        robot_params(&mut l).await?
+    };
+    let mut new = s.clone();
+    new.rounds[last].applied = Some(readback);
+    // The next round checks the correction with the same test.
+    let mut next = RoundEntry::new(readback);
+    next.method = new.rounds[last].method;
+    new.rounds.push(next);
+    session::save(file, &new)?;
+    *s = new;
+    Ok(Json(json!({
+        "sent": send,
+        "read_back": readback,
+        "session": s,
+        "evaluation": session::evaluate(s),
+    })))
+}
+
+async fn event_stream(
+    State(app): State<Shared>,
+) -> Sse<impl futures_util::Stream<Item = Result<Event, Infallible>>> {
+    let rx = app.events.subscribe();
+    let stream = futures_util::stream::unfold(rx, |mut rx| async move {
+        loop {
+            match rx.recv().await {
+                Ok(text) => return Some((Ok(Event::default().data(text)), rx)),
+                // A slow tab skips telemetry rather than stalling the rest.
+                Err(broadcast::error::RecvError::Lagged(_)) => continue,
+                Err(broadcast::error::RecvError::Closed) => return None,
+            }
+        }
+    });
+    Sse::new(stream).keep_alive(KeepAlive::default())
+}
+
+#[cfg(test)]
+mod tests;

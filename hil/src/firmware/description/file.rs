@@ -1,0 +1,333 @@
+//! The test-description file (TOML; documented in docs/test-description.md)
+//! and its checks: each field against what the bench and the MCU allow,
+//! one line per problem naming the file, the field and the allowed range.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use thiserror::Error;
+
+use super::{Description, End, Ready, Start, Symbols, UartText};
+use crate::board::pin_named;
+use henrytwo_protocol::Test;
+
+#[derive(Debug, Error)]
+pub enum DescriptionError {
+    #[error("cannot read test description {path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Toml { path: String, message: String },
+    #[error("{path}: {field} = {value}: {allowed}")]
+    Field {
+        path: String,
+        field: String,
+        value: String,
+        allowed: String,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileDoc {
+    #[serde(default)]
+    firmware: FirmwareDoc,
+    #[serde(default)]
+    ready: ReadyDoc,
+    leg: LegDoc,
+    #[serde(default)]
+    end: EndDoc,
+    #[serde(default)]
+    symbols: Symbols,
+    tests: BTreeMap<String, StartDoc>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FirmwareDoc {
+    name: Option<String>,
+    elf: Option<PathBuf>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ReadyDoc {
+    after_s: Option<f64>,
+    uart: Option<u8>,
+    text: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LegDoc {
+    mm: Option<f64>,
+    variable: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EndDoc {
+    idle_s: Option<f64>,
+    limit_s: Option<f64>,
+    uart: Option<u8>,
+    text: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StartDoc {
+    uart: Option<u8>,
+    bytes: Option<Vec<u8>>,
+    text: Option<String>,
+    pin: Option<String>,
+    level: Option<String>,
+}
+
+/// The bench's default wait after reset when the file gives none: the
+/// Arduino core's start-up plus a sketch's `setup()` delays.
+const DEFAULT_READY_S: f64 = 1.0;
+/// The default quiet time that ends a test: above the thesis' 2.025 s of
+/// braking and waits between two segments.
+const DEFAULT_IDLE_S: f64 = 3.0;
+
+/// A number as a person would write it: 1e300, not 300 digits.
+fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+struct Checker<'a> {
+    path: &'a str,
+}
+
+impl Checker<'_> {
+    fn field(&self, field: &str, value: impl std::fmt::Display, allowed: &str) -> DescriptionError {
+        DescriptionError::Field {
+            path: self.path.to_string(),
+            field: field.to_string(),
+            value: value.to_string(),
+            allowed: allowed.to_string(),
+        }
+    }
+
+    fn seconds(&self, field: &str, v: f64, min: f64, max: f64) -> Result<f64, DescriptionError> {
+        if v.is_finite() && v >= min && v <= max {
+            Ok(v)
+        } else {
+            Err(self.field(
+                field,
+                number(v),
+                &format!("give {min} to {max} s of robot time"),
+            ))
+        }
+    }
+
+    fn usart(&self, field: &str, n: u8) -> Result<u8, DescriptionError> {
+        if n <= 3 {
+            Ok(n)
+        } else {
+            Err(self.field(field, n, "the ATmega2560 has USART 0-3"))
+        }
+    }
+
+    fn text(&self, field: &str, t: &str) -> Result<Vec<u8>, DescriptionError> {
+        if t.is_empty() || t.len() > 64 {
+            return Err(self.field(field, format!("{t:?}"), "give 1 to 64 bytes"));
+        }
+        Ok(t.as_bytes().to_vec())
+    }
+
+    fn uart_text(
+        &self,
+        section: &str,
+        uart: Option<u8>,
+        text: &Option<String>,
+    ) -> Result<Option<UartText>, DescriptionError> {
+        match (uart, text) {
+            (None, None) => Ok(None),
+            (Some(u), Some(t)) => Ok(Some(UartText {
+                usart: self.usart(&format!("{section}.uart"), u)?,
+                text: self.text(&format!("{section}.text"), t)?,
+            })),
+            (Some(u), None) => Err(self.field(
+                &format!("{section}.uart"),
+                u,
+                "give the text to wait for too (text = \"...\")",
+            )),
+            (None, Some(t)) => Err(self.field(
+                &format!("{section}.text"),
+                format!("{t:?}"),
+                "give the USART it comes on too (uart = 0-3)",
+            )),
+        }
+    }
+
+    fn start(&self, name: &str, d: &StartDoc) -> Result<Start, DescriptionError> {
+        let f = |k: &str| format!("tests.{name}.{k}");
+        match (d.uart, &d.pin) {
+            (Some(u), None) => {
+                let usart = self.usart(&f("uart"), u)?;
+                let bytes = match (&d.bytes, &d.text) {
+                    (Some(b), None) if !b.is_empty() && b.len() <= 64 => b.clone(),
+                    (Some(b), None) => {
+                        return Err(self.field(&f("bytes"), format!("{b:?}"), "give 1 to 64 bytes"))
+                    }
+                    (None, Some(t)) => self.text(&f("text"), t)?,
+                    _ => {
+                        return Err(self.field(
+                            &f("uart"),
+                            u,
+                            "give what is sent: bytes = [...] or text = \"...\" (one of them)",
+                        ))
+                    }
+                };
+                if d.level.is_some() {
+                    return Err(self.field(
+                        &f("level"),
+                        "...",
+                        "a pin level goes with pin, not uart",
+                    ));
+                }
+                Ok(Start::Uart { usart, bytes })
+            }
+            (None, Some(p)) => {
+                let pin = pin_named(p).ok_or_else(|| {
+                    self.field(
+                        &f("pin"),
+                        format!("{p:?}"),
+                        "give \"D0\"-\"D69\" or \"A0\"-\"A15\"",
+                    )
+                })?;
+                let high = match d.level.as_deref() {
+                    Some("high") => true,
+                    Some("low") => false,
+                    other => {
+                        return Err(self.field(
+                            &f("level"),
+                            format!("{other:?}"),
+                            "give \"low\" or \"high\" (the level the bench holds the pin at)",
+                        ))
+                    }
+                };
+                if d.bytes.is_some() || d.text.is_some() {
+                    return Err(self.field(
+                        &f("pin"),
+                        format!("{p:?}"),
+                        "bytes and text go with uart, not pin",
+                    ));
+                }
+                Ok(Start::Pin { pin, high })
+            }
+            _ => Err(self.field(
+                &format!("tests.{name}"),
+                "...",
+                "say how the test starts: uart = 0-3 with bytes or text, or pin with level",
+            )),
+        }
+    }
+}
+
+/// Parse and check a description; relative paths in it are relative to
+/// `dir` (the file's folder).
+pub(super) fn parse(text: &str, path: &str, dir: &Path) -> Result<Description, DescriptionError> {
+    let doc: FileDoc = toml::from_str(text).map_err(|e| DescriptionError::Toml {
+        path: path.to_string(),
+        message: e.message().to_string()
+            + &e.span()
+                .map(|s| format!(" (line {})", text[..s.start].lines().count().max(1)))
+                .unwrap_or_default(),
+    })?;
+    let c = Checker { path };
+    let ready = Ready {
+        after_s: c.seconds(
+            "ready.after_s",
+            doc.ready.after_s.unwrap_or(DEFAULT_READY_S),
+            0.0,
+            60.0,
+        )?,
+        text: c.uart_text("ready", doc.ready.uart, &doc.ready.text)?,
+    };
+    let leg_mm = match (doc.leg.mm, &doc.leg.variable) {
+        (Some(mm), None) => {
+            let r = crate::firmware::link::Param::LegLengthMm.range();
+            if !(mm.is_finite() && mm >= r.min as f64 && mm <= r.max as f64) {
+                return Err(c.field("leg.mm", number(mm), &format!("give {} to {} mm", r.min, r.max)));
+            }
+            super::Leg::Fixed(mm)
+        }
+        (None, Some(v)) if !v.is_empty() => super::Leg::Variable(v.clone()),
+        _ => {
+            return Err(c.field(
+                "leg",
+                "...",
+                "give the firmware's own leg (mm = ...) or the float variable the bench sets (variable = \"...\"), one of them",
+            ))
+        }
+    };
+    let end = End {
+        idle_s: c.seconds(
+            "end.idle_s",
+            doc.end.idle_s.unwrap_or(DEFAULT_IDLE_S),
+            0.05,
+            60.0,
+        )?,
+        limit_s: doc
+            .end
+            .limit_s
+            .map(|s| c.seconds("end.limit_s", s, 1.0, 3600.0))
+            .transpose()?,
+        text: c.uart_text("end", doc.end.uart, &doc.end.text)?,
+    };
+    if doc.tests.is_empty() {
+        return Err(c.field(
+            "tests",
+            "{}",
+            "describe at least one test ([tests.umbmark-cw], ...)",
+        ));
+    }
+    let mut tests = BTreeMap::new();
+    for (name, d) in &doc.tests {
+        let test = Test::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = Test::ALL.iter().map(|t| t.name()).collect();
+            c.field(
+                &format!("tests.{name}"),
+                "...",
+                &format!("no such test; one of {}", names.join(", ")),
+            )
+        })?;
+        tests.insert(test, c.start(name, d)?);
+    }
+    Ok(Description {
+        path: path.to_string(),
+        name: doc.firmware.name,
+        elf: doc.firmware.elf.map(|p| lexically_normal(&dir.join(p))),
+        ready,
+        leg: leg_mm,
+        end,
+        symbols: doc.symbols,
+        tests,
+    })
+}
+
+/// `path` without `.` and `dir/..` pairs (the ELF named relative to the
+/// description reads as the path a person would give).
+fn lexically_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out: Vec<Component> = Vec::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    out.iter().collect()
+}

@@ -1,0 +1,531 @@
+//! The only module that talks to simavr.
+//!
+//! [`Avr`] owns one simulated ATmega and one [`Handler`], the bench's side of
+//! the simulation. simavr calls back into the handler through C trampolines
+//! for: IO register writes the bench claims or observes, pin and UART IRQs, and
+//! one cycle timer that carries the bench's whole event queue. Inside a
+//! callback the handler gets a [`Core`], a narrow view of the running MCU.
+//!
+//! What simavr does that we change, and why:
+//! - the interrupt response is the datasheet's (`response.rs`): entering a
+//!   vector takes five cycles (ten when it wakes the CPU), where simavr
+//!   takes none; a jump over a sleep ends on the cycle of the timer it
+//!   sleeps until, not one past it;
+//! - the sleep callback does not wait: simavr's default usleeps to keep
+//!   emulated time in step with the wall clock, which pins a sleeping
+//!   firmware to 1x real time and makes runs depend on the host;
+//! - the UARTs' "poll sleep" and stdio flags are cleared: the first usleeps on
+//!   status polls, the second prints the firmware's bytes on our stdout;
+//! - the firmware image is loaded from the ELF by the bench ([`crate::firmware::elf`]),
+//!   since a Rust ELF has no `.mmcu` section and simavr's loader prints to
+//!   stdout.
+//!
+//! # Soundness
+//! The safe API holds whatever safe code does with it:
+//! - the handler's state is allocated once and reached only through the raw
+//!   pointer simavr also holds (`shared.rs`): no reborrow ever invalidates
+//!   simavr's copies;
+//! - the handler is borrowed by one callback at a time: a callback simavr
+//!   makes while the handler runs is refused with a panic, never nested;
+//! - no panic unwinds into C: each trampoline catches it, the burst stops,
+//!   and the `Avr` call that ran simavr resumes the panic (`trampolines.rs`);
+//! - an [`Irq`] works with its own `Avr` only, checked at each use (`irq.rs`);
+//! - the `avr_t` is freed once on every path, after which no callback can
+//!   run (`mcu.rs`, and the order of [`Avr`]'s fields).
+//!
+//! # Where the unsafe lines are
+//! All of the crate's `unsafe` is in this module and in `crate::mcu::sim::sys` (the
+//! OS calls; the crate denies `unsafe_code` everywhere else). Here, every unsafe block has
+//! its `// SAFETY:` line and every unsafe fn its `# Safety` doc:
+//! - `mod.rs`: [`Avr::new`]'s setup of the MCU's fields, the step calls and
+//!   field reads of the run loops, the IO slot installs of the claims,
+//!   the notify registration of [`Avr::watch_irq`], `avr_reset`, the
+//!   response's installation, and the
+//!   handler borrows of [`Avr::handler`], [`Avr::handler_mut`] and
+//!   [`Avr::with_core`];
+//! - `mcu.rs`: making, initialising and freeing the `avr_t`, and the raw
+//!   data-space reads and writes everything else uses;
+//! - `memory.rs`: field and flash accesses of the memory accessors, each
+//!   bounds-checked first;
+//! - `view.rs`: [`Core`]'s field accesses and its raise and schedule calls;
+//! - `irq.rs`: IRQ lookups and `avr_raise_irq`;
+//! - `shared.rs`: the handler state's allocation and free;
+//! - `response.rs`: the sleep callback and the running-interrupt notify,
+//!   which add the response's cycles, and their installation;
+//! - `trampolines.rs`: the `extern "C"` callbacks and the timer
+//!   registration;
+//! - `owner.rs`, `tests.rs`: none.
+
+use std::ffi::{c_void, CString};
+use std::ptr::NonNull;
+
+use simavr_ffi as ffi;
+use thiserror::Error;
+
+mod irq;
+mod mcu;
+mod memory;
+mod owner;
+mod response;
+mod shared;
+pub(crate) mod sys;
+#[cfg(test)]
+mod tests;
+mod trampolines;
+mod view;
+
+pub use irq::Irq;
+pub use response::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
+pub use view::Core;
+
+use mcu::{decode_state, io_slot, Mcu};
+use owner::Owner;
+use shared::{Flag, Shared, SharedBox, WriteSlot};
+use trampolines::{
+    io_read_observe_trampoline, io_read_trampoline, io_write_trampoline, irq_trampoline,
+    schedule_from_core, schedule_timer,
+};
+
+/// Errors from creating or driving the simulated MCU.
+#[derive(Debug, Error)]
+pub enum SimError {
+    #[error("simavr does not know the MCU {0:?}; the bench supports \"atmega2560\"")]
+    UnknownMcu(String),
+    #[error("simavr failed to initialise the MCU {0:?}")]
+    InitFailed(String),
+    #[error("firmware segment at flash 0x{addr:05x} with {len} bytes does not fit in the {flash} bytes of flash")]
+    FlashOverflow { addr: u32, len: usize, flash: u32 },
+    #[error("the MCU has no IO port {0:?}")]
+    NoSuchPort(char),
+    #[error("the MCU has no USART{0}")]
+    NoSuchUart(u8),
+    #[error("IO address 0x{0:04x} is outside simavr's IO table")]
+    IoOutOfRange(u16),
+}
+
+/// simavr's CPU states, as far as the bench cares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CpuState {
+    Running,
+    Sleeping,
+    /// Stopped for good: sleeping with interrupts off, `break`, or done.
+    Done,
+    /// simavr detected a crash (bad PC, bad opcode, stack overflow, ...).
+    Crashed,
+    Other(i32),
+}
+
+/// How a burst of steps ([`Avr::run_burst`]) ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Burst {
+    /// Cycles spent asleep.
+    pub slept: u64,
+    /// The CPU's state after the last step.
+    pub state: CpuState,
+}
+
+/// How the bench takes part in writes to an IO register.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IoClaim {
+    /// The bench emulates the register: simavr's own handler never runs.
+    Replace,
+    /// simavr's handler runs first, then the bench sees the value.
+    Observe,
+}
+
+/// The bench's half of the simulation. All methods run inside simavr's
+/// callbacks, at the current emulated cycle, one at a time: a callback
+/// that would start while another runs (a [`Core::raise`] that reaches a
+/// watched IRQ) is refused with a panic. A panic in a method ends the
+/// running burst and is resumed by the `Avr` call that ran it.
+pub trait Handler: 'static {
+    /// A write to a register claimed with [`Avr::claim_io_write`].
+    fn io_write(&mut self, core: &mut Core, addr: u16, value: u8);
+    /// A read of a register claimed with [`Avr::claim_io_read`]; returns the
+    /// value the CPU reads.
+    fn io_read(&mut self, core: &mut Core, addr: u16) -> u8;
+    /// A read of a register watched with [`Avr::observe_io_read`] is about
+    /// to happen (simavr's own read handler runs right after): the moment to
+    /// bring input lines up to date.
+    fn before_io_read(&mut self, _core: &mut Core, _addr: u16) {}
+    /// Whether a callback left something for the caller of
+    /// [`Avr::run_burst`] to handle: the burst ends after that step.
+    fn attention(&self) -> bool {
+        false
+    }
+    /// The bench's cycle timer fired; `when` is the cycle it was scheduled for
+    /// (the current cycle may be a few cycles later: simavr checks timers
+    /// between instructions, and after the instruction that follows an
+    /// interrupt's response). Returns the next cycle to fire at, or 0 for none.
+    fn timer(&mut self, core: &mut Core, when: u64) -> u64;
+    /// An IRQ watched with [`Avr::watch_irq`] was raised.
+    fn irq(&mut self, core: &mut Core, tag: u32, value: u32);
+}
+
+/// One simulated MCU and the bench's handler.
+pub struct Avr<H: Handler> {
+    // Fields drop in order: the MCU first, so that no callback can run once
+    // the handler's state (which simavr points to) is freed.
+    mcu: Mcu,
+    shared: SharedBox<H>,
+    code_end: u32,
+    /// The step function simavr installed at init (what `avr_run` calls),
+    /// called directly to save a call per instruction.
+    run: unsafe extern "C" fn(*mut ffi::avr_t),
+}
+
+impl<H: Handler> Avr<H> {
+    /// Create an MCU by simavr name at `frequency_hz`, with empty flash.
+    pub fn new(mcu: &str, frequency_hz: u32, handler: H) -> Result<Self, SimError> {
+        let name = CString::new(mcu).map_err(|_| SimError::UnknownMcu(mcu.into()))?;
+        // From here the MCU is freed on every error path (`Mcu`'s drop).
+        let mut avr = Mcu::by_name(&name).ok_or_else(|| SimError::UnknownMcu(mcu.into()))?;
+        let run = avr.init(mcu)?;
+        let shared = SharedBox::new(Shared::new(avr.ptr(), Owner::next(), handler));
+        // SAFETY: plain field writes on the initialised MCU.
+        unsafe {
+            let a = avr.as_ptr();
+            (*a).frequency = frequency_hz;
+            // The Arduino Mega runs at 5 V; AVCC and AREF on the same rail
+            // (millivolts, as simavr's ADC takes its inputs).
+            (*a).vcc = 5000;
+            (*a).avcc = 5000;
+            (*a).aref = 5000;
+            (*a).set_log(1); // LOG_ERROR: simavr's errors only
+        }
+        // SAFETY: the response is a field of the state, allocated once and
+        // freed after the MCU (the order of `Avr`'s fields).
+        unsafe {
+            let p = shared.ptr().as_ptr();
+            let response = NonNull::new(std::ptr::addr_of_mut!((*p).response))
+                .expect("a field of a live allocation");
+            response::install(response);
+        }
+        Ok(Self {
+            mcu: avr,
+            shared,
+            code_end: 0,
+            run,
+        })
+    }
+
+    #[inline]
+    fn raw(&self) -> *mut ffi::avr_t {
+        self.mcu.as_ptr()
+    }
+
+    #[inline]
+    fn state_ptr(&self) -> *mut Shared<H> {
+        self.shared.ptr().as_ptr()
+    }
+
+    fn owner(&self) -> Owner {
+        // SAFETY: a field that never changes, read through the state's
+        // pointer; no callback runs while `self` is borrowed.
+        unsafe { (*self.state_ptr()).owner }
+    }
+
+    /// After a call that ran simavr: resume the panic of a callback it ran
+    /// (a panic of the handler, or a refused re-entrant callback).
+    #[inline]
+    fn resume_failure(&mut self) {
+        // SAFETY: a `Cell` field of the live state; no callback is running.
+        if unsafe { (*self.state_ptr()).failed.get() } {
+            self.resume_failure_now()
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn resume_failure_now(&mut self) {
+        // SAFETY: as in `resume_failure`.
+        let payload = unsafe {
+            let p = self.state_ptr();
+            (*p).failed.set(false);
+            (*p).failure.take()
+        };
+        if let Some(payload) = payload {
+            std::panic::resume_unwind(payload);
+        }
+    }
+
+    /// Execute one instruction (or, while sleeping, jump to the next timer).
+    ///
+    /// # Panics
+    /// With the panic of a callback the step ran.
+    #[inline]
+    pub fn step(&mut self) -> CpuState {
+        let avr = self.raw();
+        // SAFETY: the MCU is initialised and loaded; callbacks reach the
+        // handler through the state's pointer, and `&mut self` means nothing
+        // else borrows it during the call.
+        let state = unsafe {
+            (self.run)(avr);
+            (*avr).state
+        };
+        self.resume_failure();
+        decode_state(state)
+    }
+
+    /// Runs steps (an instruction, or a jump over a sleep) and ends after the
+    /// first that reaches cycle `until`, leaves the CPU neither running nor
+    /// sleeping, or whose callbacks leave the handler wanting
+    /// [`Handler::attention`] (a burst begun with attention pending runs one
+    /// step). `sleeping` says whether the CPU slept before the first step
+    /// and is updated; cycles of steps that slept (or began or ended asleep)
+    /// are summed in [`Burst::slept`]. The same as calling [`Avr::step`] in
+    /// a loop, without leaving this module per instruction, and with one
+    /// bound per instruction as [`Avr::run_to`] has.
+    ///
+    /// # Panics
+    /// With the panic of a callback, after the step that ran it.
+    // Out of line, so that the loop keeps its bounds in registers.
+    #[inline(never)]
+    pub fn run_burst(&mut self, until: u64, sleeping: &mut bool) -> Burst {
+        let avr = self.raw();
+        let run = self.run;
+        let shared = self.state_ptr();
+        // SAFETY: field accesses through the state's pointer; the callbacks
+        // run during `run` reach the same state through the same pointer,
+        // and nothing holds a reference into it across a step.
+        unsafe {
+            let end = if (*shared).handler.attention() {
+                0
+            } else {
+                until
+            };
+            (*shared).burst_end.set(end);
+        }
+        let mut slept = 0;
+        let mut was_asleep = *sleeping;
+        // SAFETY: plain field read.
+        let mut before = unsafe { (*avr).cycle };
+        let state = loop {
+            // SAFETY: as in `step`; plain field reads between the steps.
+            let (state, now) = unsafe {
+                run(avr);
+                ((*avr).state, (*avr).cycle)
+            };
+            // SAFETY: as above (a failed callback sets it to 0).
+            let end = unsafe { (*shared).burst_end.get() };
+            // Almost every step is an instruction between two awake ones:
+            // nothing to account, one bound to test.
+            if state == ffi::cpu_Running as i32 && !was_asleep {
+                if now >= end {
+                    *sleeping = false;
+                    break state;
+                }
+                before = now;
+                continue;
+            }
+            // A step that began or ended asleep counts as slept.
+            let asleep = state == ffi::cpu_Sleeping as i32;
+            slept += now - before;
+            before = now;
+            was_asleep = asleep;
+            let stopped = !asleep && state != ffi::cpu_Running as i32;
+            if stopped || now >= end {
+                *sleeping = asleep;
+                break state;
+            }
+        };
+        self.resume_failure();
+        Burst {
+            slept,
+            state: decode_state(state),
+        }
+    }
+
+    /// Steps until the cycle reaches `end` or the CPU stops running and
+    /// sleeping, with nothing else between the steps: simavr driven as
+    /// bare as it can be (the baseline `hil bench` compares the bench with).
+    ///
+    /// # Panics
+    /// With the panic of a callback, at `end` (the bare loop does not
+    /// look for one between steps).
+    pub fn run_to(&mut self, end: u64) -> CpuState {
+        let avr = self.raw();
+        let run = self.run;
+        let state = loop {
+            // SAFETY: as in `step`.
+            let (state, now) = unsafe {
+                run(avr);
+                ((*avr).state, (*avr).cycle)
+            };
+            let stopped = state != ffi::cpu_Running as i32 && state != ffi::cpu_Sleeping as i32;
+            if stopped || now >= end {
+                break state;
+            }
+        };
+        self.resume_failure();
+        decode_state(state)
+    }
+
+    /// Let time pass without executing: run the cycle timers that are due,
+    /// then jump to the next one (as while the MCU is held in reset, when no
+    /// instruction runs but the world goes on).
+    ///
+    /// # Panics
+    /// With the panic of a callback the timers ran.
+    pub fn hold_step(&mut self) {
+        // SAFETY: as in `step`; plain field accesses around the call.
+        unsafe {
+            let a = self.raw();
+            let until_next = ffi::avr_cycle_timer_process(a);
+            (*a).cycle += until_next.max(1);
+        }
+        self.resume_failure();
+    }
+
+    pub fn state(&self) -> CpuState {
+        // SAFETY: plain field read.
+        decode_state(unsafe { (*self.raw()).state })
+    }
+
+    pub fn cycle(&self) -> u64 {
+        // SAFETY: plain field read.
+        unsafe { (*self.raw()).cycle }
+    }
+
+    pub fn handler(&self) -> &H {
+        // SAFETY: callbacks run only inside calls that take `&mut self`, so
+        // while this borrow of `self` lives no `&mut H` exists; the
+        // reference covers the handler field only.
+        unsafe { &(*self.state_ptr()).handler }
+    }
+
+    pub fn handler_mut(&mut self) -> &mut H {
+        // SAFETY: as in `handler`: `&mut self` excludes every callback and
+        // every other borrow of the handler.
+        unsafe { &mut (*self.state_ptr()).handler }
+    }
+
+    /// Split borrow: the handler and a [`Core`] view, for setup code that
+    /// needs both outside callbacks. The handler is busy meanwhile: a
+    /// watched IRQ that a raise in `f` reaches is refused.
+    ///
+    /// # Panics
+    /// With the panic of `f`, or of a callback refused during `f`.
+    pub fn with_core<R>(&mut self, f: impl FnOnce(&mut H, &mut Core) -> R) -> R {
+        let shared = self.shared.ptr();
+        let p = shared.as_ptr();
+        let r = {
+            // SAFETY: a `Cell` field of the live state.
+            let busy = unsafe { &(*p).busy };
+            // `&mut self`: no callback runs and no other borrow of the
+            // handler lives, so the flag is clear.
+            let Some(_busy) = Flag::raise(busy) else {
+                unreachable!("the handler is busy outside callbacks")
+            };
+            // SAFETY: the only reference to the handler while the flag is
+            // set (callbacks during `f` are refused).
+            let handler = unsafe { &mut *std::ptr::addr_of_mut!((*p).handler) };
+            // SAFETY: live state; the `Core` is dropped before `self` is
+            // given back.
+            let mut core = unsafe { Core::new(shared, schedule_from_core::<H>) };
+            f(handler, &mut core)
+        };
+        self.resume_failure();
+        r
+    }
+
+    /// Call [`Handler::irq`] with `tag` whenever `irq` is raised.
+    ///
+    /// # Panics
+    /// When `irq` belongs to another `Avr`.
+    pub fn watch_irq(&mut self, irq: Irq, tag: u32) {
+        let raw = irq.raw_for(self.owner());
+        let param = self.shared.new_tag(tag).as_ptr() as *mut c_void;
+        // SAFETY: `raw` is an IRQ of this live MCU (checked above); the tag
+        // lives in `self.shared` until after the MCU is freed.
+        unsafe { ffi::avr_irq_register_notify(raw, Some(irq_trampoline::<H>), param) }
+    }
+
+    /// Take part in writes to IO register `addr` (a data-space address).
+    /// Claiming a slot again changes how it is claimed: simavr's own
+    /// handler, saved at the first claim, stays the one observed writes
+    /// forward to.
+    pub fn claim_io_write(&mut self, addr: u16, claim: IoClaim) -> Result<(), SimError> {
+        let slot = io_slot(addr)?;
+        let p = self.state_ptr();
+        // SAFETY: `slot` is within the IO table; outside callbacks (`&mut
+        // self`), so nothing reads `writes` meanwhile. We install our
+        // trampoline directly, which avoids simavr's 4-entry write
+        // multiplexer, and save what simavr had there the first time only:
+        // after that the slot holds our own trampoline, which must never be
+        // its own forward.
+        unsafe {
+            let io = &mut (*self.raw()).io[slot];
+            let writes = &mut (*p).writes;
+            let original = writes[slot].map_or((io.w.c, io.w.param), |s| s.original);
+            writes[slot] = Some(WriteSlot {
+                original,
+                observe: claim == IoClaim::Observe,
+            });
+            io.w.c = Some(io_write_trampoline::<H>);
+            io.w.param = p.cast();
+        }
+        Ok(())
+    }
+
+    /// Emulate reads of IO register `addr`: simavr's read handler no longer runs.
+    pub fn claim_io_read(&mut self, addr: u16) -> Result<(), SimError> {
+        let slot = io_slot(addr)?;
+        // SAFETY: `slot` is within the IO table.
+        unsafe {
+            let io = &mut (*self.raw()).io[slot];
+            io.r.c = Some(io_read_trampoline::<H>);
+            io.r.param = self.state_ptr().cast();
+        }
+        Ok(())
+    }
+
+    /// Be told before every read of IO register `addr` ([`Handler::before_io_read`]);
+    /// simavr's read handler still produces the value.
+    pub fn observe_io_read(&mut self, addr: u16) -> Result<(), SimError> {
+        let slot = io_slot(addr)?;
+        let p = self.state_ptr();
+        // SAFETY: `slot` is within the IO table; outside callbacks, so
+        // nothing reads `reads` meanwhile. We keep what simavr had there to
+        // call after the bench's hook.
+        unsafe {
+            let io = &mut (*self.raw()).io[slot];
+            let reads = &mut (*p).reads;
+            // Observing a slot twice keeps the first (simavr's) handler.
+            if reads[slot].is_none() {
+                reads[slot] = Some((io.r.c, io.r.param));
+            }
+            io.r.c = Some(io_read_observe_trampoline::<H>);
+            io.r.param = p.cast();
+        }
+        Ok(())
+    }
+
+    /// (Re)schedule the bench's cycle timer at absolute cycle `at` (a cycle
+    /// already past fires at the next instruction boundary; `u64::MAX` cancels).
+    pub fn schedule(&mut self, at: u64) {
+        // SAFETY: the live state of this live MCU.
+        unsafe { schedule_timer::<H>(self.shared.ptr(), at) }
+    }
+
+    /// Reset the MCU as the RESET pin would. simavr drops all cycle timers on
+    /// reset, so the caller must schedule its timer again. Time goes on: simavr
+    /// sets the cycle counter back to 0, the bench puts it back, since the
+    /// robot's clock does not stop when its MCU resets.
+    ///
+    /// # Panics
+    /// With the panic of a callback the reset ran.
+    pub fn reset(&mut self) {
+        // SAFETY: resetting a live, loaded MCU; restoring the cycle counter
+        // right after is sound because the reset dropped every cycle timer
+        // (none refers to the old time base) and peripherals are stopped.
+        unsafe {
+            let a = self.raw();
+            let cycle = (*a).cycle;
+            ffi::avr_reset(a);
+            (*a).cycle = cycle;
+            (*self.state_ptr()).response.forget_sleep();
+        }
+        self.resume_failure();
+    }
+}

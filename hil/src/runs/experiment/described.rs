@@ -1,0 +1,171 @@
+//! One test of a described firmware: reset, wait until it is ready, start
+//! the test as the description says, run until its end condition, analyse
+//! as for any firmware (legs and turns from the bridge, pose from the plant).
+
+use plant_model::{RobotConfig, Seconds};
+
+use super::{analyse, limit_s, Test, TestOptions, TestRun};
+use crate::bench::{Bench, BenchError, Motion, Observer};
+use crate::firmware::description::{Description, DescriptionError, End, Start};
+use crate::firmware::elf::Firmware;
+
+impl From<DescriptionError> for BenchError {
+    fn from(e: DescriptionError) -> Self {
+        BenchError::Description(e.to_string())
+    }
+}
+
+/// Whether `m` drives a wheel (a leg, a turn, a pulse).
+fn driven(m: Motion) -> bool {
+    !matches!(m, Motion::Stopped | Motion::Brake)
+}
+
+fn contains(hay: &[u8], needle: &[u8]) -> bool {
+    hay.windows(needle.len()).any(|w| w == needle)
+}
+
+/// Where the outputs stood at the start: what the end looks past.
+#[derive(Clone, Copy)]
+pub(crate) struct Mark {
+    motions: usize,
+    uart: [usize; 4],
+}
+
+impl Mark {
+    pub(crate) fn now(b: &Bench) -> Self {
+        Mark {
+            motions: b.core().motions().len(),
+            uart: [0, 1, 2, 3].map(|n| b.uart_output(n).len()),
+        }
+    }
+}
+
+/// The test has ended by `end`'s rule (see [`End`]).
+pub(crate) fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool {
+    if let Some(t) = &end.text {
+        let out = b.uart_output(t.usart);
+        return contains(&out[mark.uart[t.usart as usize].min(out.len())..], &t.text);
+    }
+    let motions = &b.core().motions()[mark.motions..];
+    let Some(last) = motions.last() else {
+        return false;
+    };
+    motions.iter().any(|m| driven(m.motion))
+        && !driven(last.motion)
+        && b.cycle() - last.at.cycle >= idle_cycles
+}
+
+/// Run a freshly reset `bench` until the firmware is ready, as `d` says.
+pub(crate) fn wait_ready(bench: &mut Bench, d: &Description) -> Result<(), BenchError> {
+    match &d.ready.text {
+        Some(t) => {
+            let text = t.clone();
+            bench.run_expect(
+                &format!(
+                    "{}: the firmware did not send {:?} on USART {} after reset (ready.text)",
+                    d.path,
+                    String::from_utf8_lossy(&text.text),
+                    text.usart
+                ),
+                d.ready.after_s,
+                |b| contains(b.uart_output(text.usart), &text.text),
+            )?;
+        }
+        None => bench.run_for(d.ready.after_s)?,
+    }
+    Ok(())
+}
+
+/// Run `test` of the firmware `d` describes, from a fresh reset.
+pub(crate) fn run_described(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    test: Test,
+    opts: &TestOptions,
+    d: &Description,
+    observer: Option<Box<dyn Observer>>,
+) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
+    let start = d.start(test)?.clone();
+    let resolved = d.resolve(&firmware)?;
+    if !opts.params.is_empty() {
+        return Err(BenchError::Description(format!(
+            "{}: the firmware it describes has no protocol to set parameters with; drop --param",
+            d.path
+        )));
+    }
+    let name = d.name.clone().unwrap_or_else(|| firmware.name());
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    if let Some(c) = resolved.counts {
+        bench.set_count_variables(c);
+    }
+    wait_ready(&mut bench, d)?;
+    if let Some(addr) = resolved.leg {
+        bench.write_f32(addr, opts.leg_mm as f32);
+    }
+    bench.set_observer(observer);
+    for f in &opts.faults {
+        bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
+    }
+    if opts.record {
+        bench.true_waveforms();
+        bench.start_recording();
+    }
+    let start_cycle = bench.cycle();
+    let mark = Mark::now(&bench);
+    match &start {
+        Start::Uart { usart, bytes } => bench.send(*usart, bytes),
+        Start::Pin { pin, high } => bench.drive_pin(*pin, *high)?,
+    }
+    let limit = opts
+        .limit_s
+        .or(d.end.limit_s)
+        .unwrap_or_else(|| limit_s(test, opts) + d.end.idle_s);
+    let idle_cycles = bench.clock().cycles_in(Seconds(d.end.idle_s));
+    bench.set_hang_after(opts.hang_after_s);
+    let outcome = bench.run_until(limit, |b| ended(b, &d.end, idle_cycles, mark));
+    bench.set_hang_after(None);
+    let (completed, hang) = match outcome {
+        Ok(done) => (done, None),
+        Err(BenchError::Hang(report)) => (false, Some(report)),
+        Err(e) => return Err(e),
+    };
+    if completed && d.end.text.is_some() {
+        // Ended by a text: let the last coast end (the motors idle for
+        // half a second, at most 5 s more).
+        let half = bench.clock().cycles_in(Seconds(0.5));
+        let after_text = End {
+            text: None,
+            ..d.end.clone()
+        };
+        bench.run_until(5.0, |b| ended(b, &after_text, half, mark))?;
+    }
+    let finding = match &hang {
+        Some(h) => Some(format!(
+            "hung: no wheel motion and no change of the motor drive for {:.1} s of robot time, {h}",
+            h.still_s
+        )),
+        None => (!completed).then(|| {
+            format!(
+                "did not end ({}) within {limit:.0} s of robot time; the firmware is {}",
+                end_rule(&d.end),
+                bench.location()
+            )
+        }),
+    };
+    let observer = bench.take_observer();
+    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    run.hang = hang;
+    Ok((run, observer))
+}
+
+/// The end rule in words, for findings.
+fn end_rule(end: &End) -> String {
+    match &end.text {
+        Some(t) => format!(
+            "no {:?} on USART {}",
+            String::from_utf8_lossy(&t.text),
+            t.usart
+        ),
+        None => format!("the motors never idle for {} s after driving", end.idle_s),
+    }
+}

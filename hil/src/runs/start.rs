@@ -1,0 +1,71 @@
+//! The host's start of a test on the bench: the robot's parameters told
+//! over the protocol, then the test started, as the station or a person's
+//! host program would do it. Here, above the bench, and not in
+//! `crate::firmware::params`, which says what to tell and stays below it.
+
+use henrytwo_protocol::Param;
+use plant_model::RobotConfig;
+
+use crate::bench::{Bench, BenchError};
+use crate::firmware::link::{frame, replies, Command};
+use crate::firmware::params::{plan, refusals, Tell};
+
+/// The host's start of `test`: the parameters as SET_PARAM frames, then a
+/// framed START_TEST, when there is anything to set or `framed` asks for it;
+/// else the test's single selector byte (what the thesis build takes).
+pub fn start_test(
+    bench: &mut Bench,
+    params: &[(Param, f32)],
+    framed: bool,
+    test: henrytwo_protocol::Test,
+) {
+    use {frame, Command};
+    let uart = bench.board().command_uart.usart;
+    if framed || !params.is_empty() {
+        send(bench, params);
+        bench.send(uart, &frame(&Command::StartTest(test)));
+    } else {
+        bench.send(uart, &[test.command_byte()]);
+    }
+}
+
+/// `params` as SET_PARAM frames on the board's command link.
+fn send(bench: &mut Bench, params: &[(Param, f32)]) {
+    let uart = bench.board().command_uart.usart;
+    for (p, v) in params {
+        bench.send(uart, &frame(&Command::SetParam(*p, *v)));
+    }
+}
+
+/// Tells an idle, booted firmware on `bench` the robot's geometry (as
+/// [`plan`] with [`Tell::Robot`]) and runs until it has answered every
+/// SET_PARAM: for a session whose host is someone else (the station's
+/// emulated robots), so that it starts on a robot the firmware knows. The
+/// replies stay out of what the host is sent afterwards only if the caller
+/// forwards output from here on. Returns the warning of a refusal or of a
+/// firmware that cannot be told.
+pub fn tell(bench: &mut Bench, robot: &RobotConfig) -> Result<Option<String>, BenchError> {
+    let (params, _, warning) = plan(bench.firmware(), robot, bench.board(), Tell::Robot, &[]);
+    if params.is_empty() {
+        return Ok(warning);
+    }
+    // The board's command link: the one the firmware reads SET_PARAM on.
+    let uart = bench.board().command_uart.usart;
+    let before = bench.uart_output(uart).len();
+    send(bench, &params);
+    let set_param = Command::SetParam(Param::CorrLeft, 1.0).id().reply_id();
+    let answered = |b: &Bench| {
+        replies(&b.uart_output(uart)[before..])
+            .iter()
+            .filter(|r| r.id == set_param)
+            .count()
+            >= params.len()
+    };
+    // 9600 baud: about 10 ms per frame each way.
+    bench.run_expect(
+        "the firmware did not answer the SET_PARAMs of the robot's geometry",
+        1.0 + 0.03 * params.len() as f64,
+        answered,
+    )?;
+    Ok(refusals(&bench.uart_output(uart)[before..], params.len()).or(warning))
+}

@@ -1,0 +1,569 @@
+//! Timing budgets of the firmware, measured cycle-exactly from ELF symbols.
+//!
+//! A [`TimingProbe`] watches every executed instruction of a run and measures:
+//! - the control tick: the period and jitter of the entries of the control
+//!   function (`ht_control_tick`), and its execution time (min/mean/max
+//!   cycles) with the time spent in interrupts that preempted it taken out;
+//! - each interrupt vector used: latency from the encoder pin edge to the
+//!   vector's first instruction (for INT4/INT5), and duration from the vector
+//!   to the end of its RETI;
+//! - the longest stretch with interrupts disabled (ISR bodies included, since
+//!   the AVR clears I on entry), and where it started;
+//! - CPU load (awake fraction) and the stack's high-water mark against the end
+//!   of static data (`__bss_end`).
+//!
+//! Interrupted time is attributed to the interrupt: cycles spent in an ISR
+//! that ran while the control function was active are subtracted from the
+//! function's execution time.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::bench::{Observer, Step};
+use crate::firmware::elf::Firmware;
+
+const RETI: u16 = 0x9518;
+const RET: u16 = 0x9508;
+/// The ATmega2560 pushes a 3-byte return address (22-bit PC).
+const RETURN_ADDRESS_BYTES: u16 = 3;
+
+/// ATmega2560 interrupt vectors by number (datasheet table 14-1).
+pub const VECTOR_NAMES: [&str; 57] = [
+    "RESET",
+    "INT0",
+    "INT1",
+    "INT2",
+    "INT3",
+    "INT4",
+    "INT5",
+    "INT6",
+    "INT7",
+    "PCINT0",
+    "PCINT1",
+    "PCINT2",
+    "WDT",
+    "TIMER2_COMPA",
+    "TIMER2_COMPB",
+    "TIMER2_OVF",
+    "TIMER1_CAPT",
+    "TIMER1_COMPA",
+    "TIMER1_COMPB",
+    "TIMER1_COMPC",
+    "TIMER1_OVF",
+    "TIMER0_COMPA",
+    "TIMER0_COMPB",
+    "TIMER0_OVF",
+    "SPI_STC",
+    "USART0_RX",
+    "USART0_UDRE",
+    "USART0_TX",
+    "ANALOG_COMP",
+    "ADC",
+    "EE_READY",
+    "TIMER3_CAPT",
+    "TIMER3_COMPA",
+    "TIMER3_COMPB",
+    "TIMER3_COMPC",
+    "TIMER3_OVF",
+    "USART1_RX",
+    "USART1_UDRE",
+    "USART1_TX",
+    "TWI",
+    "SPM_READY",
+    "TIMER4_CAPT",
+    "TIMER4_COMPA",
+    "TIMER4_COMPB",
+    "TIMER4_COMPC",
+    "TIMER4_OVF",
+    "TIMER5_CAPT",
+    "TIMER5_COMPA",
+    "TIMER5_COMPB",
+    "TIMER5_COMPC",
+    "TIMER5_OVF",
+    "USART2_RX",
+    "USART2_UDRE",
+    "USART2_TX",
+    "USART3_RX",
+    "USART3_UDRE",
+    "USART3_TX",
+];
+
+/// Interrupt response (datasheet 7.8.1): at least five cycles from the
+/// request to the vector's first instruction on a 3-byte-PC device, five more
+/// when the interrupt wakes the CPU from sleep. The simulation spends them
+/// (`crate::mcu::sim`), so the latencies measured contain them.
+pub use crate::mcu::sim::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
+
+#[derive(Debug, Error)]
+pub enum TimingError {
+    #[error("cannot read the budgets file {path}: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("budgets file {path}: {source} (see fixtures/timing-budgets.toml for the keys)")]
+    Parse {
+        path: String,
+        source: toml::de::Error,
+    },
+    #[error("the firmware has no function {0:?} to time")]
+    NoFunction(String),
+}
+
+/// Budgets, from a TOML file. All times in microseconds.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Budgets {
+    /// Longest execution of the control function (interrupts taken out).
+    pub control_max_us: f64,
+    /// Largest deviation of the control tick's period from `tick_period_us`.
+    pub tick_jitter_max_us: f64,
+    /// Nominal period of the control tick.
+    pub tick_period_us: f64,
+    /// Longest execution of any interrupt handler.
+    pub isr_max_us: f64,
+    /// Longest latency from an encoder edge to its handler's first instruction.
+    pub isr_latency_max_us: f64,
+    /// Longest stretch with interrupts disabled.
+    pub interrupts_off_max_us: f64,
+    /// Least free stack (bytes between the lowest SP and the end of static data).
+    pub stack_margin_min_bytes: u32,
+    /// Highest CPU load (awake fraction) over the run.
+    pub cpu_load_max: f64,
+}
+
+impl Budgets {
+    pub fn load(path: &std::path::Path) -> Result<Self, TimingError> {
+        let text = std::fs::read_to_string(path).map_err(|source| TimingError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+        toml::from_str(&text).map_err(|source| TimingError::Parse {
+            path: path.display().to_string(),
+            source,
+        })
+    }
+}
+
+/// Min, mean, max and count of a series of cycle counts.
+#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
+pub struct Stats {
+    pub count: u64,
+    pub min: u64,
+    pub max: u64,
+    pub mean: f64,
+    #[serde(skip)]
+    sum: u128,
+}
+
+impl Stats {
+    fn add(&mut self, v: u64) {
+        if self.count == 0 || v < self.min {
+            self.min = v;
+        }
+        self.max = self.max.max(v);
+        self.count += 1;
+        self.sum += v as u128;
+        self.mean = self.sum as f64 / self.count as f64;
+    }
+}
+
+#[derive(Debug, Clone)]
+struct IsrFrame {
+    vector: u8,
+    entry: u64,
+    /// The response's cycles the CPU spent awake before `entry`.
+    response: u64,
+}
+
+#[derive(Debug, Clone)]
+struct FnFrame {
+    entry: u64,
+    sp: u16,
+    interrupted: u64,
+}
+
+/// Per-vector measurements.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct IsrTiming {
+    pub vector: u8,
+    pub name: String,
+    /// Cycles from the vector's first instruction to the end of RETI.
+    pub duration: Stats,
+    /// Cycles from the encoder edge to the vector (INT4/INT5 only): the
+    /// instruction in progress, handlers before it, and the response (see
+    /// [`RESPONSE_CYCLES`]).
+    pub latency: Stats,
+}
+
+/// Watches a run; see the module docs.
+pub struct TimingProbe {
+    control_fn: u32,
+    vectors: BTreeMap<u32, u8>,
+    isr_stack: Vec<IsrFrame>,
+    fn_frame: Option<FnFrame>,
+    /// Cycle of every entry of the control function, in order (one per
+    /// 15 ms: about 240 000 in an hour of robot time).
+    entries: Vec<u64>,
+    period_nominal: u64,
+    control: Stats,
+    isrs: BTreeMap<u8, IsrTiming>,
+    interrupts_off_since: Option<(u64, u32)>,
+    longest_off: (u64, u32),
+    min_sp: u16,
+    awake: u64,
+    total: u64,
+}
+
+impl TimingProbe {
+    /// Probe the control function `control_fn` (a symbol), whose nominal
+    /// period is `period_cycles`.
+    pub fn new(fw: &Firmware, control_fn: &str, period_cycles: u64) -> Result<Self, TimingError> {
+        let f = fw
+            .symbol(control_fn)
+            .map_err(|_| TimingError::NoFunction(control_fn.into()))?;
+        let vectors = (1u8..57).map(|n| (n as u32 * 4, n)).collect();
+        Ok(Self {
+            control_fn: f.addr,
+            vectors,
+            isr_stack: Vec::new(),
+            fn_frame: None,
+            entries: Vec::new(),
+            period_nominal: period_cycles,
+            control: Stats::default(),
+            isrs: BTreeMap::new(),
+            interrupts_off_since: None,
+            longest_off: (0, 0),
+            min_sp: u16::MAX,
+            awake: 0,
+            total: 0,
+        })
+    }
+
+    fn vector_name(n: u8) -> String {
+        VECTOR_NAMES
+            .get(n as usize)
+            .map(|s| s.to_string())
+            .unwrap_or_else(|| format!("vector {n}"))
+    }
+}
+
+impl Observer for TimingProbe {
+    fn step(&mut self, s: &Step) {
+        let dt = s.cycle_after - s.cycle_before;
+        self.total += dt;
+        if !s.slept {
+            self.awake += dt;
+        }
+        self.min_sp = self.min_sp.min(s.sp_after);
+
+        // Leaving an interrupt: RETI executed.
+        if !s.slept && s.opcode == RETI {
+            if let Some(frame) = self.isr_stack.pop() {
+                let d = s.cycle_after - frame.entry;
+                self.isrs.entry(frame.vector).or_default().duration.add(d);
+                if let Some(f) = &mut self.fn_frame {
+                    if self.isr_stack.is_empty() {
+                        // The response (before the vector) is the
+                        // interrupt's time too.
+                        f.interrupted += frame.response + d;
+                    }
+                }
+            }
+        }
+        // Leaving the control function: RET at the depth it was entered.
+        if let Some(f) = &self.fn_frame {
+            if !s.slept && s.opcode == RET && s.sp_before == f.sp && self.isr_stack.is_empty() {
+                let f = self.fn_frame.take().expect("frame");
+                self.control.add(s.cycle_after - f.entry - f.interrupted);
+            }
+        }
+        // Entering an interrupt: the PC landed on a vector slot it was not
+        // already at.
+        if s.pc_after != s.pc_before {
+            if let Some(&v) = self.vectors.get(&s.pc_after) {
+                // A jump to the slot is an interrupt only if the stack grew by
+                // (at least) a return address.
+                if s.sp_after + RETURN_ADDRESS_BYTES <= s.sp_before {
+                    // The response ends the step; waking, the CPU starts up
+                    // first (asleep), then responds (awake).
+                    if s.slept {
+                        self.awake += RESPONSE_CYCLES;
+                    }
+                    self.isr_stack.push(IsrFrame {
+                        vector: v,
+                        entry: s.cycle_after,
+                        response: RESPONSE_CYCLES,
+                    });
+                    let t = self.isrs.entry(v).or_default();
+                    t.vector = v;
+                    t.name = Self::vector_name(v);
+                    let edge = match v {
+                        5 => Some(s.last_a_edge[0]),
+                        6 => Some(s.last_a_edge[1]),
+                        _ => None,
+                    };
+                    if let Some(e) = edge.filter(|&e| e > 0 && e <= s.cycle_after) {
+                        t.latency.add(s.cycle_after - e);
+                    }
+                }
+            }
+            if s.pc_after == self.control_fn && self.fn_frame.is_none() {
+                self.entries.push(s.cycle_after);
+                self.fn_frame = Some(FnFrame {
+                    entry: s.cycle_after,
+                    sp: s.sp_after,
+                    interrupted: 0,
+                });
+            }
+        }
+        // Interrupts-disabled stretches (awake only: `sei; sleep` sleeps with
+        // I set).
+        match (s.interrupts_after, self.interrupts_off_since) {
+            (false, None) => self.interrupts_off_since = Some((s.cycle_after, s.pc_after)),
+            (true, Some((since, pc))) => {
+                let d = s.cycle_after.saturating_sub(since);
+                if d > self.longest_off.0 {
+                    self.longest_off = (d, pc);
+                }
+                self.interrupts_off_since = None;
+            }
+            _ => {}
+        }
+    }
+
+    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any> {
+        self
+    }
+}
+
+/// What a probe measured, in cycles and microseconds.
+#[derive(Debug, Clone, Serialize)]
+pub struct TimingReport {
+    pub clock_hz: u32,
+    pub control_function: String,
+    pub control_cycles: Stats,
+    /// Periods between consecutive entries of the control function, except
+    /// those across a segment start (see [`TimingProbe::report`]).
+    pub tick_period_cycles: Stats,
+    pub tick_jitter_max_cycles: u64,
+    /// Periods left out because a segment (leg or turn) started inside
+    /// them: the firmware restarts its tick there, after a pause.
+    pub tick_restarts: usize,
+    pub isrs: Vec<IsrTiming>,
+    pub interrupts_off_max_cycles: u64,
+    pub interrupts_off_max_at: Option<String>,
+    pub stack_min_sp: u16,
+    pub static_data_end: u16,
+    pub stack_margin_bytes: i64,
+    pub cpu_load: f64,
+}
+
+impl TimingProbe {
+    /// What was measured. `segment_starts`: the cycles at which the run's
+    /// legs and turns started. A firmware stops its control tick between
+    /// segments and restarts it at the next one, so the period across a
+    /// segment start is a pause, not jitter, and is left out (counted in
+    /// [`TimingReport::tick_restarts`]); a tick missed while a segment
+    /// runs still counts.
+    pub fn report(
+        &self,
+        fw: &Firmware,
+        control_fn: &str,
+        clock_hz: u32,
+        segment_starts: &[u64],
+    ) -> TimingReport {
+        let bss_end = fw.symbol("__bss_end").map(|s| s.addr as u16).unwrap_or(0);
+        let mut periods = Stats::default();
+        let mut jitter = 0;
+        let mut restarts = 0;
+        for w in self.entries.windows(2) {
+            let (from, to) = (w[0], w[1]);
+            if segment_starts.iter().any(|&c| from < c && c <= to) {
+                restarts += 1;
+                continue;
+            }
+            let p = to - from;
+            periods.add(p);
+            jitter = jitter.max(p.abs_diff(self.period_nominal));
+        }
+        TimingReport {
+            clock_hz,
+            control_function: control_fn.into(),
+            control_cycles: self.control,
+            tick_period_cycles: periods,
+            tick_jitter_max_cycles: jitter,
+            tick_restarts: restarts,
+            isrs: self.isrs.values().cloned().collect(),
+            interrupts_off_max_cycles: self.longest_off.0,
+            interrupts_off_max_at: fw
+                .function_at(self.longest_off.1)
+                .map(|(n, o)| format!("{n}+0x{o:x}")),
+            stack_min_sp: self.min_sp,
+            static_data_end: bss_end,
+            stack_margin_bytes: self.min_sp as i64 - bss_end as i64,
+            cpu_load: if self.total > 0 {
+                self.awake as f64 / self.total as f64
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+/// One row of the budget table.
+#[derive(Debug, Clone, Serialize)]
+pub struct BudgetRow {
+    pub what: String,
+    pub measured: f64,
+    pub budget: f64,
+    pub unit: &'static str,
+    pub pass: bool,
+}
+
+impl TimingReport {
+    fn us(&self, cycles: f64) -> f64 {
+        cycles * 1e6 / self.clock_hz as f64
+    }
+
+    /// Compare against `b`.
+    pub fn check(&self, b: &Budgets) -> Vec<BudgetRow> {
+        let mut rows = Vec::new();
+        let mut row = |what: &str, measured: f64, budget: f64, unit, upper: bool| {
+            rows.push(BudgetRow {
+                what: what.into(),
+                measured,
+                budget,
+                unit,
+                pass: if upper {
+                    measured <= budget
+                } else {
+                    measured >= budget
+                },
+            })
+        };
+        row(
+            &format!("{} execution, max", self.control_function),
+            self.us(self.control_cycles.max as f64),
+            b.control_max_us,
+            "us",
+            true,
+        );
+        row(
+            "control tick jitter, max |period - nominal|",
+            self.us(self.tick_jitter_max_cycles as f64),
+            b.tick_jitter_max_us,
+            "us",
+            true,
+        );
+        let isr_max = self.isrs.iter().map(|i| i.duration.max).max().unwrap_or(0);
+        row(
+            "interrupt handler, longest",
+            self.us(isr_max as f64),
+            b.isr_max_us,
+            "us",
+            true,
+        );
+        let lat = self.isrs.iter().map(|i| i.latency.max).max().unwrap_or(0);
+        row(
+            "encoder edge to handler, longest",
+            self.us(lat as f64),
+            b.isr_latency_max_us,
+            "us",
+            true,
+        );
+        row(
+            "interrupts disabled, longest",
+            self.us(self.interrupts_off_max_cycles as f64),
+            b.interrupts_off_max_us,
+            "us",
+            true,
+        );
+        row(
+            "stack margin",
+            self.stack_margin_bytes as f64,
+            b.stack_margin_min_bytes as f64,
+            "bytes",
+            false,
+        );
+        row("CPU load", self.cpu_load, b.cpu_load_max, "", true);
+        rows
+    }
+
+    pub fn render(&self, rows: &[BudgetRow]) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let c = |v: u64| self.us(v as f64);
+        let _ = writeln!(
+            s,
+            "control function {}: {} calls, {:.1} / {:.1} / {:.1} us (min / mean / max, interrupts excluded)",
+            self.control_function,
+            self.control_cycles.count,
+            c(self.control_cycles.min),
+            self.us(self.control_cycles.mean),
+            c(self.control_cycles.max)
+        );
+        let _ = writeln!(
+            s,
+            "control tick: period {:.3} / {:.3} / {:.3} ms, jitter max {:.2} us{}",
+            c(self.tick_period_cycles.min) / 1e3,
+            self.us(self.tick_period_cycles.mean) / 1e3,
+            c(self.tick_period_cycles.max) / 1e3,
+            c(self.tick_jitter_max_cycles),
+            match self.tick_restarts {
+                0 => String::new(),
+                n => format!(" ({n} restarts at segment starts left out)"),
+            }
+        );
+        for i in &self.isrs {
+            let _ = write!(
+                s,
+                "  {:<13} {:>7} runs, {:6.2} / {:6.2} / {:6.2} us",
+                i.name,
+                i.duration.count,
+                c(i.duration.min),
+                self.us(i.duration.mean),
+                c(i.duration.max)
+            );
+            if i.latency.count > 0 {
+                let _ = write!(
+                    s,
+                    ", latency from edge {:.2} / {:.2} / {:.2} us",
+                    c(i.latency.min),
+                    self.us(i.latency.mean),
+                    c(i.latency.max)
+                );
+            }
+            let _ = writeln!(s);
+        }
+        let _ = writeln!(
+            s,
+            "interrupts disabled at most {:.2} us (at {}), lowest SP 0x{:04x}, static data ends 0x{:04x}, CPU load {:.2} %",
+            c(self.interrupts_off_max_cycles),
+            self.interrupts_off_max_at.as_deref().unwrap_or("?"),
+            self.stack_min_sp,
+            self.static_data_end,
+            self.cpu_load * 100.0
+        );
+        let _ = writeln!(
+            s,
+            "\n  {:<46} {:>12} {:>12}  result",
+            "budget", "measured", "limit"
+        );
+        for r in rows {
+            let _ = writeln!(
+                s,
+                "  {:<46} {:>9.2} {:<2} {:>9.2} {:<2}  {}",
+                r.what,
+                r.measured,
+                r.unit,
+                r.budget,
+                r.unit,
+                if r.pass { "ok" } else { "EXCEEDED" }
+            );
+        }
+        s
+    }
+}
