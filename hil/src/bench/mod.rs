@@ -16,7 +16,10 @@
 //! | `mod.rs` | [`Bench`], its public API, [`BenchOptions`] |
 //! | `setup.rs` | building a bench: flash, register claims, the IRQs a [`Board`] connects |
 //! | `run.rs` | the run loops ([`Bench::run_until`]), [`Step`] and [`Observer`] |
-//! | `core.rs` | [`BenchCore`], the handler simavr calls back, dispatching to the parts below; what needs several parts (a bridge change reaching the plant, a fault action) |
+//! | `core/` | [`BenchCore`], the handler simavr calls back, dispatching to the parts below (`mod.rs`); what needs several parts, a bridge change reaching the plant or a fault action (`parts.rs`); what they hold, for the facade (`records.rs`) |
+//! | `inject.rs` | injection points: where the bench can bend what the firmware sees |
+//! | `hang.rs` | hang detection: a firmware in a test that makes no progress |
+//! | `gdb/` | the GDB Remote Serial Protocol stub, on loopback |
 //! | `bridge.rs` | the motor driver's inputs from the PWM timers and ports, to the plant; [`PinStats`] |
 //! | `driver.rs` | each driver's truth table (DRV8833, L298N, TB6612, PWM/DIR) as the plant's bridge inputs |
 //! | `edges.rs` | where an encoder edge is born: planning, raising, lazy channel B |
