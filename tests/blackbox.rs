@@ -59,7 +59,7 @@ fn run_port(test: Test, seed: u64, record: bool) -> TestRun {
     .expect("the bench runs the port")
 }
 
-/// The thesis' turns are mirrored (its CW spins left, see firmware/README.md).
+/// The thesis' turns are mirrored (its CW spins left, see docs/design/thesis-build.md).
 fn thesis_turn_sign(test: Test) -> f64 {
     match test {
         Test::UmbmarkCw => 1.0,
@@ -179,7 +179,7 @@ fn the_thesis_sketch_drives_as_the_rust_port() {
         // implementations steer their legs apart by about 1 degree each.
         // Before the interrupt response was executed it showed CCW (3.2 and
         // 3.2 cm; CW 0.6 and 0.2 cm); with it, CW's y is 5.1 cm apart (sd
-        // about 1 cm). Its cause is not found yet (the README says so).
+        // about 1 cm). Its cause is not found yet (docs/results/blackbox.md says so).
         for axis in 0..2 {
             let (ms, ss) = mean_sd(&sk_end.iter().map(|e| e[axis]).collect::<Vec<_>>());
             let (mr, sr) = mean_sd(&rs_end.iter().map(|e| e[axis]).collect::<Vec<_>>());
@@ -295,7 +295,7 @@ fn a_black_box_hang_is_found_without_firmware_variables() {
 
 /// Without its interface or a description the bench says what to give; a
 /// fixed leg refuses another length; a bad description is one line; all
-/// before anything runs, with exit code 2 or 1 as the README's table says.
+/// before anything runs, with exit code 2 or 1 as docs/reference/exit-codes.md says.
 #[test]
 fn the_cli_says_what_a_black_box_run_needs() {
     let root = hil::paths::workspace_root();

@@ -3,7 +3,7 @@
 //! the request to the vector, which holds a `jmp` of three; five more when
 //! the interrupt wakes the CPU from idle sleep (whose start-up time is
 //! none); five for `reti`. simavr alone enters the vector at once, and
-//! wakes one cycle late (`hil/src/sim/response.rs` adds what is missing).
+//! wakes one cycle late (`hil/src/mcu/sim/response.rs` adds what is missing).
 //!
 //! Each case runs a hand-assembled program on a bare simavr ATmega2560:
 //! INT0 enabled on any change of PD0, which the test toggles from a cycle

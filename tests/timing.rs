@@ -56,7 +56,7 @@ fn segment_restarts_are_not_jitter() {
 
 /// The control tick comes every 15 ms (a hardware CTC timer: jitter is only
 /// the interrupt latency), and the PID of both wheels runs once per tick in
-/// the time firmware/README.md documents: 101 / 130 / 148 us (min / mean /
+/// the time docs/results/timing.md documents: 101 / 130 / 148 us (min / mean /
 /// max), i.e. about 1 620 / 2 080 / 2 370 cycles, interrupts taken out.
 /// The bounds are a few per cent around that, so a control tick slower by a
 /// few dozen float operations fails them.
@@ -100,9 +100,9 @@ const ISR_TRIP_FIRES: [(&str, u64); 2] = [("INT4", 77), ("INT5", 78)];
 /// datasheet's response time (5 cycles when the CPU is awake, 5 more to wake
 /// it), delayed at most by one other handler in progress and a return to
 /// sleep; the stack keeps
-/// its margin and the CPU is awake as little as firmware/README.md
+/// its margin and the CPU is awake as little as docs/results/timing.md
 /// documents for a straight line. The latencies are measured, not computed:
-/// the simulation spends the response (`hil/src/sim/response.rs`), so a
+/// the simulation spends the response (`hil/src/mcu/sim/response.rs`), so a
 /// run that lost it measures less than the datasheet's figures.
 #[test]
 fn encoder_isrs_are_measured() {
@@ -158,7 +158,7 @@ fn encoder_isrs_are_measured() {
         "stack margin {}",
         r.stack_margin_bytes
     );
-    // 1.56 % on this 600 mm line (firmware/README.md: 1.8 % on a 2 m one,
+    // 1.56 % on this 600 mm line (docs/results/timing.md: 1.8 % on a 2 m one,
     // which spends a smaller share of its time stopped).
     assert!(
         (0.0145..0.0170).contains(&r.cpu_load),

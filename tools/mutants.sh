@@ -5,7 +5,7 @@
 # and runs that crate's own tests against each edit; a mutant the tests do
 # not notice ("missed") is a behaviour nothing checks. Results go to
 # target/mutants/CRATE/mutants.out/ (missed.txt, caught.txt, outcomes.json).
-# See docs/mutants.md for the last figures and the mutants left on purpose.
+# See docs/results/mutation.md for the last figures and the mutants left on purpose.
 #
 #   tools/mutants.sh                 # protocol
 #   tools/mutants.sh protocol calib  # several crates, one after the other

@@ -17,7 +17,7 @@ pub enum BenchError {
     Sim(#[from] SimError),
     /// A bench-interface path (the robust or thesis build's own tests) on
     /// a firmware without that interface.
-    #[error("{0}; a firmware that knows nothing of the bench runs with a test description (--tests FILE; docs/test-description.md)")]
+    #[error("{0}; a firmware that knows nothing of the bench runs with a test description (--tests FILE; docs/reference/test-description.md)")]
     NoInterface(String),
     /// A test description that does not fit the firmware or the run.
     #[error("{0}")]

@@ -61,7 +61,7 @@ pub struct Target {
     /// Firmware ELF to run instead of the build in firmware/target.
     #[arg(long, value_name = "FILE")]
     pub elf: Option<PathBuf>,
-    /// Test description (TOML, docs/test-description.md) of a firmware
+    /// Test description (TOML, docs/reference/test-description.md) of a firmware
     /// that knows nothing of the bench (an Arduino sketch, your own C or
     /// Rust): how it is ready, how each test starts and ends, its variable
     /// names. Runs its `elf` unless --elf is given. Checked before anything runs.

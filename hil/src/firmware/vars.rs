@@ -1,5 +1,5 @@
 //! The firmware's bench interface: variables the bench reads from SRAM by
-//! their ELF symbol names (documented in firmware/README.md). What their
+//! their ELF symbol names (documented in docs/reference/firmware.md). What their
 //! bytes mean is the protocol's: `HT_STATE` is a
 //! [`henrytwo_protocol::RunState`], `HT_PHASE` a [`henrytwo_protocol::Phase`]
 //! (the bench decodes them in `Bench::run_state` and `Bench::phase`).

@@ -406,7 +406,7 @@ impl HoldoutReport {
         })
     }
 
-    /// A plain-text table (what the README quotes).
+    /// A plain-text table (what docs/results/calibration.md quotes).
     pub fn render(&self) -> String {
         let mut out = String::new();
         let a = &self.assumptions;

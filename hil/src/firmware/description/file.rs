@@ -1,4 +1,4 @@
-//! The test-description file (TOML; documented in docs/test-description.md)
+//! The test-description file (TOML; documented in docs/reference/test-description.md)
 //! and its checks: each field against what the bench and the MCU allow,
 //! one line per problem naming the file, the field and the allowed range.
 

@@ -1,5 +1,5 @@
 //! Firmware that knows nothing of the bench, run black-box: a test
-//! description (a TOML file, docs/test-description.md) says how the
+//! description (a TOML file, docs/reference/test-description.md) says how the
 //! firmware is ready after reset, how each test starts (bytes on a USART, or
 //! a pin held at a level) and how it ends (the motors idle for a time, a
 //! text on a USART, a time limit), and, where the user has them, which of

@@ -51,7 +51,7 @@ pub(super) fn fingerprint(read: impl Fn(u16) -> u8) -> Vec<u8> {
 /// Run `test` on the bench; with `record`, recording the inputs a replay
 /// needs (which costs the bench time and memory no scenario spends: the
 /// timed runs do not record).
-#[inline(never)] // profiled by name: see the README's speed section
+#[inline(never)] // profiled by name: see docs/design/performance.md
 pub fn bench_run(
     fw: &Firmware,
     robot: &RobotConfig,

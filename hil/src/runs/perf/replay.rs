@@ -105,7 +105,7 @@ impl Handler for Replay {
 
 /// Replay a recorded run in bare simavr; `simavr_pwm_timers`: leave timers
 /// 2 and 4 to simavr (as shipped) or take them off (as the bench does).
-#[inline(never)] // profiled by name: see the README's speed section
+#[inline(never)] // profiled by name: see docs/design/performance.md
 pub fn raw_replay(
     fw: &Firmware,
     rec: &Recorded,
