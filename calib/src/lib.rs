@@ -99,6 +99,14 @@ pub mod triangle;
 mod types;
 pub mod umbmark;
 
+/// Henrytwo's design wheelbase, wheel centre to centre, mm: the nominal wheelbase `b` of
+/// [`UmbmarkParams::default`] and [`TriangleParams::default`], the one the robot's firmware
+/// starts with and the plant's nominal robot has. One definition, so that a calibration run
+/// without a wheelbase given assumes the robot the rest of the bench describes. (The thesis'
+/// reduced tests took the 125 mm between the wheels' inner faces as nominal; the GUI's
+/// constants that reproduce its printed numbers are in [`thesis`].)
+pub const HENRYTWO_WHEELBASE_MM: f64 = 130.0;
+
 pub use error::Error;
 pub use exact::Solution;
 pub use plot::{plot_triangle, plot_umbmark};

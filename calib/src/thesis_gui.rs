@@ -21,8 +21,9 @@ pub const UMBMARK_GUI_HALF_BASE_CM: f64 = 6.15;
 pub const TRIANGLE_GUI_HALF_BASE_CM: f64 = 6.36;
 /// ANEXO D as printed: `Base_Actual_T=Error_base_T*125`, mm.
 pub const TRIANGLE_GUI_BASE_MM: f64 = 125.0;
-/// The robot's design wheelbase (wheel centre to centre), Table 10's "Ba antes", mm.
-pub const DESIGN_WHEELBASE_MM: f64 = 130.0;
+/// The robot's design wheelbase (wheel centre to centre), Table 10's "Ba antes", mm: the
+/// crate's default wheelbase, [`crate::HENRYTWO_WHEELBASE_MM`].
+pub const DESIGN_WHEELBASE_MM: f64 = crate::HENRYTWO_WHEELBASE_MM;
 
 /// The UMBmark GUI's intermediate values (ANEXO C, `pushbutton15_Callback`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -95,7 +95,8 @@ use crate::types::{
     TriangleRuns,
 };
 
-/// Parameters of a Triangular Path analysis. `Default` gives the thesis robot's reduced test.
+/// Parameters of a Triangular Path analysis. `Default` gives the thesis robot's reduced test
+/// (L = 2 m) on its design wheelbase, [`crate::HENRYTWO_WHEELBASE_MM`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TriangleParams {
     /// Length L of the line and side of the triangle, cm.
@@ -132,7 +133,7 @@ impl Default for TriangleParams {
     fn default() -> Self {
         Self {
             side_cm: 200.0,
-            wheelbase_mm: 125.0,
+            wheelbase_mm: crate::HENRYTWO_WHEELBASE_MM,
             direction: Direction::Ccw,
             frame: Frame::Default,
             mode: Mode::Correct,
@@ -487,5 +488,22 @@ pub fn triangle_correction(
         wheelbase_mm,
         es,
         warnings,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Without a wheelbase given, the Triangular Path takes Henrytwo's 130 mm design
+    /// wheelbase as nominal (what the firmware starts with and `hil calibrate --help` says),
+    /// not the 125 mm the thesis' reduced tests took, and scales it by Eb.
+    #[test]
+    fn default_wheelbase_is_henrytwos_130_mm() {
+        let line = LineRuns::new(vec![Endpoint::new(0.5, 1.0); 5]).unwrap();
+        let triangle = TriangleRuns::complete(vec![Endpoint::new(2.0, -3.0); 5]).unwrap();
+        let r = triangle_correction(&line, &triangle, &TriangleParams::default());
+        assert_eq!(r.wheelbase_nominal_mm, 130.0);
+        assert_eq!(r.wheelbase_mm, r.eb * 130.0);
     }
 }

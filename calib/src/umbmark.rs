@@ -49,7 +49,8 @@ use crate::types::{
     centroid, Direction, EdVariant, Endpoint, Frame, Mode, ScaleError, UmbmarkRuns,
 };
 
-/// Parameters of a UMBmark analysis. `Default` gives the thesis robot's reduced UMBmark.
+/// Parameters of a UMBmark analysis. `Default` gives the thesis robot's reduced UMBmark
+/// (L = 2 m) on its design wheelbase, [`crate::HENRYTWO_WHEELBASE_MM`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UmbmarkParams {
     /// Side L of the square, cm (reduced UMBmark: 200; Borenstein's original: 400).
@@ -83,7 +84,7 @@ impl Default for UmbmarkParams {
     fn default() -> Self {
         Self {
             side_cm: 200.0,
-            wheelbase_mm: 125.0,
+            wheelbase_mm: crate::HENRYTWO_WHEELBASE_MM,
             frame: Frame::Default,
             mode: Mode::Correct,
             ed_variant: EdVariant::Borenstein,
@@ -444,5 +445,24 @@ pub fn umbmark_correction(runs: &UmbmarkRuns, params: &UmbmarkParams) -> Umbmark
         wheelbase_mm,
         es,
         warnings,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Without a wheelbase given, UMBmark takes Henrytwo's 130 mm design wheelbase as
+    /// nominal, as the Triangular Path does.
+    #[test]
+    fn default_wheelbase_is_henrytwos_130_mm() {
+        let runs = UmbmarkRuns::new(
+            vec![Endpoint::new(-3.0, 4.0); 5],
+            vec![Endpoint::new(2.0, 1.5); 5],
+        )
+        .unwrap();
+        let r = umbmark_correction(&runs, &UmbmarkParams::default());
+        assert_eq!(r.wheelbase_nominal_mm, 130.0);
+        assert_eq!(r.wheelbase_mm, r.eb * 130.0);
     }
 }

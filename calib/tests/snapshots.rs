@@ -27,13 +27,15 @@ fn json<T: serde::Serialize>(t: &T) -> Value {
     rounded(serde_json::to_value(t).unwrap())
 }
 
-/// UMBmark experiment 1, Mode::Correct, data declared in the thesis GUI's frame.
+/// UMBmark experiment 1, Mode::Correct, data declared in the thesis GUI's frame, with the
+/// wheelbase the robot ran it with (125 mm, not the crate's default).
 #[test]
 fn umbmark_experiment_1_correct() {
     let r = umbmark_correction(
         &thesis_umbmark(1),
         &UmbmarkParams {
             frame: Frame::ThesisGui,
+            wheelbase_mm: umbmark_params_for_experiment(1).unwrap().wheelbase_mm,
             ..UmbmarkParams::default()
         },
     );
@@ -50,11 +52,16 @@ fn umbmark_experiment_1_thesis_compat() {
     insta::assert_json_snapshot!(json(&r));
 }
 
-/// Triangular Path experiment 1, Mode::Correct, default frame (where its x and y agree).
+/// Triangular Path experiment 1, Mode::Correct, default frame (where its x and y agree), with
+/// the wheelbase the robot ran it with (125 mm, not the crate's default).
 #[test]
 fn triangle_experiment_1_correct() {
     let e = thesis_triangle(1);
-    let r = triangle_correction(&e.line, &e.triangle, &TriangleParams::default());
+    let params = TriangleParams {
+        wheelbase_mm: triangle_params_for_experiment(1).unwrap().wheelbase_mm,
+        ..TriangleParams::default()
+    };
+    let r = triangle_correction(&e.line, &e.triangle, &params);
     insta::assert_json_snapshot!(json(&r));
 }
 

@@ -6,7 +6,7 @@
 use approx::assert_relative_eq;
 use calib::{
     triangle_correction, Direction, EdVariant, Endpoint, LineRuns, PartialEndpoint, TriangleParams,
-    TriangleRuns,
+    TriangleRuns, HENRYTWO_WHEELBASE_MM,
 };
 use proptest::prelude::*;
 
@@ -51,7 +51,7 @@ proptest! {
         assert_relative_eq!(r.alpha_y_rad.unwrap(), delta, epsilon = 1e-12);
         assert_relative_eq!(r.beta_rad, beta, epsilon = 1e-12);
         assert_relative_eq!(r.eb, 120.0 / (120.0 - delta.to_degrees()), max_relative = 1e-12);
-        assert_relative_eq!(r.wheelbase_mm, r.eb * 125.0, max_relative = 1e-12);
+        assert_relative_eq!(r.wheelbase_mm, r.eb * HENRYTWO_WHEELBASE_MM, max_relative = 1e-12);
         prop_assert!(r.agreement.unwrap().consistent);
     }
 
@@ -74,7 +74,7 @@ fn zero_errors_give_unit_factors() {
     let r = triangle_correction(&line, &tri, &TriangleParams::default());
     assert_eq!((r.ed, r.eb, r.cl, r.cr), (1.0, 1.0, 1.0, 1.0));
     assert_eq!(r.radius_cm, None);
-    assert_eq!(r.wheelbase_mm, 125.0);
+    assert_eq!(r.wheelbase_mm, HENRYTWO_WHEELBASE_MM);
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
 }
 

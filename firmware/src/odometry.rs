@@ -97,7 +97,8 @@ pub const fn leg_weight(c: f32, mm_per_count: f32, reference_mm: f32) -> i32 {
 /// `wL * dL + wR * dR >= ceil(2 * leg_mm / reference_mm * 2^15)`, i.e. when
 /// the mean corrected wheel distance `(cL mL dL + cR mR dR) / 2` reaches
 /// `leg_mm` (up to the rounding of the weights to 2^-15). In `i64`: with
-/// 0.001 mm per count a 5 000 mm leg (the protocol's limits) is 3.3e11.
+/// 0.001 mm per count a 5 000 mm leg (the protocol's limits,
+/// `henrytwo_protocol::limits`) is 3.3e11.
 pub const fn leg_target(leg_mm: f32, reference_mm: f32) -> i64 {
     ceil_to_i64(2.0 * leg_mm / reference_mm * WEIGHT_ONE as f32)
 }
@@ -137,6 +138,7 @@ const _: () = assert!(leg_trip_ahead(1, WEIGHT_ONE) == 1 && leg_trip_ahead(0, WE
 mod tests {
     use super::*;
     use crate::settings::Settings;
+    use henrytwo_protocol::limits;
 
     /// Henrytwo's distance per count (both wheels alike).
     fn henrytwo_mm() -> f32 {
@@ -206,10 +208,13 @@ mod tests {
 
     #[test]
     fn a_fine_encoder_on_a_long_leg_does_not_overflow() {
-        // 0.001 mm per count, 5000 mm: 10^7 counts together.
-        let t = leg_target(5000.0, 0.001);
+        // The finest encoder on the longest leg the protocol accepts: 0.001 mm
+        // per count, 5000 mm, 10^7 counts together.
+        let (leg_mm, mm) = (limits::LEG_LENGTH_MM.max, limits::MM_PER_COUNT.min);
+        assert_eq!((leg_mm, mm), (5000.0, 0.001));
+        let t = leg_target(leg_mm, mm);
         assert!(t > i32::MAX as i64);
-        let w = leg_weight(1.0, 0.001, 0.001);
+        let w = leg_weight(1.0, mm, mm);
         assert!(leg_progress(w, w, 4_999_000, 4_999_000) < t);
         assert!(leg_progress(w, w, 5_000_100, 5_000_100) >= t);
     }

@@ -4,7 +4,7 @@
 //! `HT_LEG_LENGTH_MM` itself, so a bench write and a protocol write are the
 //! same thing.
 
-use henrytwo_protocol::Param;
+use henrytwo_protocol::{limits, Param};
 
 use crate::bench;
 use crate::pid::Gains;
@@ -175,4 +175,13 @@ const _: () = {
     assert!(Param::MmPerCountLeft.check(d.mm_per_count.left).is_ok());
     assert!(Param::MmPerCountRight.check(d.mm_per_count.right).is_ok());
     assert!(Param::CountsPerWheelRev.check(d.counts_per_wheel_rev).is_ok());
+};
+
+// `set` stores the whole-number parameters in integer fields: every value the
+// protocol's limits accept must fit its field, or an accepted value would wrap.
+const _: () = {
+    assert!(limits::STALL_TIMEOUT_MS.min >= 0.0 && limits::STALL_TIMEOUT_MS.max <= u16::MAX as f32);
+    assert!(limits::STALL_DUTY.min >= 0.0 && limits::STALL_DUTY.max <= u8::MAX as f32);
+    assert!(limits::DRIVER_KIND.min >= 0.0 && limits::DRIVER_KIND.max <= u8::MAX as f32);
+    assert!(limits::DRIVER_PIN.min >= 0.0 && limits::DRIVER_PIN.max <= u8::MAX as f32);
 };

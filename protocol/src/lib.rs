@@ -7,7 +7,8 @@
 //! payload byte names the message (see [`message`]): a command from the host,
 //! the reply to it (the command's id with bit 7 set, then a [`Status`] byte),
 //! or a notification the firmware sends on its own. Run-time parameters and
-//! their ranges are in [`param`]. Every multi-byte value is little-endian.
+//! their ranges are in [`param`], the ranges by name in [`limits`]. Every
+//! multi-byte value is little-endian.
 //!
 //! Bytes outside a frame that are not [`START`] reach the application as
 //! [`Event::Raw`]: the firmware keeps accepting the thesis' single-byte test
@@ -24,6 +25,7 @@
 
 pub mod crc;
 pub mod frame;
+pub mod limits;
 pub mod message;
 pub mod param;
 pub mod status;

@@ -1,9 +1,12 @@
-//! Run-time parameters: ids, units and the ranges the firmware accepts.
+//! Run-time parameters: ids, units and the ranges the firmware accepts
+//! ([`Param::range`]; [`crate::limits`] names each).
 //!
 //! Every value travels as an `f32` (IEEE 754, little-endian). A value is
 //! accepted when it is finite, within `min..=max` (both inclusive) and, for
 //! the parameters marked integer, a whole number. Anything else is refused
 //! with [`Status::OutOfRange`] and changes nothing.
+
+use core::fmt;
 
 use crate::status::Status;
 
@@ -104,7 +107,9 @@ impl DriverKind {
     }
 }
 
-/// The values a parameter accepts.
+/// The values a parameter accepts: finite, within `min..=max` (both
+/// inclusive) and, for the whole-number parameters, integral. Displays as
+/// `min-max unit`, e.g. `50-500 mm`.
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub struct Range {
     /// Smallest value accepted.
@@ -113,21 +118,53 @@ pub struct Range {
     pub max: f32,
     /// Only whole numbers are accepted.
     pub integer: bool,
+    /// The unit of the values, for messages; empty for factors, gains, codes
+    /// and pins.
+    pub unit: &'static str,
 }
 
-const fn real(min: f32, max: f32) -> Range {
+const fn real(min: f32, max: f32, unit: &'static str) -> Range {
     Range {
         min,
         max,
         integer: false,
+        unit,
     }
 }
 
-const fn whole(min: f32, max: f32) -> Range {
+const fn whole(min: f32, max: f32, unit: &'static str) -> Range {
     Range {
         min,
         max,
         integer: true,
+        unit,
+    }
+}
+
+impl Range {
+    /// Whether the range accepts `value` (the `f32` that travels: a host
+    /// converts first).
+    pub const fn contains(self, value: f32) -> bool {
+        // NaN fails both comparisons; infinities fail one.
+        if !(value >= self.min && value <= self.max) {
+            return false;
+        }
+        // In range, |value| <= 5000 for every whole-number range (checked in
+        // `limits`), so the cast is exact for whole numbers.
+        if self.integer && (value as i32) as f32 != value {
+            return false;
+        }
+        true
+    }
+}
+
+impl fmt::Display for Range {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}-{}", self.min, self.max)?;
+        if !self.unit.is_empty() {
+            write!(f, " {}", self.unit)?;
+        }
+        Ok(())
     }
 }
 
@@ -176,28 +213,31 @@ impl Param {
         self as u8
     }
 
-    /// The values the firmware accepts.
+    /// The values the firmware accepts: the one table of them, which
+    /// [`Param::check`] applies and [`crate::limits`] names. (The values are
+    /// written here rather than in `limits`: built in the match, the AVR code of
+    /// `check` stays what it is.)
     pub const fn range(self) -> Range {
         match self {
-            Param::CorrLeft | Param::CorrRight => real(0.5, 1.5),
-            Param::WheelbaseMm => real(50.0, 500.0),
-            Param::LegLengthMm => real(10.0, 5000.0),
-            Param::TurnUmbmarkDeg | Param::TurnTriangleDeg => real(1.0, 360.0),
-            Param::SetpointLeft | Param::SetpointRight => real(1.0, 40.0),
-            Param::KpLeft | Param::KpRight => real(0.0, 100.0),
-            Param::KiLeft | Param::KiRight => real(0.0, 1000.0),
-            Param::KdLeft | Param::KdRight => real(0.0, 10.0),
-            Param::StallTimeoutMs => whole(45.0, 5000.0),
-            Param::StallDuty => whole(1.0, 255.0),
-            Param::MmPerCountLeft | Param::MmPerCountRight => real(0.001, 50.0),
-            Param::CountsPerWheelRev => real(1.0, 100_000.0),
-            Param::DriverKind => whole(0.0, 2.0),
+            Param::CorrLeft | Param::CorrRight => real(0.5, 1.5, ""),
+            Param::WheelbaseMm => real(50.0, 500.0, "mm"),
+            Param::LegLengthMm => real(10.0, 5000.0, "mm"),
+            Param::TurnUmbmarkDeg | Param::TurnTriangleDeg => real(1.0, 360.0, "deg"),
+            Param::SetpointLeft | Param::SetpointRight => real(1.0, 40.0, "thesis RPM"),
+            Param::KpLeft | Param::KpRight => real(0.0, 100.0, ""),
+            Param::KiLeft | Param::KiRight => real(0.0, 1000.0, ""),
+            Param::KdLeft | Param::KdRight => real(0.0, 10.0, ""),
+            Param::StallTimeoutMs => whole(45.0, 5000.0, "ms"),
+            Param::StallDuty => whole(1.0, 255.0, ""),
+            Param::MmPerCountLeft | Param::MmPerCountRight => real(0.001, 50.0, "mm"),
+            Param::CountsPerWheelRev => real(1.0, 100_000.0, "counts"),
+            Param::DriverKind => whole(0.0, 2.0, ""),
             Param::LeftPin1
             | Param::LeftPin2
             | Param::LeftPin3
             | Param::RightPin1
             | Param::RightPin2
-            | Param::RightPin3 => whole(0.0, 255.0),
+            | Param::RightPin3 => whole(0.0, 255.0, ""),
         }
     }
 
@@ -238,13 +278,7 @@ impl Param {
 
     /// `value` if the parameter accepts it, else [`Status::OutOfRange`].
     pub const fn check(self, value: f32) -> Result<f32, Status> {
-        let r = self.range();
-        // NaN fails both comparisons; infinities fail one.
-        if !(value >= r.min && value <= r.max) {
-            return Err(Status::OutOfRange);
-        }
-        // In range, |value| <= 5000, so the cast is exact for whole numbers.
-        if r.integer && (value as i32) as f32 != value {
+        if !self.range().contains(value) {
             return Err(Status::OutOfRange);
         }
         Ok(value)

@@ -48,3 +48,18 @@ impl From<crate::frame::FrameError> for Status {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn status_codes_round_trip() {
+        for b in 0..=255u8 {
+            if let Some(s) = Status::from_u8(b) {
+                assert_eq!(s as u8, b);
+            }
+        }
+        assert_eq!(Status::from_u8(8), None);
+    }
+}
