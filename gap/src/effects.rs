@@ -10,56 +10,140 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+/// An effect of the plant's effects library (`plant_model::effects`): the one list of
+/// them. Code that acts per effect matches on this enum, so an effect added here is a
+/// compile error wherever it is not handled yet; names from files and command lines come
+/// in through [`Effect::from_name`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Effect {
+    /// Ed = D_R/D_L, the ratio of the wheel diameters.
+    WheelDiameterRatio,
+    /// Eb = b_actual/b_reference, the wheelbase error.
+    WheelbaseRatio,
+    /// Es = L_calc/L_actual, the linear scale error (mean wheel diameter).
+    DistanceScale,
+    /// A fraction of each spin turn lost to wheel slip.
+    TurnSlip,
+    /// Wheel slip in straight legs.
+    StraightSlip,
+    /// Rotation after the motors are cut at the end of a turn.
+    Coast,
+    /// Misalignment of the wheels against the axle (crab angle of straight legs).
+    Toe,
+    /// Random heading disturbances from the floor.
+    FloorNoise,
+    /// Different motor gains left and right.
+    MotorGainAsymmetry,
+    /// Duty below which a motor does not turn.
+    DeadBand,
+    /// Battery voltage dropping under load and over a run.
+    BatterySag,
+    /// Encoder edges the firmware does not count.
+    EncoderMissedCounts,
+    /// Encoder edges that bounce.
+    EncoderGlitches,
+    /// Drag of the castor wheel.
+    CastorDrag,
+    /// Lost motion in the gearbox when a wheel reverses.
+    Backlash,
+}
+
+impl Effect {
+    /// Every effect, in the library's fixed order.
+    pub const ALL: [Effect; 15] = [
+        Effect::WheelDiameterRatio,
+        Effect::WheelbaseRatio,
+        Effect::DistanceScale,
+        Effect::TurnSlip,
+        Effect::StraightSlip,
+        Effect::Coast,
+        Effect::Toe,
+        Effect::FloorNoise,
+        Effect::MotorGainAsymmetry,
+        Effect::DeadBand,
+        Effect::BatterySag,
+        Effect::EncoderMissedCounts,
+        Effect::EncoderGlitches,
+        Effect::CastorDrag,
+        Effect::Backlash,
+    ];
+
+    /// The stable name: the key of its `[effects.<name>]` table in a robot config, and
+    /// the name reports and files use.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Effect::WheelDiameterRatio => "wheel_diameter_ratio",
+            Effect::WheelbaseRatio => "wheelbase_ratio",
+            Effect::DistanceScale => "distance_scale",
+            Effect::TurnSlip => "turn_slip",
+            Effect::StraightSlip => "straight_slip",
+            Effect::Coast => "coast",
+            Effect::Toe => "toe",
+            Effect::FloorNoise => "floor_noise",
+            Effect::MotorGainAsymmetry => "motor_gain_asymmetry",
+            Effect::DeadBand => "dead_band",
+            Effect::BatterySag => "battery_sag",
+            Effect::EncoderMissedCounts => "encoder_missed_counts",
+            Effect::EncoderGlitches => "encoder_glitches",
+            Effect::CastorDrag => "castor_drag",
+            Effect::Backlash => "backlash",
+        }
+    }
+
+    /// The effect named `name`, if the library has one.
+    pub fn from_name(name: &str) -> Option<Effect> {
+        Effect::ALL.into_iter().find(|e| e.name() == name)
+    }
+}
+
+impl std::fmt::Display for Effect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Ed = D_R/D_L, the ratio of the wheel diameters.
-pub const WHEEL_DIAMETER_RATIO: &str = "wheel_diameter_ratio";
+pub const WHEEL_DIAMETER_RATIO: &str = Effect::WheelDiameterRatio.name();
 /// Eb = b_actual/b_reference, the wheelbase error.
-pub const WHEELBASE_RATIO: &str = "wheelbase_ratio";
+pub const WHEELBASE_RATIO: &str = Effect::WheelbaseRatio.name();
 /// Es = L_calc/L_actual, the linear scale error (mean wheel diameter).
-pub const DISTANCE_SCALE: &str = "distance_scale";
+pub const DISTANCE_SCALE: &str = Effect::DistanceScale.name();
 /// A fraction of each spin turn lost to wheel slip.
-pub const TURN_SLIP: &str = "turn_slip";
+pub const TURN_SLIP: &str = Effect::TurnSlip.name();
 /// Wheel slip in straight legs.
-pub const STRAIGHT_SLIP: &str = "straight_slip";
+pub const STRAIGHT_SLIP: &str = Effect::StraightSlip.name();
 /// Rotation after the motors are cut at the end of a turn.
-pub const COAST: &str = "coast";
+pub const COAST: &str = Effect::Coast.name();
 /// Misalignment of the wheels against the axle (crab angle of straight legs).
-pub const TOE: &str = "toe";
+pub const TOE: &str = Effect::Toe.name();
 /// Random heading disturbances from the floor.
-pub const FLOOR_NOISE: &str = "floor_noise";
+pub const FLOOR_NOISE: &str = Effect::FloorNoise.name();
 /// Different motor gains left and right.
-pub const MOTOR_GAIN_ASYMMETRY: &str = "motor_gain_asymmetry";
+pub const MOTOR_GAIN_ASYMMETRY: &str = Effect::MotorGainAsymmetry.name();
 /// Duty below which a motor does not turn.
-pub const DEAD_BAND: &str = "dead_band";
+pub const DEAD_BAND: &str = Effect::DeadBand.name();
 /// Battery voltage dropping under load and over a run.
-pub const BATTERY_SAG: &str = "battery_sag";
+pub const BATTERY_SAG: &str = Effect::BatterySag.name();
 /// Encoder edges the firmware does not count.
-pub const ENCODER_MISSED_COUNTS: &str = "encoder_missed_counts";
+pub const ENCODER_MISSED_COUNTS: &str = Effect::EncoderMissedCounts.name();
 /// Encoder edges that bounce.
-pub const ENCODER_GLITCHES: &str = "encoder_glitches";
+pub const ENCODER_GLITCHES: &str = Effect::EncoderGlitches.name();
 /// Drag of the castor wheel.
-pub const CASTOR_DRAG: &str = "castor_drag";
+pub const CASTOR_DRAG: &str = Effect::CastorDrag.name();
 /// Lost motion in the gearbox when a wheel reverses.
-pub const BACKLASH: &str = "backlash";
+pub const BACKLASH: &str = Effect::Backlash.name();
 
 /// Every effect name of the plant's effects library (`plant_model::effects`), in a fixed
-/// order.
-pub const ALL_EFFECTS: [&str; 15] = [
-    WHEEL_DIAMETER_RATIO,
-    WHEELBASE_RATIO,
-    DISTANCE_SCALE,
-    TURN_SLIP,
-    STRAIGHT_SLIP,
-    COAST,
-    TOE,
-    FLOOR_NOISE,
-    MOTOR_GAIN_ASYMMETRY,
-    DEAD_BAND,
-    BATTERY_SAG,
-    ENCODER_MISSED_COUNTS,
-    ENCODER_GLITCHES,
-    CASTOR_DRAG,
-    BACKLASH,
-];
+/// order: the names of [`Effect::ALL`].
+pub const ALL_EFFECTS: [&str; 15] = {
+    let mut names = [""; 15];
+    let mut i = 0;
+    while i < 15 {
+        names[i] = Effect::ALL[i].name();
+        i += 1;
+    }
+    names
+};
 
 /// Whether a parameter moves the mean of what is measured or only its spread.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -186,5 +270,26 @@ impl EffectParams {
     /// Whether nothing is set.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each effect has its own name, and its name brings it back: a file's name can only
+    /// mean one effect, and no effect is out of reach of the files.
+    #[test]
+    fn every_effect_name_is_its_own_and_leads_back_to_it() {
+        for (i, e) in Effect::ALL.into_iter().enumerate() {
+            assert_eq!(Effect::from_name(e.name()), Some(e));
+            assert_eq!(ALL_EFFECTS[i], e.name());
+            assert_eq!(
+                Effect::ALL.iter().filter(|o| o.name() == e.name()).count(),
+                1,
+                "{e}"
+            );
+        }
+        assert_eq!(Effect::from_name("wheelbase"), None);
     }
 }

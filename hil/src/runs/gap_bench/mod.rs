@@ -225,8 +225,14 @@ impl BenchModel {
                         continue;
                     }
                 };
+            match apply(&self.nominal, params) {
+                Ok(robot) => robots.push(robot),
+                Err(e) => {
+                    answers.push(Err(e));
+                    continue;
+                }
+            }
             answers.push(Ok((Vec::new(), Vec::new())));
-            robots.push(apply(&self.nominal, params));
             let fw_params = Self::firmware_params(exp);
             let legs = exp.test.legs() as f64;
             let heading_rad =

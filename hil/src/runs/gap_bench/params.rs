@@ -10,10 +10,11 @@
 //! [`apply`].
 
 use gap::effects::{
-    EffectParams, ParamKind, ParamSpec, BACKLASH, BATTERY_SAG, CASTOR_DRAG, COAST, DEAD_BAND,
-    DISTANCE_SCALE, ENCODER_GLITCHES, ENCODER_MISSED_COUNTS, FLOOR_NOISE, MOTOR_GAIN_ASYMMETRY,
-    STRAIGHT_SLIP, TOE, TURN_SLIP, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO,
+    Effect, EffectParams, ParamKind, ParamSpec, BACKLASH, BATTERY_SAG, CASTOR_DRAG, COAST,
+    DEAD_BAND, DISTANCE_SCALE, ENCODER_GLITCHES, ENCODER_MISSED_COUNTS, FLOOR_NOISE,
+    MOTOR_GAIN_ASYMMETRY, STRAIGHT_SLIP, TOE, TURN_SLIP, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO,
 };
+use gap::model::ModelError;
 use plant_model::effects as fx;
 use plant_model::motor::MotorModel;
 use plant_model::RobotConfig;
@@ -222,39 +223,50 @@ fn sided(value: f64) -> (f64, f64) {
 /// `nominal` with the effects `params` switched on (unset or neutral ones left as the
 /// nominal robot has them). The caller has checked the values against
 /// [`bench_parameters`].
-pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
+pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> Result<RobotConfig, ModelError> {
     let mut c = nominal.clone();
     let specs = bench_parameters();
     for (name, v) in params.iter() {
         if specs.iter().any(|s| s.name == name && s.neutral == v) {
             continue;
         }
+        let Some(effect) = Effect::from_name(name) else {
+            return Err(ModelError::UnknownParameter {
+                model: "bench".to_owned(),
+                name: name.to_owned(),
+                known: specs
+                    .iter()
+                    .map(|s| s.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        };
         let e = &mut c.effects;
-        match name {
-            WHEEL_DIAMETER_RATIO => {
+        match effect {
+            Effect::WheelDiameterRatio => {
                 e.wheel_diameter_ratio = Some(fx::WheelDiameterRatio {
                     right_over_left_ratio: v,
                 })
             }
-            WHEELBASE_RATIO => {
+            Effect::WheelbaseRatio => {
                 e.wheelbase_ratio = Some(fx::WheelbaseRatio {
                     actual_over_nominal_ratio: v,
                 })
             }
-            DISTANCE_SCALE => {
+            Effect::DistanceScale => {
                 e.distance_scale = Some(fx::DistanceScale {
                     odometry_over_actual_ratio: v,
                 })
             }
-            TURN_SLIP => e.turn_slip = Some(fx::TurnSlip { fraction: v }),
-            STRAIGHT_SLIP => {
+            Effect::TurnSlip => e.turn_slip = Some(fx::TurnSlip { fraction: v }),
+            Effect::StraightSlip => {
                 let (l, r) = sided(v);
                 e.straight_slip = Some(fx::StraightSlip {
                     left_fraction: l,
                     right_fraction: r,
                 })
             }
-            COAST => {
+            Effect::Coast => {
                 // The effect replaces each motor's coast time constant: the motor's own plus
                 // the extra, and the motor's own key cleared (the config takes one or the
                 // other).
@@ -271,13 +283,13 @@ pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
                     right_tau_s,
                 })
             }
-            TOE => {
+            Effect::Toe => {
                 e.toe = Some(fx::Toe {
                     left_deg: -v,
                     right_deg: v,
                 })
             }
-            FLOOR_NOISE => {
+            Effect::FloorNoise => {
                 e.floor_noise = Some(fx::FloorNoise {
                     heading_deg_per_sqrt_m: v,
                     lateral_mm_per_sqrt_m: 0.0,
@@ -285,20 +297,20 @@ pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
                     stretch_mm: fx::floor_noise::DEFAULT_STRETCH_MM,
                 })
             }
-            MOTOR_GAIN_ASYMMETRY => {
+            Effect::MotorGainAsymmetry => {
                 e.motor_gain_asymmetry = Some(fx::MotorGainAsymmetry {
                     left_gain_ratio: 1.0 + v / 2.0,
                     right_gain_ratio: 1.0 - v / 2.0,
                 })
             }
-            DEAD_BAND => {
+            Effect::DeadBand => {
                 let (l, r) = sided(v);
                 e.dead_band = Some(fx::DeadBand {
                     extra_left_duty: l,
                     extra_right_duty: r,
                 })
             }
-            BATTERY_SAG => {
+            Effect::BatterySag => {
                 e.battery_sag = Some(fx::BatterySag {
                     open_circuit_full_v: nominal.battery.voltage_v,
                     open_circuit_empty_v: nominal.battery.voltage_v,
@@ -310,14 +322,14 @@ pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
                     update_interval_s: fx::battery_sag::DEFAULT_UPDATE_INTERVAL_S,
                 })
             }
-            ENCODER_MISSED_COUNTS => {
+            Effect::EncoderMissedCounts => {
                 let (l, r) = sided(v);
                 e.encoder_missed_counts = Some(fx::EncoderMissedCounts {
                     left_fraction: l,
                     right_fraction: r,
                 })
             }
-            ENCODER_GLITCHES => {
+            Effect::EncoderGlitches => {
                 let (l, r) = sided(v);
                 e.encoder_glitches = Some(fx::EncoderGlitches {
                     left_fraction: l,
@@ -325,7 +337,7 @@ pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
                     width_motor_deg: GLITCH_WIDTH_MOTOR_DEG,
                 })
             }
-            CASTOR_DRAG => {
+            Effect::CastorDrag => {
                 let side = if v >= 0.0 { 1.0 } else { -1.0 };
                 e.castor_drag = Some(fx::CastorDrag {
                     force_n: v.abs(),
@@ -335,16 +347,15 @@ pub fn apply(nominal: &RobotConfig, params: &EffectParams) -> RobotConfig {
                     wheel_stall_torque_nm: WHEEL_STALL_TORQUE_NM,
                 })
             }
-            BACKLASH => {
+            Effect::Backlash => {
                 e.backlash = Some(fx::Backlash {
                     left_wheel_deg: v,
                     right_wheel_deg: v,
                 })
             }
-            _ => {}
         }
     }
-    c
+    Ok(c)
 }
 
 #[cfg(test)]
@@ -389,8 +400,9 @@ mod tests {
         let back = equivalent(WHEELBASE_RATIO, eb).expect("and back");
         assert_eq!(back.0, TURN_SLIP);
         assert!((back.1 - slip).abs() < 1e-12, "{back:?}");
-        let with =
-            |name: &str, v: f64| end_pose(&apply(&nominal, &EffectParams::new().with(name, v)));
+        let with = |name: &str, v: f64| {
+            end_pose(&apply(&nominal, &EffectParams::new().with(name, v)).expect("a known effect"))
+        };
         let (a, b) = (with(TURN_SLIP, slip), with(WHEELBASE_RATIO, eb));
         let off = with(TURN_SLIP, 1.1 * slip);
         let apart = |p: &plant_model::Pose<plant_model::World>,
@@ -418,13 +430,14 @@ mod tests {
         let nominal = RobotConfig::default();
         for s in &specs {
             let v = (s.neutral + s.scale).min(s.upper);
-            let c = apply(&nominal, &EffectParams::new().with(&s.name, v));
+            let c = apply(&nominal, &EffectParams::new().with(&s.name, v)).expect("a known effect");
             assert_eq!(c.effects.enabled(), vec![s.name.as_str()], "{}", s.name);
             c.effects
                 .validate()
                 .unwrap_or_else(|e| panic!("{}: {e}", s.name));
             plant_model::Robot::new(&c, 1).unwrap_or_else(|e| panic!("{}: {e}", s.name));
-            let neutral = apply(&nominal, &EffectParams::new().with(&s.name, s.neutral));
+            let neutral = apply(&nominal, &EffectParams::new().with(&s.name, s.neutral))
+                .expect("a known effect");
             assert!(neutral.effects.is_empty(), "{}", s.name);
         }
     }
