@@ -181,7 +181,8 @@ fn other_drivers_load(
 fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
     use hil::bench::{Bench, BenchOptions};
     use hil::board::{mega2560, BridgeInput, PwmSource};
-    use hil::runs::line::{wait_ready, CMD_LINE};
+    use hil::runs::line::CMD_LINE;
+    use hil::runs::start::wait_ready;
 
     #[path = "support/mod.rs"]
     mod support;
@@ -205,7 +206,7 @@ fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
             },
         )
         .unwrap();
-        wait_ready(&mut bench).unwrap();
+        wait_ready(&mut bench, None).unwrap();
         bench.send(board.command_uart.usart, &[CMD_LINE]);
         bench.run_for(1.5).unwrap();
         let core = bench.core();

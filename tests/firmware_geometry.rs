@@ -8,7 +8,7 @@ mod support;
 
 use hil::bench::{Bench, BenchOptions};
 use hil::firmware::link::{frame, replies, Command, Param, ProtoTest, Received};
-use hil::runs::line::wait_ready;
+use hil::runs::start::wait_ready;
 
 /// Another robot's geometry: 0.567 mm and 1/360 turn per count.
 const MM_PER_COUNT: f32 = 0.567;
@@ -27,7 +27,7 @@ fn bench() -> Bench {
         BenchOptions::default(),
     )
     .unwrap();
-    wait_ready(&mut b).unwrap();
+    wait_ready(&mut b, None).unwrap();
     b
 }
 
@@ -122,7 +122,7 @@ fn the_geometry_is_kept_across_a_reset() {
     // The SRAM keeps HT_STATE = 1 until the start-up code clears it: boot
     // first (well under 0.1 s), then wait for idle.
     b.run_for(0.1).unwrap();
-    wait_ready(&mut b).unwrap();
+    wait_ready(&mut b, None).unwrap();
     for (p, v) in GEOMETRY {
         assert_eq!(get(&mut b, p), v, "{p:?} after the reset");
     }

@@ -6,7 +6,8 @@ mod support;
 
 use hil::bench::{Bench, BenchOptions};
 use hil::firmware::link::{frame, replies, Command, Param};
-use hil::runs::line::{run_line, wait_ready, LineOptions, LineRun};
+use hil::runs::line::{run_line, LineOptions, LineRun};
+use hil::runs::start::wait_ready;
 use std::sync::OnceLock;
 
 fn line_2m() -> &'static LineRun {
@@ -100,7 +101,7 @@ fn firmware_setpoints() -> (f64, f64) {
         BenchOptions::default(),
     )
     .unwrap();
-    wait_ready(&mut b).unwrap();
+    wait_ready(&mut b, None).unwrap();
     let mut get = |p: Param| {
         let before = b.uart_output(1).len();
         b.send(1, &frame(&Command::GetParam(p)));

@@ -18,7 +18,7 @@ fn driving_bench(served: bool) -> Bench {
     if served {
         bench.keep_latest_records();
     }
-    hil::runs::line::wait_ready(&mut bench).unwrap();
+    hil::runs::start::wait_ready(&mut bench, None).unwrap();
     hil::runs::start::start_test(&mut bench, &[], true, Test::Line);
     bench
 }

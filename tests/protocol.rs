@@ -8,7 +8,7 @@ mod support;
 
 use hil::bench::{Action, Bench, BenchOptions, Trigger};
 use hil::firmware::link::{frame, replies, Command, Param, ProtoTest, Received};
-use hil::runs::line::wait_ready;
+use hil::runs::start::wait_ready;
 
 fn bench(build: &str) -> Bench {
     let mut b = Bench::new(
@@ -17,7 +17,7 @@ fn bench(build: &str) -> Bench {
         BenchOptions::default(),
     )
     .unwrap();
-    wait_ready(&mut b).unwrap();
+    wait_ready(&mut b, None).unwrap();
     b
 }
 

@@ -5,7 +5,8 @@
 mod support;
 
 use hil::bench::{Bench, BenchOptions};
-use hil::runs::line::{wait_ready, CMD_LINE};
+use hil::runs::line::CMD_LINE;
+use hil::runs::start::wait_ready;
 
 /// Drive for a second and check every bridge input the firmware used.
 #[test]
@@ -16,7 +17,7 @@ fn firmware_pwm_is_31372_hz_with_8_bit_duty() {
         BenchOptions::default(),
     )
     .unwrap();
-    wait_ready(&mut bench).unwrap();
+    wait_ready(&mut bench, None).unwrap();
     bench.send(1, &[CMD_LINE]);
     bench.run_for(1.5).unwrap();
     let core = bench.core();

@@ -10,7 +10,7 @@ use crate::bench::inject::Dice;
 use crate::bench::{Bench, BenchError, BenchOptions};
 use crate::firmware::elf::Firmware;
 use crate::firmware::link::{frame, replies, Command, Param};
-use crate::runs::line::wait_ready;
+use crate::runs::start::wait_ready;
 
 /// How one invalid frame is made.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -108,17 +108,18 @@ impl FuzzReport {
 
 fn state(b: &mut Bench) -> Result<Vec<u8>, BenchError> {
     // Every parameter the protocol can set, read back over the protocol.
-    let before = b.uart_output(1).len();
+    let cmd = b.board().command_uart.usart;
+    let before = b.uart_output(cmd).len();
     for p in [
         Param::CorrLeft,
         Param::CorrRight,
         Param::WheelbaseMm,
         Param::LegLengthMm,
     ] {
-        b.send(1, &frame(&Command::GetParam(p)));
+        b.send(cmd, &frame(&Command::GetParam(p)));
     }
     b.run_for(0.2)?;
-    let mut out: Vec<u8> = replies(&b.uart_output(1)[before..])
+    let mut out: Vec<u8> = replies(&b.uart_output(cmd)[before..])
         .into_iter()
         .flat_map(|r| r.data)
         .collect();
@@ -135,21 +136,23 @@ pub fn fuzz(
     progress: &dyn Fn(usize),
 ) -> Result<FuzzReport, BenchError> {
     let mut b = Bench::new(firmware, robot, BenchOptions::default())?;
-    wait_ready(&mut b)?;
+    wait_ready(&mut b, None)?;
     let before = state(&mut b)?;
+    // The board's links: the protocol's, and the one the firmware prints on.
+    let (cmd, debug) = (b.board().command_uart.usart, b.board().debug_uart.usart);
     let boot_lines = |b: &Bench| {
-        String::from_utf8_lossy(b.uart_output(0))
+        String::from_utf8_lossy(b.uart_output(debug))
             .matches("ready")
             .count()
     };
     let boots = boot_lines(&b);
     let mut dice = Dice::new(seed);
     let mut counts = [0usize; 5];
-    let start = b.uart_output(1).len();
+    let start = b.uart_output(cmd).len();
     for i in 0..frames {
         let (m, bytes, quiet) = invalid_frame(&mut dice);
         counts[MUTATIONS.iter().position(|x| *x == m).unwrap_or(0)] += 1;
-        b.send(1, &bytes);
+        b.send(cmd, &bytes);
         // Let the bytes go out (about 1.04 ms each), the reply come back, and
         // for a frame that ends only in silence, the 50 ms timeout pass.
         let wait = bytes.len() as f64 * 1.1e-3 + if quiet { 0.06 } else { 0.02 };
@@ -159,13 +162,15 @@ pub fn fuzz(
         }
     }
     b.run_for(0.2)?;
-    let got = replies(&b.uart_output(1)[start..]);
+    let got = replies(&b.uart_output(cmd)[start..]);
     let after = state(&mut b)?;
     // The firmware still answers.
-    let ping_from = b.uart_output(1).len();
-    b.send(1, &frame(&Command::Ping));
+    let ping_from = b.uart_output(cmd).len();
+    b.send(cmd, &frame(&Command::Ping));
     b.run_for(0.1)?;
-    let hung = !replies(&b.uart_output(1)[ping_from..]).iter().any(|r| r.ok);
+    let hung = !replies(&b.uart_output(cmd)[ping_from..])
+        .iter()
+        .any(|r| r.ok);
     Ok(FuzzReport {
         frames,
         seed,

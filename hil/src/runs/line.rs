@@ -113,17 +113,6 @@ pub struct LineRun {
     pub start_cycle: u64,
 }
 
-/// Wait for the firmware to report idle after reset.
-pub fn wait_ready(bench: &mut Bench) -> Result<(), BenchError> {
-    // A firmware without the interface never says it is idle: say so now.
-    bench.vars()?;
-    bench.run_expect(
-        "the firmware did not report idle (HT_STATE = 1) after reset",
-        2.0,
-        |b| b.is_idle(),
-    )
-}
-
 /// A bench with the firmware booted and the leg length set, ready for a
 /// command: (bench, HT_DONE_COUNT before the test, the cycle it was ready).
 pub fn ready_bench(
@@ -140,7 +129,7 @@ pub fn ready_bench(
 /// [`ready_bench`] on a bench already made (one a debugger drives from
 /// reset): ready, the leg length set; (HT_DONE_COUNT, the cycle) then.
 pub fn make_ready(bench: &mut Bench, leg_mm: f64) -> Result<(u16, u64), BenchError> {
-    wait_ready(bench)?;
+    crate::runs::start::wait_ready(bench, None)?;
     let vars = *bench.vars()?;
     bench.write_f32(vars.leg_length_mm, leg_mm as f32);
     Ok((bench.read_u16(vars.done_count), bench.cycle()))
@@ -246,12 +235,13 @@ pub fn run_line(
         cycles: bench.cycle(),
         awake_fraction: bench.awake_fraction(),
         cutoff_cycle: cutoff.map(|c| c.cycle),
-        firmware_log: String::from_utf8_lossy(bench.uart_output(0)).into_owned(),
+        firmware_log: String::from_utf8_lossy(bench.uart_output(bench.board().debug_uart.usart))
+            .into_owned(),
         believed,
         warnings: warning
             .into_iter()
             .chain(crate::firmware::params::refusals(
-                bench.uart_output(1),
+                bench.uart_output(bench.board().command_uart.usart),
                 params.len(),
             ))
             .collect(),

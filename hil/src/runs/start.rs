@@ -7,8 +7,10 @@ use henrytwo_protocol::Param;
 use plant_model::RobotConfig;
 
 use crate::bench::{Bench, BenchError};
+use crate::firmware::description::Description;
 use crate::firmware::link::{frame, replies, Command};
 use crate::firmware::params::{plan, refusals, Tell};
+use crate::runs::experiment::contains;
 
 /// The host's start of `test`: the parameters as SET_PARAM frames, then a
 /// framed START_TEST, when there is anything to set or `framed` asks for it;
@@ -68,4 +70,37 @@ pub fn tell(bench: &mut Bench, robot: &RobotConfig) -> Result<Option<String>, Be
         answered,
     )?;
     Ok(refusals(&bench.uart_output(uart)[before..], params.len()).or(warning))
+}
+
+/// Run a freshly reset `bench` until its firmware is ready for a command: as
+/// the test `description` says (a text on a USART, or a time), or, for a
+/// firmware with the bench interface, until it reports idle. The one wait
+/// every run, the harness, the station and the fuzzer start with.
+pub fn wait_ready(bench: &mut Bench, description: Option<&Description>) -> Result<(), BenchError> {
+    let Some(d) = description else {
+        // A firmware without the interface never says it is idle: say so now.
+        bench.vars()?;
+        return bench.run_expect(
+            "the firmware did not report idle (HT_STATE = 1) after reset",
+            2.0,
+            |b| b.is_idle(),
+        );
+    };
+    match &d.ready.text {
+        Some(t) => {
+            let text = t.clone();
+            bench.run_expect(
+                &format!(
+                    "{}: the firmware did not send {:?} on USART {} after reset (ready.text)",
+                    d.path,
+                    String::from_utf8_lossy(&text.text),
+                    text.usart
+                ),
+                d.ready.after_s,
+                |b| contains(b.uart_output(text.usart), &text.text),
+            )?;
+        }
+        None => bench.run_for(d.ready.after_s)?,
+    }
+    Ok(())
 }

@@ -62,7 +62,7 @@ impl Harness {
     /// interface of this repository's builds.
     pub fn boot(&mut self) -> Result<(), HarnessError> {
         if !self.bench.is_idle() {
-            crate::runs::line::wait_ready(&mut self.bench)?;
+            crate::runs::start::wait_ready(&mut self.bench, None)?;
         }
         Ok(())
     }

@@ -115,7 +115,7 @@ pub(crate) fn analyse(
             .variable("HT_FAULT", 1)
             .ok()
             .map(|a| bench.read_u8(a)),
-        bluetooth_out: bench.uart_output(1).to_vec(),
+        bluetooth_out: bench.uart_output(bench.board().command_uart.usart).to_vec(),
         edges: core.recording().unwrap_or_default().to_vec(),
         drive: core.drive_log().to_vec(),
         uart: core.uart_log().to_vec(),

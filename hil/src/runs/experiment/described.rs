@@ -20,7 +20,7 @@ fn driven(m: Motion) -> bool {
     !matches!(m, Motion::Stopped | Motion::Brake)
 }
 
-fn contains(hay: &[u8], needle: &[u8]) -> bool {
+pub(crate) fn contains(hay: &[u8], needle: &[u8]) -> bool {
     hay.windows(needle.len()).any(|w| w == needle)
 }
 
@@ -55,27 +55,6 @@ pub(crate) fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool 
         && b.cycle() - last.at.cycle >= idle_cycles
 }
 
-/// Run a freshly reset `bench` until the firmware is ready, as `d` says.
-pub(crate) fn wait_ready(bench: &mut Bench, d: &Description) -> Result<(), BenchError> {
-    match &d.ready.text {
-        Some(t) => {
-            let text = t.clone();
-            bench.run_expect(
-                &format!(
-                    "{}: the firmware did not send {:?} on USART {} after reset (ready.text)",
-                    d.path,
-                    String::from_utf8_lossy(&text.text),
-                    text.usart
-                ),
-                d.ready.after_s,
-                |b| contains(b.uart_output(text.usart), &text.text),
-            )?;
-        }
-        None => bench.run_for(d.ready.after_s)?,
-    }
-    Ok(())
-}
-
 /// Run `test` of the firmware `d` describes, from a fresh reset.
 pub(crate) fn run_described(
     firmware: Firmware,
@@ -98,7 +77,7 @@ pub(crate) fn run_described(
     if let Some(c) = resolved.counts {
         bench.set_count_variables(c);
     }
-    wait_ready(&mut bench, d)?;
+    crate::runs::start::wait_ready(&mut bench, Some(d))?;
     if let Some(addr) = resolved.leg {
         bench.write_f32(addr, opts.leg_mm as f32);
     }

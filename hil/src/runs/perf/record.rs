@@ -66,7 +66,8 @@ pub fn bench_run(
     if record {
         bench.start_recording();
     }
-    bench.send(1, &[test.command_byte()]);
+    let usart = bench.board().command_uart.usart;
+    bench.send(usart, &[test.command_byte()]);
     let (legs, turns, _) = test.shape();
     let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0;
     let completed = bench.run_until(limit, |b| {
@@ -74,7 +75,7 @@ pub fn bench_run(
     })?;
     let start = Start {
         cycle: command_cycle,
-        usart: 1,
+        usart,
         byte: test.command_byte(),
         pokes: (vars.leg_length_mm..)
             .zip((leg_mm as f32).to_le_bytes())
@@ -109,7 +110,7 @@ pub fn bench_run_described(
     if let Some(c) = d.resolve(fw)?.counts {
         bench.set_count_variables(c);
     }
-    crate::runs::experiment::wait_ready(&mut bench, d)?;
+    crate::runs::start::wait_ready(&mut bench, Some(d))?;
     if record {
         bench.start_recording();
     }

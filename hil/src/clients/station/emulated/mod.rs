@@ -27,7 +27,7 @@ use thiserror::Error;
 
 use crate::bench::{Bench, BenchError, BenchOptions};
 use crate::firmware::elf::Firmware;
-use crate::runs::line::wait_ready;
+use crate::runs::start::wait_ready;
 
 mod pty;
 
@@ -161,7 +161,7 @@ impl EmulatedRobot {
                 .name("emulated-robot".into())
                 .spawn(move || {
                     let bench = Bench::new(firmware, &robot, options.bench)
-                        .and_then(|mut b| wait_ready(&mut b).map(|_| b))
+                        .and_then(|mut b| wait_ready(&mut b, None).map(|_| b))
                         .and_then(|mut b| {
                             // Told its robot before the host comes: as a real
                             // robot keeps what it was told in its EEPROM.
