@@ -479,3 +479,42 @@ fn json_is_refused_where_no_result_is_printed() {
         }
     }
 }
+
+/// The triangle calibration from a table assumes Henrytwo's 130 mm wheelbase unless told
+/// otherwise, as `--help` says and every other command does (`calib` took 125 mm, the
+/// thesis' inner-face value, and printed `b = 125 mm` against its own help).
+#[test]
+fn a_calibration_from_a_table_assumes_the_130_mm_wheelbase_its_help_names() {
+    let help = String::from_utf8_lossy(&hil(&["calibrate", "--help"]).stdout).into_owned();
+    assert!(help.contains("else 130"), "{help}");
+    for table in ["triangular_endpoints.csv", "umbmark_endpoints.csv"] {
+        let out = hil(&[
+            "calibrate",
+            "--from-csv",
+            &fixture(&format!("thesis-data/{table}")),
+            "--experiment",
+            "1",
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let text = String::from_utf8_lossy(&out.stdout);
+        let first = text.lines().next().unwrap_or_default();
+        assert!(first.ends_with("b = 130 mm"), "{table}: {first}");
+    }
+}
+
+/// A robot whose wheelbase the plant takes (20-2000 mm) but the robust firmware refuses
+/// (50-500 mm) is refused before anything runs, naming the file, the parameter and the
+/// firmware's range; it used to run with a vague warning and 'complete' a square whose
+/// turns summed to 80°.
+#[test]
+fn a_robot_the_firmware_would_refuse_is_refused_before_the_run() {
+    let dir = temp_dir("wide-robot");
+    let text = std::fs::read_to_string(ideal()).unwrap();
+    let wide = text.replace("wheelbase_mm = 130.0", "wheelbase_mm = 600.0");
+    assert_ne!(wide, text, "the ideal robot names its wheelbase as 130.0");
+    let path = dir.join("wide.toml");
+    std::fs::write(&path, wide).unwrap();
+    let p = path.display().to_string();
+    let out = hil(&["run", "line", "--robot", &p]);
+    assert_refused(&out, "wide.toml: the robust firmware would refuse this robot's wheelbase_mm = 600 (it takes 50-500 mm)");
+}

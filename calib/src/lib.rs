@@ -104,8 +104,10 @@ pub mod umbmark;
 /// starts with and the plant's nominal robot has. One definition, so that a calibration run
 /// without a wheelbase given assumes the robot the rest of the bench describes. (The thesis'
 /// reduced tests took the 125 mm between the wheels' inner faces as nominal; the GUI's
-/// constants that reproduce its printed numbers are in [`thesis`].)
-pub const HENRYTWO_WHEELBASE_MM: f64 = 130.0;
+/// constants that reproduce its printed numbers are in [`thesis`].) It is the firmware's
+/// factory value, from the protocol crate both share.
+pub const HENRYTWO_WHEELBASE_MM: f64 =
+    henrytwo_protocol::Param::WheelbaseMm.factory_default() as f64;
 
 pub use error::Error;
 pub use exact::Solution;

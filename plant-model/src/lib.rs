@@ -58,7 +58,7 @@
 //!   stays exact with every effect on.
 
 pub mod bridge;
-mod check;
+pub mod check;
 pub mod config;
 mod duty;
 pub mod effects;

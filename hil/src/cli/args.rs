@@ -150,7 +150,23 @@ impl Target {
     /// robot, else the ideal one.
     pub fn robot(&self) -> Result<RobotConfig> {
         // The loader's errors name the file.
-        RobotConfig::load(self.robot_path()).map_err(super::bad_input)
+        let robot = RobotConfig::load(self.robot_path()).map_err(super::bad_input)?;
+        // The robust build is told the robot's geometry before each run, and refuses
+        // what lies outside its limits: refuse such a robot here, before anything runs.
+        let told = self.firmware == Build::Robust
+            && self.elf.is_none()
+            && self.description.is_none()
+            && !self.keep_firmware_params;
+        let beyond = hil::firmware::params::beyond_firmware_limits(&robot);
+        if told && !beyond.is_empty() {
+            return Err(super::BadInput(format!(
+                "{}: the robust firmware would refuse this robot's {}",
+                self.robot_path().display(),
+                beyond.join(", ")
+            ))
+            .into());
+        }
+        Ok(robot)
     }
 
     /// The path of the robot config [`Target::robot`] reads.
@@ -419,15 +435,19 @@ pub fn parse_leg(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
-/// A wheelbase in millimetres, in the robot config's range (20 to 2000 mm):
+/// A wheelbase in millimetres, in the robot config's range
+/// (`plant_model::check::WHEELBASE_MM`, 20 to 2000 mm):
 /// 0 or nan would print a correction of 0 mm or NaN.
 pub fn parse_wheelbase(s: &str) -> Result<f64, String> {
     let v: f64 = s
         .parse()
         .map_err(|_| format!("{s:?} is not a number of millimetres"))?;
-    if !(v.is_finite() && (20.0..=2000.0).contains(&v)) {
+    // The robot config's own range: one definition, in the plant.
+    let range = plant_model::check::WHEELBASE_MM;
+    if !range.contains(v) {
         return Err(format!(
-            "{s} mm is out of range: a wheelbase is 20 to 2000 mm"
+            "{s} mm is out of range: a wheelbase is {} to {} {}",
+            range.low, range.high, range.unit
         ));
     }
     Ok(v)

@@ -118,6 +118,18 @@ pub fn nominal(robot: &RobotConfig) -> [(Param, f32); 4] {
     ]
 }
 
+/// The robot's nominal geometry (as [`nominal`] tells it) where it lies outside what the
+/// robust firmware accepts (`henrytwo_protocol::limits`, the one table of the firmware's
+/// ranges): one "name = value (it takes RANGE)" per parameter, none when it all fits. A
+/// robot the firmware would refuse is refused before a run, not warned about after one.
+pub fn beyond_firmware_limits(robot: &RobotConfig) -> Vec<String> {
+    nominal(robot)
+        .into_iter()
+        .filter(|&(p, v)| p.check(v).is_err())
+        .map(|(p, v)| format!("{} = {v} (it takes {})", p.name(), p.range()))
+        .collect()
+}
+
 /// What of [`nominal`] and of the board's driver wiring the firmware does
 /// not hold already (its factory values), geometry first: Henrytwo on its
 /// own board needs nothing.

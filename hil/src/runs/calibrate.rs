@@ -28,7 +28,7 @@ pub struct FromCsv {
     /// Side of the square / length of the line, cm (None: 200, the thesis' L).
     pub side_cm: Option<f64>,
     /// Wheelbase the robot's odometry used, mm (None: the thesis' value for the
-    /// experiment in compat mode, else 130).
+    /// experiment in compat mode, else `calib::HENRYTWO_WHEELBASE_MM`, 130).
     pub wheelbase_mm: Option<f64>,
     /// The error model's solution (ignored in compat mode: the GUI is first order).
     pub solution: calib::Solution,
@@ -137,10 +137,9 @@ pub fn from_csv(path: &Path, method: Method, opts: &FromCsv) -> anyhow::Result<C
             if let Some(l) = opts.side_cm {
                 params.side_cm = l;
             }
+            // Else calib's default (Henrytwo's 130 mm), or the thesis' in compat mode.
             if let Some(b) = opts.wheelbase_mm {
                 params.wheelbase_mm = b;
-            } else if !opts.thesis_compat {
-                params.wheelbase_mm = 130.0;
             }
             let csv_opts = opts.csv_options(params.side_cm, false);
             let runs = read_umbmark_file(path, opts.experiment, &csv_opts).map_err(cli_words)?;
