@@ -234,12 +234,12 @@ impl Bench {
     }
 
     /// Let a debugger drive every run loop from now on (see [`Debugger`]).
-    pub fn set_debugger(&mut self, debugger: Option<Box<dyn Debugger>>) {
+    pub(crate) fn set_debugger(&mut self, debugger: Option<Box<dyn Debugger>>) {
         self.debugger = debugger;
     }
 
     /// Take the debugger back (None once it detached).
-    pub fn take_debugger(&mut self) -> Option<Box<dyn Debugger>> {
+    pub(crate) fn take_debugger(&mut self) -> Option<Box<dyn Debugger>> {
         self.debugger.take()
     }
 
@@ -464,7 +464,7 @@ impl Bench {
         &self.avr
     }
 
-    pub fn mcu_mut(&mut self) -> &mut Avr<BenchCore> {
+    pub(crate) fn mcu_mut(&mut self) -> &mut Avr<BenchCore> {
         &mut self.avr
     }
 }

@@ -109,7 +109,7 @@ impl BenchCore {
     }
 
     /// Callbacks from simavr into the bench (timer, IO, IRQ).
-    pub fn callbacks(&self) -> u64 {
+    pub(crate) fn callbacks(&self) -> u64 {
         self.callbacks
     }
 

@@ -15,7 +15,7 @@ impl BenchCore {
     /// (a firmware writing the inputs one after the other leaves a level
     /// for a few instructions; a real stop lasts at least a period), and at
     /// least 64 us for drivers switched by plain pin writes.
-    pub fn stale_level_cycles(&self) -> u64 {
+    pub(crate) fn stale_level_cycles(&self) -> u64 {
         let hz = self.clock.hz() as f64;
         self.bridge
             .pin_stats()
@@ -28,7 +28,7 @@ impl BenchCore {
     }
 
     /// Where the firmware keeps its wheel counters, when known.
-    pub fn count_variables(&self) -> Option<[u16; 2]> {
+    pub(crate) fn count_variables(&self) -> Option<[u16; 2]> {
         self.counts
     }
 
@@ -115,7 +115,7 @@ impl BenchCore {
     }
 
     /// Cycle at which the last A edge of each encoder was due.
-    pub fn last_a_edge(&self) -> [u64; 2] {
+    pub(crate) fn last_a_edge(&self) -> [u64; 2] {
         self.edges.last_a_edge()
     }
 
@@ -135,7 +135,7 @@ impl BenchCore {
     }
 
     /// PIN reads of a lazy B that evaluated the plant.
-    pub fn b_reads_evaluated(&self) -> u64 {
+    pub(crate) fn b_reads_evaluated(&self) -> u64 {
         self.edges.b_reads_evaluated()
     }
 
@@ -156,7 +156,7 @@ impl BenchCore {
     }
 
     /// Run `action` when `trigger` fires, and `undo` `duration` cycles later.
-    pub fn schedule_triggered(
+    pub(crate) fn schedule_triggered(
         &mut self,
         trigger: Trigger,
         action: Action,
@@ -171,12 +171,12 @@ impl BenchCore {
     }
 
     /// Queue bytes from the host for USART `n`.
-    pub fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
+    pub(crate) fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
         self.uart.queue(n, bytes, now);
     }
 
     /// Bytes the firmware sent on USART `n` so far.
-    pub fn uart_out(&self, n: usize) -> &[u8] {
+    pub(crate) fn uart_out(&self, n: usize) -> &[u8] {
         self.uart.out(n)
     }
 
