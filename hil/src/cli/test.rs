@@ -87,6 +87,10 @@ pub struct CaseReport {
     pub expectations: Vec<Outcome>,
     /// Files saved for triage, on a failure.
     pub artifacts: Vec<PathBuf>,
+    /// Wall-clock seconds the case took (the JUnit `time`); not in the
+    /// JSON, which stays the same from run to run.
+    #[serde(skip)]
+    pub wall_time_s: f64,
 }
 
 impl TestCmd {
@@ -126,7 +130,7 @@ impl TestCmd {
         })?;
         self.json.emit(&reports, || render(&reports))?;
         if let Some(path) = &self.junit {
-            let xml = junit(&reports);
+            let xml = junit(&reports, path);
             hil::output::write_atomic(path, xml.as_bytes())
                 .with_context(|| format!("writing {}", path.display()))?;
         }
@@ -233,6 +237,8 @@ fn run_case(
     let firmware_name = c.firmware.name();
     let seed = c.opts.bench.seed;
     let clock = c.opts.bench.clock;
+    // Wall time around the run, for the JUnit report only.
+    let started = std::time::Instant::now();
     let outcome = run_test_observed(
         c.firmware,
         &c.robot,
@@ -240,6 +246,7 @@ fn run_case(
         &c.opts,
         Some(Box::new(c.watch)),
     );
+    let wall_time_s = started.elapsed().as_secs_f64();
     let base = CaseReport {
         case: c.name.clone(),
         file: c.file.clone(),
@@ -252,6 +259,7 @@ fn run_case(
         robot_time_s: 0.0,
         expectations: Vec::new(),
         artifacts: Vec::new(),
+        wall_time_s,
     };
     let (run, observer) = match outcome {
         Ok(r) => r,
@@ -370,9 +378,9 @@ fn render(reports: &[CaseReport]) -> String {
     s
 }
 
-/// The JUnit report: a suite per case's file (its seed and firmware as
-/// properties), its one test case.
-fn junit(reports: &[CaseReport]) -> String {
+/// The JUnit report at `path`: a suite per case's file (the properties of
+/// every command, then its file and test), its one test case.
+fn junit(reports: &[CaseReport], path: &Path) -> String {
     let suites: Vec<hil::output::junit::Suite> = reports
         .iter()
         .map(|r| {
@@ -383,29 +391,34 @@ fn junit(reports: &[CaseReport]) -> String {
                 .collect();
             hil::output::junit::Suite {
                 name: format!("hil test {}", r.file.display()),
-                properties: vec![
-                    ("seed".into(), r.seed.to_string()),
-                    ("firmware".into(), r.firmware.clone()),
+                properties: hil::output::junit::run_properties(
+                    "test",
+                    &r.firmware,
+                    r.seed,
+                    r.robot_time_s,
+                )
+                .into_iter()
+                .chain([
                     ("test".into(), r.test.name().into()),
                     ("file".into(), r.file.display().to_string()),
-                ],
+                ])
+                .collect(),
                 cases: vec![hil::output::junit::Case {
                     name: r.case.clone(),
                     classname: format!("hil.test.{}", stem(&r.file)),
-                    time_s: r.robot_time_s,
+                    time_s: r.wall_time_s,
                     failure: (!r.pass).then(|| hil::output::junit::Failure {
                         message: r.message.clone(),
                         kind: r.verdict.into(),
                         text: details.join("\n"),
                     }),
                     skipped: None,
-                    system_out: (!r.artifacts.is_empty()).then(|| {
-                        r.artifacts
-                            .iter()
-                            .map(|a| format!("artifact: {}", a.display()))
-                            .collect::<Vec<_>>()
-                            .join("\n")
-                    }),
+                    system_out: None,
+                    attachments: r
+                        .artifacts
+                        .iter()
+                        .map(|a| hil::output::junit::relative_to_report(path, a))
+                        .collect(),
                 }],
             }
         })
