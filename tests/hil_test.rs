@@ -75,7 +75,11 @@ fn a_failing_case_exits_1_names_what_was_seen_and_saves_its_triage_files() {
     );
     let artifacts = dir.join("report-artifacts");
     assert_valid_junit(&junit);
-    for f in ["dropout-line-length.vcd", "dropout-line-length.state.json"] {
+    for f in [
+        "dropout-line-length.vcd",
+        "dropout-line-length.gtkw",
+        "dropout-line-length.state.json",
+    ] {
         assert!(artifacts.join(f).is_file(), "{f} saved");
     }
     let state: serde_json::Value = serde_json::from_str(
@@ -104,6 +108,7 @@ assert robot > 1.0 and float(failed[0].get("time")) < robot / 2, (robot, failed[
 # GitLab's attachment form, relative to the report.
 out = failed[0].find("system-out").text.splitlines()
 assert "[[ATTACHMENT|report-artifacts/dropout-line-length.vcd]]" in out, out
+assert "[[ATTACHMENT|report-artifacts/dropout-line-length.gtkw]]" in out, out
 print("ok")
 "#;
     let py = Command::new("python3")

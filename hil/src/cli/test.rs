@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use hil::bench::BenchOptions;
 use hil::board::Board;
 use hil::runs::experiment::{run_test_observed, Test, TestOptions, TestRun};
 use hil::runs::scenario::eval::{judge, Context as EvalContext, LastState, Outcome, Watch};
@@ -311,8 +310,9 @@ fn run_case(
     Ok(report)
 }
 
-/// The VCD of `run` and its last state, as `DIR/SLUG.vcd` and
-/// `DIR/SLUG.state.json`: what a failure is triaged with.
+/// The VCD of `run`, its GTKWave save file and its last state, as
+/// `DIR/SLUG.vcd`, `DIR/SLUG.gtkw` and `DIR/SLUG.state.json`: what a
+/// failure is triaged with.
 pub(super) fn save_artifacts(
     dir: &Path,
     slug: &str,
@@ -321,19 +321,8 @@ pub(super) fn save_artifacts(
     board: &Board,
 ) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let vcd = dir.join(format!("{slug}.vcd"));
-    let text = hil::output::vcd::render(&hil::output::vcd::VcdInput {
-        clock_hz: BenchOptions::default().clock.hz(),
-        board,
-        edges: &run.edges,
-        drive: &run.drive,
-        uart_tx: &run.uart,
-        uart_rx: &run.uart_rx,
-        samples: &run.trace,
-        pwm_edges: false,
-    });
-    hil::output::write_atomic(&vcd, text.as_bytes())
-        .with_context(|| format!("writing {}", vcd.display()))?;
+    // The trace with its GTKWave save file, as `hil run --vcd` writes them.
+    let [vcd, save] = super::run::write_vcd(&dir.join(format!("{slug}.vcd")), run, false, board)?;
     let state = dir.join(format!("{slug}.state.json"));
     let json = serde_json::json!({
         "test": run.test,
@@ -345,7 +334,7 @@ pub(super) fn save_artifacts(
     });
     hil::output::write_atomic(&state, serde_json::to_string_pretty(&json)?.as_bytes())
         .with_context(|| format!("writing {}", state.display()))?;
-    Ok(vec![vcd, state])
+    Ok(vec![vcd, save, state])
 }
 
 /// One line a case, then the count.
