@@ -68,12 +68,18 @@ impl Run {
                 );
                 match hil::runs::experiment::run_test_debugged(
                     firmware, &robot, test, &opts, server,
-                )? {
-                    Some(run) => run,
-                    None => {
-                        eprintln!("gdb: the debugger killed the run");
-                        return Ok(());
+                ) {
+                    Ok(run) => run,
+                    // Not a run that passed: exit 3, as for any run that
+                    // did not complete.
+                    Err(hil::bench::gdb::GdbError::Ended(why)) => {
+                        return Err(super::Incomplete(format!(
+                            "the {} run did not complete: {why}",
+                            test.name()
+                        ))
+                        .into())
                     }
+                    Err(e) => return Err(e.into()),
                 }
             }
             None => run_test(firmware, &robot, test, &opts)?,
