@@ -3,7 +3,9 @@
 //! the run under a debugger is the run without one (only continuing, after a
 //! breakpoint, with watchpoints, after a refused `load`, after Ctrl-C and
 //! steps), a `watch` stops with the old and new values, `monitor reset` and
-//! an unknown monitor command, the memory map, a second client refused.
+//! an unknown monitor command, the memory map, a second client refused, the
+//! stub's reasons for a refused watchpoint or `load` on gdb's console, and a
+//! run killed or abandoned by its debugger ending with exit 3 and saying so.
 //!
 //! Each session is a `hil run line --leg-mm 300 --deterministic --json`
 //! (about 4 s of robot time, under a second of wall time under a debugger);
@@ -269,9 +271,9 @@ fn monitor_reset_restarts_the_mcu_and_an_unknown_command_is_an_error() {
     assert!(gdb.contains("reset at cycle "), "{gdb}");
     assert!(gdb.contains("$1 = 0x0\n"), "at the reset vector: {gdb}");
     assert!(gdb.contains("$2 = 0x2\n"), "EXTRF set: {gdb}");
-    assert!(run.success, "{}", run.stderr);
+    assert_eq!(run.code, Some(3), "{}", run.stderr);
     assert!(
-        run.stderr.contains("the debugger killed the run"),
+        run.stderr.contains("the debugger killed it"),
         "{}",
         run.stderr
     );
@@ -306,6 +308,10 @@ fn the_memory_map_is_shown_and_load_is_refused() {
         run.stderr
     );
     assert!(
+        gdb.contains("hil: the load was refused: flash is read-only"),
+        "the stub's reason on gdb's console: {gdb}"
+    );
+    assert!(
         gdb.contains("Writing to flash memory forbidden"),
         "the map makes flash read-only for gdb too: {gdb}"
     );
@@ -313,6 +319,57 @@ fn the_memory_map_is_shown_and_load_is_refused() {
     // and the run is the robust run.
     assert_eq!(gdb.matches(":\t0x940c\t0x00b8").count(), 2, "{gdb}");
     assert_same_run(&run, &gdb, "after a refused load");
+}
+
+#[test]
+fn a_refused_watchpoint_says_why_on_gdbs_console_and_the_run_goes_on_without_it() {
+    let (run, gdb) = session(&[
+        "set language c",
+        "watch *(unsigned char *)0x80005f",
+        "continue",
+        "delete",
+        "continue",
+    ]);
+    assert!(
+        gdb.contains("hil: the watchpoint at 0x80005f (1 byte) is refused: SREG is not kept"),
+        "the stub's reason on gdb's console: {gdb}"
+    );
+    assert!(
+        run.stderr.contains("gdb: refused a watchpoint at 0x80005f"),
+        "{}",
+        run.stderr
+    );
+    assert_same_run(&run, &gdb, "after a refused watchpoint");
+}
+
+#[test]
+fn a_run_killed_or_abandoned_by_its_debugger_exits_3_and_says_so() {
+    let (run, gdb) = session(&["stepi", "kill"]);
+    assert_eq!(run.code, Some(3), "killed: {}\ngdb:\n{gdb}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("did not complete: the debugger killed it"),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stdout.is_empty(),
+        "no report of a run that was not run: {}",
+        run.stdout
+    );
+    // A debugger that goes away while the run is paused: gdb batch mode
+    // quitting without a detach is such a debugger.
+    let hil = Debugged::start();
+    let mut client = Client::connect(&hil.addr);
+    assert_eq!(client.ask("?"), "S05");
+    drop(client);
+    let run = hil.finish();
+    assert_eq!(run.code, Some(3), "abandoned: {}", run.stderr);
+    assert!(
+        run.stderr.contains("connection closed without a detach"),
+        "{}",
+        run.stderr
+    );
 }
 
 /// A raw RSP client: one packet out, one reply back.

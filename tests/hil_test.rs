@@ -1,7 +1,9 @@
 //! `hil test`: a scenario file's expectations judged on the robust build, a
-//! passing and a failing case, the exit codes, the JUnit XML (parsed with
-//! python3's xml.etree) and the triage files of a failed case.
+//! passing and a failing case, the exit codes, the JUnit XML (valid against
+//! Jenkins' junit-10.xsd by xmllint, parsed with python3's xml.etree) and the
+//! triage files of a failed case.
 
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn hil(args: &[&str]) -> Output {
@@ -10,6 +12,41 @@ fn hil(args: &[&str]) -> Output {
         .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .output()
         .expect("hil runs")
+}
+
+/// `report` valid against Jenkins' junit-10.xsd (tests/schemas/), by
+/// Debian's xmllint as a CI job would run it.
+fn assert_valid_junit(report: &Path) {
+    let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/schemas/junit-10.xsd");
+    let out = Command::new("xmllint")
+        .args(["--noout", "--schema", schema])
+        .arg(report)
+        .output()
+        .expect("xmllint runs (tools/setup.sh installs libxml2-utils)");
+    assert!(
+        out.status.success(),
+        "{} is not valid junit-10: {}\n{}",
+        report.display(),
+        String::from_utf8_lossy(&out.stderr),
+        std::fs::read_to_string(report).unwrap_or_default()
+    );
+}
+
+/// The property names a report's suites carry, in order, each suite's.
+fn property_names(report: &Path) -> Vec<Vec<String>> {
+    let xml = std::fs::read_to_string(report).unwrap();
+    xml.split("<properties>")
+        .skip(1)
+        .map(|p| {
+            p.split("</properties>")
+                .next()
+                .unwrap()
+                .split("<property name=\"")
+                .skip(1)
+                .map(|n| n.split('"').next().unwrap().to_string())
+                .collect()
+        })
+        .collect()
 }
 
 const PASS: &str = "fixtures/scenarios/dropout-motors-off.toml";
@@ -37,7 +74,12 @@ fn a_failing_case_exits_1_names_what_was_seen_and_saves_its_triage_files() {
         "{text}"
     );
     let artifacts = dir.join("report-artifacts");
-    for f in ["dropout-line-length.vcd", "dropout-line-length.state.json"] {
+    assert_valid_junit(&junit);
+    for f in [
+        "dropout-line-length.vcd",
+        "dropout-line-length.gtkw",
+        "dropout-line-length.state.json",
+    ] {
         assert!(artifacts.join(f).is_file(), "{f} saved");
     }
     let state: serde_json::Value = serde_json::from_str(
@@ -58,8 +100,15 @@ assert props["seed"] == "0" and props["firmware"] == "robust", props
 failed = [c for c in cases if c.find("failure") is not None]
 assert len(failed) == 1
 assert "600" in failed[0].find("failure").get("message")
-assert float(failed[0].get("time")) > 1.0
-assert "dropout-line-length.vcd" in failed[0].find("system-out").text
+# time is wall seconds: far below the robot seconds of its property (the
+# bench runs many times real time).
+suite = [s for s in root.findall("testsuite") if s.find("testcase/failure") is not None][0]
+robot = float({p.get("name"): p.get("value") for p in suite.findall("properties/property")}["robot_time_s"])
+assert robot > 1.0 and float(failed[0].get("time")) < robot / 2, (robot, failed[0].get("time"))
+# GitLab's attachment form, relative to the report.
+out = failed[0].find("system-out").text.splitlines()
+assert "[[ATTACHMENT|report-artifacts/dropout-line-length.vcd]]" in out, out
+assert "[[ATTACHMENT|report-artifacts/dropout-line-length.gtkw]]" in out, out
 print("ok")
 "#;
     let py = Command::new("python3")
@@ -151,6 +200,39 @@ fn faults_junit_has_a_case_per_fault_and_the_failed_reaction() {
     assert_eq!(run("robust", &good).status.code(), Some(0));
     // The thesis build has no encoder-loss watchdog: the reaction fails.
     assert_eq!(run("thesis", &bad).status.code(), Some(1));
+    // A scenario's faults are run, not judged: a skipped case.
+    let skipped = dir.join("scenario.xml");
+    let out = hil(&[
+        "faults",
+        "--scenario",
+        PASS,
+        "--junit",
+        skipped.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(std::fs::read_to_string(&skipped)
+        .unwrap()
+        .contains("<skipped "));
+    let test_report = dir.join("test.xml");
+    assert_eq!(
+        hil(&["test", PASS, "--junit", test_report.to_str().unwrap()])
+            .status
+            .code(),
+        Some(0)
+    );
+    for report in [&good, &bad, &skipped, &test_report] {
+        assert_valid_junit(report);
+    }
+    // The same properties from both commands (hil test adds its file's).
+    let faults = &property_names(&good)[0];
+    let test = &property_names(&test_report)[0];
+    assert_eq!(faults[..], test[..faults.len()], "{faults:?} vs {test:?}");
+    assert!(faults.contains(&"robot_time_s".to_string()), "{faults:?}");
     let check = r#"
 import sys, xml.etree.ElementTree as ET
 for path, failures in ((sys.argv[1], 0), (sys.argv[2], 1)):
@@ -158,15 +240,16 @@ for path, failures in ((sys.argv[1], 0), (sys.argv[2], 1)):
     assert root.get("tests") == "1" and root.get("failures") == str(failures), root.attrib
     case = root.find("testsuite/testcase")
     assert case.get("name") == "encoder-dropout" and case.get("classname") == "hil.faults"
-    assert float(case.get("time")) > 3.0
     props = {p.get("name"): p.get("value") for p in root.findall("testsuite/properties/property")}
+    assert float(props["robot_time_s"]) > 3.0, props
+    assert float(case.get("time")) < float(props["robot_time_s"]), "time is wall seconds"
     failure = case.find("failure")
     if failures:
-        assert "thesis" in props["firmware"], props
+        assert props["firmware"] == "thesis", props
         assert failure.get("type") == "reaction"
         assert "never all off" in failure.get("message"), failure.get("message")
     else:
-        assert "robust" in props["firmware"] and failure is None, props
+        assert props["firmware"] == "robust" and failure is None, props
 print("ok")
 "#;
     let py = Command::new("python3")

@@ -3,7 +3,9 @@
 //! bytes once were) and its `uart` decoder decodes both directions of the
 //! links from the bit-level lines: the robust build's greeting on USART0, the
 //! host's test byte on USART1's RX and the firmware's framed replies on its
-//! TX. A GTKWave save file lies beside the trace.
+//! TX. A GTKWave save file lies beside the trace, naming it by its file name
+//! (the pair opens when moved) and zoomed to the run; the firmware's text is
+//! in a string variable GTKWave shows as text.
 
 #[path = "support/mod.rs"]
 mod support;
@@ -74,7 +76,7 @@ fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
     for line in [
         "left_A_D2",
         "right_B_D5",
-        "D8_pwm",
+        "D8_driven",
         "uart1_tx",
         "uart1_rx",
         "uart0_tx",
@@ -96,10 +98,32 @@ fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
     assert_eq!(replies.first(), Some(&0xA5), "{replies:02X?}");
 
     let gtkw = std::fs::read_to_string(vcd.with_extension("gtkw")).expect("a .gtkw beside");
-    assert!(
-        gtkw.contains(&format!("[dumpfile] \"{}\"", vcd.display())),
-        "{gtkw}"
-    );
+    assert!(gtkw.contains("[dumpfile] \"line.vcd\"\n"), "{gtkw}");
     assert!(gtkw.contains("uart.uart1_tx\n"), "{gtkw}");
+    // Zoomed to the run: GTKWave's time per pixel is 2^-zoom / 200 (in ps,
+    // the timescale's unit), over a wave pane of about 900 pixels.
+    let zoom: f64 = gtkw
+        .lines()
+        .find_map(|l| l.strip_prefix('*'))
+        .and_then(|l| l.split(' ').next())
+        .and_then(|z| z.parse().ok())
+        .expect("a zoom line");
+    let shown_ps = 2f64.powf(-zoom) / 200.0 * 900.0;
+    let run_ps = last as f64 * 62_500.0;
+    assert!(
+        shown_ps >= run_ps && shown_ps < 1.1 * run_ps,
+        "shows {shown_ps} ps of a {run_ps} ps run"
+    );
+    // The greeting as text (escaped spaces), in a string variable.
+    let id = text
+        .lines()
+        .find(|l| l.starts_with("$var string 1 ") && l.contains(" uart0_tx_text "))
+        .and_then(|l| l.split(' ').nth(3))
+        .expect("USART0's text variable");
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("shenrytwo") && l.ends_with(&format!(" {id}"))),
+        "the greeting as text"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -14,6 +14,8 @@ packages+=(sigrok-cli)
 packages+=(python3-serial)
 # The gdb stub is checked with the real avr-gdb in batch mode.
 packages+=(gdb-avr)
+# Every JUnit report is validated against Jenkins' junit-10.xsd with xmllint.
+packages+=(libxml2-utils)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -74,28 +74,41 @@ impl Faults {
         let thesis = (thesis_path.exists() && self.common.target.description.is_none())
             .then(|| Firmware::load(&thesis_path))
             .transpose()?;
-        let rows = selected
+        // Each row with the wall-clock seconds it took (the JUnit `time`),
+        // measured around the runs.
+        let timed = selected
             .par_iter()
             .map(|case| {
+                let started = std::time::Instant::now();
                 hil::runs::faults::run_fault(case, &robust, thesis.as_ref(), &robot, &options)
+                    .map(|row| (row, started.elapsed().as_secs_f64()))
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let (rows, wall_s): (Vec<FaultRow>, Vec<f64>) = timed.into_iter().unzip();
         self.common
             .print
             .json
             .emit(&rows, || hil::runs::faults::render(&rows))?;
         if let Some(path) = &self.junit {
-            let suite = hil::output::junit::Suite {
-                name: "hil faults".into(),
-                properties: vec![
-                    ("seed".into(), self.common.target.seed.to_string()),
-                    ("firmware".into(), robust.path.display().to_string()),
-                ],
-                cases: rows.iter().map(junit_case).collect(),
-            };
+            // A suite per fault, as `hil test` has a suite per case: the
+            // robot time is a suite's property.
+            let suites: Vec<_> = rows
+                .iter()
+                .zip(&wall_s)
+                .map(|(row, wall_s)| hil::output::junit::Suite {
+                    name: format!("hil faults {}", row.fault),
+                    properties: hil::output::junit::run_properties(
+                        "faults",
+                        &robust.name(),
+                        self.common.target.seed,
+                        row.robust_observed.robot_time_s,
+                    ),
+                    cases: vec![junit_case(row, *wall_s)],
+                })
+                .collect();
             hil::output::write_atomic(
                 path,
-                hil::output::junit::render("hil faults", &[suite]).as_bytes(),
+                hil::output::junit::render("hil faults", &suites).as_bytes(),
             )
             .with_context(|| format!("writing {}", path.display()))?;
         }
@@ -135,7 +148,7 @@ impl Faults {
 /// A fault's row as a JUnit case: failed when its verdict fails the command
 /// (a reaction not as expected, a fault that never fired), skipped when it
 /// was run against no expectation (a scenario's faults).
-fn junit_case(row: &FaultRow) -> hil::output::junit::Case {
+fn junit_case(row: &FaultRow, wall_s: f64) -> hil::output::junit::Case {
     let out = format!(
         "fault: {}\nexpected: {}\nrobust: {}\nthesis: {}",
         row.what, row.expected, row.robust, row.thesis
@@ -143,7 +156,7 @@ fn junit_case(row: &FaultRow) -> hil::output::junit::Case {
     hil::output::junit::Case {
         name: row.fault.clone(),
         classname: "hil.faults".into(),
-        time_s: row.robust_observed.robot_time_s,
+        time_s: wall_s,
         failure: row.verdict.failed().then(|| hil::output::junit::Failure {
             message: format!("{}: {}", row.verdict.tag(), row.why),
             kind: match row.verdict {
@@ -155,5 +168,6 @@ fn junit_case(row: &FaultRow) -> hil::output::junit::Case {
         }),
         skipped: (row.verdict == Verdict::NotJudged).then(|| row.why.clone()),
         system_out: Some(out),
+        attachments: Vec::new(),
     }
 }

@@ -68,23 +68,30 @@ impl Run {
                 );
                 match hil::runs::experiment::run_test_debugged(
                     firmware, &robot, test, &opts, server,
-                )? {
-                    Some(run) => run,
-                    None => {
-                        eprintln!("gdb: the debugger killed the run");
-                        return Ok(());
+                ) {
+                    Ok(run) => run,
+                    // Not a run that passed: exit 3, as for any run that
+                    // did not complete.
+                    Err(hil::bench::gdb::GdbError::Ended(why)) => {
+                        return Err(super::Incomplete(format!(
+                            "the {} run did not complete: {why}",
+                            test.name()
+                        ))
+                        .into())
                     }
+                    Err(e) => return Err(e.into()),
                 }
             }
             None => run_test(firmware, &robot, test, &opts)?,
         };
         if let Some(path) = &common.trace.vcd {
-            write_vcd(
+            let [vcd, save] = write_vcd(
                 path,
                 &run,
                 common.trace.vcd_pwm,
                 &common.target.bench().board,
             )?;
+            eprintln!("wrote {} and {}", vcd.display(), save.display());
         }
         let pace = Pace::of(run.robot_time_s, clock.stop());
         if common.print.json.json {
@@ -145,8 +152,16 @@ impl Line {
     }
 }
 
-fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool, board: &Board) -> Result<()> {
-    let text = hil::output::vcd::render(&hil::output::vcd::VcdInput {
+/// The trace of `run` at `path` and its GTKWave save file beside it (the
+/// same name, `.gtkw`), naming the trace by its file name so that the pair
+/// opens wherever it is moved. Returns both paths.
+pub(super) fn write_vcd(
+    path: &Path,
+    run: &TestRun,
+    pwm_edges: bool,
+    board: &Board,
+) -> Result<[PathBuf; 2]> {
+    let input = hil::output::vcd::VcdInput {
         clock_hz: BenchOptions::default().clock.hz(),
         board,
         edges: &run.edges,
@@ -155,14 +170,14 @@ fn write_vcd(path: &Path, run: &TestRun, pwm_edges: bool, board: &Board) -> Resu
         uart_rx: &run.uart_rx,
         samples: &run.trace,
         pwm_edges,
-    });
-    hil::output::write_atomic(path, text.as_bytes())
+    };
+    hil::output::write_atomic(path, hil::output::vcd::render(&input).as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
-    // A save file beside it, so that GTKWave opens with every signal shown.
     let save = path.with_extension("gtkw");
-    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    hil::output::write_atomic(&save, hil::output::vcd::gtkw(&absolute, board).as_bytes())
+    let name = path
+        .file_name()
+        .map_or_else(|| "trace.vcd".into(), |n| n.to_string_lossy());
+    hil::output::write_atomic(&save, hil::output::vcd::gtkw(&name, &input).as_bytes())
         .with_context(|| format!("writing {}", save.display()))?;
-    eprintln!("wrote {} and {}", path.display(), save.display());
-    Ok(())
+    Ok([path.to_path_buf(), save])
 }

@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use hil::bench::BenchOptions;
 use hil::board::Board;
 use hil::runs::experiment::{run_test_observed, Test, TestOptions, TestRun};
 use hil::runs::scenario::eval::{judge, Context as EvalContext, LastState, Outcome, Watch};
@@ -87,6 +86,10 @@ pub struct CaseReport {
     pub expectations: Vec<Outcome>,
     /// Files saved for triage, on a failure.
     pub artifacts: Vec<PathBuf>,
+    /// Wall-clock seconds the case took (the JUnit `time`); not in the
+    /// JSON, which stays the same from run to run.
+    #[serde(skip)]
+    pub wall_time_s: f64,
 }
 
 impl TestCmd {
@@ -126,7 +129,7 @@ impl TestCmd {
         })?;
         self.json.emit(&reports, || render(&reports))?;
         if let Some(path) = &self.junit {
-            let xml = junit(&reports);
+            let xml = junit(&reports, path);
             hil::output::write_atomic(path, xml.as_bytes())
                 .with_context(|| format!("writing {}", path.display()))?;
         }
@@ -233,6 +236,8 @@ fn run_case(
     let firmware_name = c.firmware.name();
     let seed = c.opts.bench.seed;
     let clock = c.opts.bench.clock;
+    // Wall time around the run, for the JUnit report only.
+    let started = std::time::Instant::now();
     let outcome = run_test_observed(
         c.firmware,
         &c.robot,
@@ -240,6 +245,7 @@ fn run_case(
         &c.opts,
         Some(Box::new(c.watch)),
     );
+    let wall_time_s = started.elapsed().as_secs_f64();
     let base = CaseReport {
         case: c.name.clone(),
         file: c.file.clone(),
@@ -252,6 +258,7 @@ fn run_case(
         robot_time_s: 0.0,
         expectations: Vec::new(),
         artifacts: Vec::new(),
+        wall_time_s,
     };
     let (run, observer) = match outcome {
         Ok(r) => r,
@@ -303,8 +310,9 @@ fn run_case(
     Ok(report)
 }
 
-/// The VCD of `run` and its last state, as `DIR/SLUG.vcd` and
-/// `DIR/SLUG.state.json`: what a failure is triaged with.
+/// The VCD of `run`, its GTKWave save file and its last state, as
+/// `DIR/SLUG.vcd`, `DIR/SLUG.gtkw` and `DIR/SLUG.state.json`: what a
+/// failure is triaged with.
 pub(super) fn save_artifacts(
     dir: &Path,
     slug: &str,
@@ -313,19 +321,8 @@ pub(super) fn save_artifacts(
     board: &Board,
 ) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let vcd = dir.join(format!("{slug}.vcd"));
-    let text = hil::output::vcd::render(&hil::output::vcd::VcdInput {
-        clock_hz: BenchOptions::default().clock.hz(),
-        board,
-        edges: &run.edges,
-        drive: &run.drive,
-        uart_tx: &run.uart,
-        uart_rx: &run.uart_rx,
-        samples: &run.trace,
-        pwm_edges: false,
-    });
-    hil::output::write_atomic(&vcd, text.as_bytes())
-        .with_context(|| format!("writing {}", vcd.display()))?;
+    // The trace with its GTKWave save file, as `hil run --vcd` writes them.
+    let [vcd, save] = super::run::write_vcd(&dir.join(format!("{slug}.vcd")), run, false, board)?;
     let state = dir.join(format!("{slug}.state.json"));
     let json = serde_json::json!({
         "test": run.test,
@@ -337,7 +334,7 @@ pub(super) fn save_artifacts(
     });
     hil::output::write_atomic(&state, serde_json::to_string_pretty(&json)?.as_bytes())
         .with_context(|| format!("writing {}", state.display()))?;
-    Ok(vec![vcd, state])
+    Ok(vec![vcd, save, state])
 }
 
 /// One line a case, then the count.
@@ -370,9 +367,9 @@ fn render(reports: &[CaseReport]) -> String {
     s
 }
 
-/// The JUnit report: a suite per case's file (its seed and firmware as
-/// properties), its one test case.
-fn junit(reports: &[CaseReport]) -> String {
+/// The JUnit report at `path`: a suite per case's file (the properties of
+/// every command, then its file and test), its one test case.
+fn junit(reports: &[CaseReport], path: &Path) -> String {
     let suites: Vec<hil::output::junit::Suite> = reports
         .iter()
         .map(|r| {
@@ -383,29 +380,34 @@ fn junit(reports: &[CaseReport]) -> String {
                 .collect();
             hil::output::junit::Suite {
                 name: format!("hil test {}", r.file.display()),
-                properties: vec![
-                    ("seed".into(), r.seed.to_string()),
-                    ("firmware".into(), r.firmware.clone()),
+                properties: hil::output::junit::run_properties(
+                    "test",
+                    &r.firmware,
+                    r.seed,
+                    r.robot_time_s,
+                )
+                .into_iter()
+                .chain([
                     ("test".into(), r.test.name().into()),
                     ("file".into(), r.file.display().to_string()),
-                ],
+                ])
+                .collect(),
                 cases: vec![hil::output::junit::Case {
                     name: r.case.clone(),
                     classname: format!("hil.test.{}", stem(&r.file)),
-                    time_s: r.robot_time_s,
+                    time_s: r.wall_time_s,
                     failure: (!r.pass).then(|| hil::output::junit::Failure {
                         message: r.message.clone(),
                         kind: r.verdict.into(),
                         text: details.join("\n"),
                     }),
                     skipped: None,
-                    system_out: (!r.artifacts.is_empty()).then(|| {
-                        r.artifacts
-                            .iter()
-                            .map(|a| format!("artifact: {}", a.display()))
-                            .collect::<Vec<_>>()
-                            .join("\n")
-                    }),
+                    system_out: None,
+                    attachments: r
+                        .artifacts
+                        .iter()
+                        .map(|a| hil::output::junit::relative_to_report(path, a))
+                        .collect(),
                 }],
             }
         })

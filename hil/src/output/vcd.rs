@@ -11,10 +11,15 @@
 //!
 //! Every digital line is a 1-bit wire and every value a `real`: sigrok-cli's
 //! VCD input reads only 1-bit wires and skips reals, and stops at the first
-//! change of a wider wire; GTKWave and Surfer read both. Every variable has a
-//! value in `$dumpvars` (a UART line idles high; a byte value is 0 until the
-//! first byte). [`gtkw`] writes a GTKWave save file that opens the trace with
-//! every signal in the wave pane.
+//! change of a wider wire; GTKWave and Surfer read both. Each UART direction
+//! also has a `string` variable (GTKWave's extension, shown as text; sigrok
+//! skips it): the line of text so far, unprintable bytes as `\xNN`. Every
+//! variable has a value in `$dumpvars` (a UART line idles high; a byte value
+//! is 0 until the first byte). A bridge input's 1-bit trace is its PWM
+//! waveform (`Dn_pwm`) only when the edges were asked for; otherwise it is a
+//! level, high while the input is driven at all, and named so (`Dn_driven`).
+//! [`gtkw`] writes a GTKWave save file that opens the trace beside it zoomed
+//! to the whole run, each wheel's drive beside its encoder.
 
 use std::fmt::Write as _;
 
@@ -71,6 +76,7 @@ impl Vars {
         }
         let value = match kind {
             "real" => format!("r{initial} {id}"),
+            "string" => format!("s{initial} {id}"),
             _ => format!("{initial}{id}"),
         };
         self.scopes.last_mut().expect("just pushed").1.push(Var {
@@ -118,6 +124,55 @@ fn frames(bytes: impl Iterator<Item = (u64, u8)>, cycles_per_bit: f64) -> Vec<(u
     out
 }
 
+/// A bridge input's 1-bit trace: named for what it shows.
+fn wave_name(pin: u8, pwm_edges: bool) -> String {
+    if pwm_edges {
+        format!("D{pin}_pwm")
+    } else {
+        format!("D{pin}_driven")
+    }
+}
+
+/// The longest text a UART's string variable shows before it starts anew
+/// (framed binary has no newline to end a line on).
+const TEXT_MAX: usize = 48;
+
+/// `line` with `byte` added, as the UART's string variable shows it: the
+/// text of the line so far, printable ASCII as itself and anything else
+/// escaped (a VCD value holds no whitespace); after a newline the next byte
+/// starts a new line.
+fn line_text(line: &mut String, byte: u8) -> String {
+    if line.ends_with("\\n") || line.len() >= TEXT_MAX {
+        line.clear();
+    }
+    match byte {
+        b'\n' => line.push_str("\\n"),
+        b'\r' => line.push_str("\\r"),
+        b'\\' => line.push_str("\\\\"),
+        b'!'..=b'~' => line.push(char::from(byte)),
+        _ => {
+            let _ = write!(line, "\\x{byte:02X}");
+        }
+    }
+    line.clone()
+}
+
+/// The last cycle anything in `input` changes at (0 for an empty trace).
+pub fn end_cycle(input: &VcdInput) -> u64 {
+    let sample_cycle = |s: &Sample| (s.t_s * input.clock_hz as f64).round() as u64;
+    [
+        input.edges.iter().map(|e| e.cycle).max(),
+        input.drive.iter().map(|e| e.cycle).max(),
+        input.uart_tx.iter().map(|b| b.0).max(),
+        input.uart_rx.iter().map(|b| b.0).max(),
+        input.samples.iter().map(sample_cycle).max(),
+    ]
+    .into_iter()
+    .flatten()
+    .max()
+    .unwrap_or(0)
+}
+
 /// Render the VCD text.
 pub fn render(input: &VcdInput) -> String {
     let mut vars = Vars {
@@ -160,12 +215,13 @@ pub fn render(input: &VcdInput) -> String {
             (
                 p,
                 vars.add("bridge", &format!("D{p}_duty"), "real", "0".into()),
-                vars.add("bridge", &format!("D{p}_pwm"), "wire", "0".into()),
+                vars.add("bridge", &wave_name(p, input.pwm_edges), "wire", "0".into()),
             )
         })
         .collect();
-    // Per UART: (USART, cycles per bit, TX line, RX line, TX byte, RX byte).
-    let lines: Vec<(u8, f64, [String; 4])> = uarts(input.board)
+    // Per UART: (USART, cycles per bit, TX line, RX line, TX byte, RX byte,
+    // TX text, RX text).
+    let lines: Vec<(u8, f64, [String; 6])> = uarts(input.board)
         .into_iter()
         .map(|(n, baud)| {
             let ids = [
@@ -173,9 +229,16 @@ pub fn render(input: &VcdInput) -> String {
                 ("rx", "wire"),
                 ("tx_byte", "real"),
                 ("rx_byte", "real"),
+                ("tx_text", "string"),
+                ("rx_text", "string"),
             ]
             .map(|(what, kind)| {
-                let initial = if kind == "wire" { "1" } else { "0" };
+                let initial = match kind {
+                    "wire" => "1",
+                    "real" => "0",
+                    // An empty string: GTKWave shows nothing until the first byte.
+                    _ => "",
+                };
                 vars.add("uart", &format!("uart{n}_{what}"), kind, initial.into())
             });
             (n, f64::from(input.clock_hz) / f64::from(baud), ids)
@@ -195,6 +258,12 @@ pub fn render(input: &VcdInput) -> String {
 
     let mut out = String::new();
     let _ = writeln!(out, "$comment Henrytwo HIL bench trace $end");
+    if !input.pwm_edges {
+        let _ = writeln!(
+            out,
+            "$comment bridge.Dn_driven is a level (high while the input's duty is above 0), not the PWM waveform: hil run --vcd-pwm writes that as Dn_pwm $end"
+        );
+    }
     let _ = writeln!(
         out,
         "$timescale {} ps $end",
@@ -204,6 +273,7 @@ pub fn render(input: &VcdInput) -> String {
         let _ = writeln!(out, "$scope module {scope} $end");
         for v in list {
             let width = if v.kind == "real" { 64 } else { 1 };
+            // GTKWave reads a string variable's width as 1.
             let _ = writeln!(out, "$var {} {width} {} {} $end", v.kind, v.id, v.name);
         }
         let _ = writeln!(out, "$upscope $end");
@@ -245,21 +315,23 @@ pub fn render(input: &VcdInput) -> String {
             }
         }
     }
-    for (n, cycles_per_bit, [tx, rx, tx_byte, rx_byte]) in &lines {
+    for (n, cycles_per_bit, [tx, rx, tx_byte, rx_byte, tx_text, rx_text]) in &lines {
         // A sent byte's frame starts when the USART takes it; a received
         // byte's ends when the receiver has it.
         let frame = (10.0 * cycles_per_bit).round() as u64;
-        for (log, line, value, back) in [
-            (input.uart_tx, tx, tx_byte, 0),
-            (input.uart_rx, rx, rx_byte, frame),
+        for (log, line, value, text, back) in [
+            (input.uart_tx, tx, tx_byte, tx_text, 0),
+            (input.uart_rx, rx, rx_byte, rx_text, frame),
         ] {
             let bytes = || {
                 log.iter()
                     .filter(|b| b.1 == *n)
                     .map(move |b| (b.0.saturating_sub(back), b.2))
             };
+            let mut so_far = String::new();
             for (cycle, byte) in bytes() {
                 changes.push((cycle, format!("r{byte} {value}")));
+                changes.push((cycle, format!("s{} {text}", line_text(&mut so_far, byte))));
             }
             for (cycle, level) in frames(bytes(), *cycles_per_bit) {
                 changes.push((cycle, format!("{}{line}", u8::from(level))));
@@ -291,17 +363,50 @@ pub fn render(input: &VcdInput) -> String {
     out
 }
 
-/// A GTKWave save file for the trace at `vcd_path` as [`render`] writes it
-/// for `board`: every signal in the wave pane, digital lines as bits, values
-/// as analog steps, scopes open.
-pub fn gtkw(vcd_path: &std::path::Path, board: &Board) -> String {
+/// GTKWave's wave pane, in pixels, as the save file sizes the window
+/// ([`GTKW_SIZE`] less the signal and tree panes); the zoom fits the run
+/// into it.
+const GTKW_WAVE_PX: f64 = 900.0;
+const GTKW_SIZE: (u32, u32) = (1400, 800);
+
+/// GTKWave's zoom that shows `span_ps` picoseconds across [`GTKW_WAVE_PX`]:
+/// its time per pixel is `2^-zoom / 200` (zoom base 2, 200 pixels a frame),
+/// as its own Zoom Fit computes it.
+/// With 2 % to spare, rounded down to the save file's six decimals, so the
+/// run's last change is on screen.
+pub fn gtkw_zoom(span_ps: f64) -> f64 {
+    let z = -(span_ps.max(1.0) * 1.02 * 200.0 / GTKW_WAVE_PX).log2();
+    (z * 1e6).floor() / 1e6
+}
+
+/// A GTKWave save file for the trace [`render`] writes of `input`, to lie
+/// beside it as `vcd_name` (a bare file name, so that the pair opens
+/// wherever it is moved: GTKWave looks for a relative dump file beside the
+/// save file), zoomed to the whole run. Signals in the order a run is read
+/// in: each wheel's bridge inputs (duty, then the waveform or level) above
+/// its encoder's lines, then each UART's text, bytes and bit lines, then the
+/// plant; a comment line heads each group.
+pub fn gtkw(vcd_name: &str, input: &VcdInput) -> String {
+    let board = input.board;
+    // GTKWave's time is the VCD's times the timescale's number (ps here).
+    let ps_per_cycle = 1_000_000_000_000u64 / input.clock_hz as u64;
+    let span_ps = (end_cycle(input) * ps_per_cycle) as f64;
     let mut out = String::new();
     let _ = writeln!(out, "[*] GTKWave save file of a Henrytwo HIL bench trace");
-    let _ = writeln!(out, "[dumpfile] \"{}\"", vcd_path.display());
+    let _ = writeln!(out, "[dumpfile] \"{vcd_name}\"");
+    let _ = writeln!(out, "[size] {} {}", GTKW_SIZE.0, GTKW_SIZE.1);
+    let _ = writeln!(out, "[signals_width] 260");
+    let _ = writeln!(out, "[sst_expanded] 0");
     let _ = writeln!(out, "[timestart] 0");
+    // The zoom, then the primary marker and GTKWave's 26 named markers
+    // (none set).
+    let _ = writeln!(out, "*{:.6} -1{}", gtkw_zoom(span_ps), " -1".repeat(26));
     for scope in ["encoders", "bridge", "uart", "plant"] {
         let _ = writeln!(out, "[treeopen] {scope}.");
     }
+    let comment = |out: &mut String, text: &str| {
+        let _ = writeln!(out, "@200\n-{text}");
+    };
     let bits = |out: &mut String, names: &[String]| {
         let _ = writeln!(out, "@28");
         for n in names {
@@ -315,27 +420,39 @@ pub fn gtkw(vcd_path: &std::path::Path, board: &Board) -> String {
             let _ = writeln!(out, "@8420\n{n}");
         }
     };
-    let encoders: Vec<String> = [Side::Left, Side::Right]
-        .iter()
-        .flat_map(|&side| {
-            let e = board.encoder(side);
-            let s = match side {
-                Side::Left => "left",
-                Side::Right => "right",
-            };
-            [("A", e.a), ("B", e.b)].map(|(ch, pin)| format!("encoders.{s}_{ch}_D{}", pin.arduino))
-        })
-        .collect();
-    bits(&mut out, &encoders);
-    for b in board.bridge_inputs() {
-        let p = b.pin.arduino;
-        bits(&mut out, &[format!("bridge.D{p}_pwm")]);
-        values(&mut out, &[format!("bridge.D{p}_duty")]);
-    }
-    for (n, _) in uarts(board) {
+    for side in [Side::Left, Side::Right] {
+        let s = match side {
+            Side::Left => "left",
+            Side::Right => "right",
+        };
+        comment(&mut out, &format!("{s} wheel: bridge inputs, encoder"));
+        for b in board.motor(side).inputs() {
+            let p = b.pin.arduino;
+            values(&mut out, &[format!("bridge.D{p}_duty")]);
+            bits(
+                &mut out,
+                &[format!("bridge.{}", wave_name(p, input.pwm_edges))],
+            );
+        }
+        let e = board.encoder(side);
         bits(
             &mut out,
-            &[format!("uart.uart{n}_tx"), format!("uart.uart{n}_rx")],
+            &[("A", e.a), ("B", e.b)]
+                .map(|(ch, pin)| format!("encoders.{s}_{ch}_D{}", pin.arduino)),
+        );
+    }
+    for (n, baud) in uarts(board) {
+        comment(
+            &mut out,
+            &format!("USART{n} at {baud} baud: text, bytes, lines"),
+        );
+        // Strings need no flags of their own: GTKWave shows them as text.
+        bits(
+            &mut out,
+            &[
+                format!("uart.uart{n}_tx_text"),
+                format!("uart.uart{n}_rx_text"),
+            ],
         );
         values(
             &mut out,
@@ -344,7 +461,12 @@ pub fn gtkw(vcd_path: &std::path::Path, board: &Board) -> String {
                 format!("uart.uart{n}_rx_byte"),
             ],
         );
+        bits(
+            &mut out,
+            &[format!("uart.uart{n}_tx"), format!("uart.uart{n}_rx")],
+        );
     }
+    comment(&mut out, "plant: pose, edge counts");
     let plant: Vec<String> = ["x_mm", "y_mm", "theta_rad", "left_edges", "right_edges"]
         .iter()
         .map(|n| format!("plant.{n}"))
@@ -427,7 +549,7 @@ mod uart_tests {
 
     #[test]
     fn every_variable_starts_with_a_value() {
-        let text = render(&VcdInput {
+        let input = VcdInput {
             clock_hz: 16_000_000,
             board: &Board::default(),
             edges: &[PinEvent {
@@ -440,7 +562,8 @@ mod uart_tests {
             uart_rx: &[(1000, 1, b'g')],
             samples: &[],
             pwm_edges: false,
-        });
+        };
+        let text = render(&input);
         let defined = text.lines().filter(|l| l.starts_with("$var")).count();
         let dump: Vec<&str> = text
             .split("$dumpvars\n")
@@ -452,7 +575,7 @@ mod uart_tests {
         assert_eq!(dump.len(), defined, "{dump:?}");
         assert!(dump.contains(&"1!c"), "right A starts high: {dump:?}");
         assert!(text.contains("uart1_rx"), "the host's bytes are traced");
-        let gtkw = gtkw(std::path::Path::new("t.vcd"), &Board::default());
+        let gtkw = gtkw("t.vcd", &input);
         for l in text.lines().filter(|l| l.starts_with("$var")) {
             let name = l.split(' ').nth(4).unwrap();
             assert!(
@@ -460,5 +583,77 @@ mod uart_tests {
                 "{name} in the save file"
             );
         }
+    }
+
+    #[test]
+    fn uart_text_is_the_line_so_far_and_the_save_file_fits_the_run() {
+        let sent: Vec<(u64, u8, u8)> = b"ok 1\nA\xA5"
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (1000 + 20_000 * i as u64, 0, *b))
+            .collect();
+        let input = VcdInput {
+            clock_hz: 16_000_000,
+            board: &Board::default(),
+            edges: &[],
+            drive: &[],
+            uart_tx: &sent,
+            uart_rx: &[],
+            samples: &[],
+            pwm_edges: false,
+        };
+        let text = render(&input);
+        let id = text
+            .lines()
+            .find(|l| l.contains(" uart0_tx_text "))
+            .and_then(|l| l.split(' ').nth(3))
+            .expect("a string variable for USART0's text");
+        let shown: Vec<&str> = text
+            .lines()
+            .filter(|l| l.starts_with('s') && l.ends_with(&format!(" {id}")))
+            .map(|l| l[1..].split(' ').next().unwrap())
+            .collect();
+        assert_eq!(
+            shown,
+            [
+                "",
+                "o",
+                "ok",
+                "ok\\x20",
+                "ok\\x201",
+                "ok\\x201\\n",
+                "A",
+                "A\\xA5"
+            ]
+        );
+        // Without --vcd-pwm the bridge trace says it is a level.
+        let vars: Vec<&str> = text.lines().filter(|l| l.starts_with("$var")).collect();
+        assert!(
+            vars.iter().any(|l| l.ends_with(" D7_driven $end")),
+            "{vars:?}"
+        );
+        assert!(!vars.iter().any(|l| l.contains("_pwm")), "{vars:?}");
+
+        let save = gtkw("run.vcd", &input);
+        assert!(save.contains("[dumpfile] \"run.vcd\"\n"), "{save}");
+        // The zoom shows the whole run (the last byte at cycle 121000),
+        // and not much more.
+        let zoom: f64 = save
+            .lines()
+            .find_map(|l| l.strip_prefix('*'))
+            .and_then(|l| l.split(' ').next())
+            .and_then(|z| z.parse().ok())
+            .expect("a zoom line");
+        let shown_ps = 2f64.powf(-zoom) / 200.0 * GTKW_WAVE_PX;
+        let run_ps = 121_000.0 * 62_500.0;
+        assert!(
+            shown_ps >= run_ps && shown_ps < 1.1 * run_ps,
+            "{shown_ps} vs {run_ps}"
+        );
+        // Each wheel's drive above its encoder.
+        let at = |n: &str| save.find(n).unwrap_or_else(|| panic!("{n} in {save}"));
+        assert!(at("bridge.D9_duty") < at("encoders.left_A_D2"));
+        assert!(at("encoders.left_B_D4") < at("bridge.D7_duty"));
+        assert!(at("bridge.D7_duty") < at("encoders.right_A_D3"));
     }
 }

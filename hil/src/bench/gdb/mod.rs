@@ -44,6 +44,10 @@ pub enum GdbError {
     Io(#[from] std::io::Error),
     #[error(transparent)]
     Bench(#[from] BenchError),
+    /// The debugger ended the run before its end: `kill`, or its
+    /// connection closed without a detach.
+    #[error("the run did not complete: {0}")]
+    Ended(String),
 }
 
 /// A listening stub: bind first (the port is known before anyone connects),
@@ -67,19 +71,20 @@ impl GdbServer {
     /// Wait for one debugger and serve it with the bench paused where it
     /// is (at reset, for a fresh bench), until the debugger continues or
     /// steps; from then on the debugger drives every run loop of `bench`.
-    /// Other debuggers are refused while this one is connected. Ok(false):
-    /// the debugger killed the run before it started.
-    pub fn attach(self, bench: &mut Bench) -> Result<bool, GdbError> {
+    /// Other debuggers are refused while this one is connected.
+    /// [`GdbError::Ended`]: the debugger killed the run, or left without a
+    /// detach, before it started.
+    pub fn attach(self, bench: &mut Bench) -> Result<(), GdbError> {
         let (stream, _) = self.listener.accept()?;
         let refuser = refuse::Refuser::spawn(self.listener)?;
         let mut session = Session::new(stream, bench, refuser)?;
         match session.serve(bench)? {
             Resume::Run => {
                 bench.set_debugger(Some(Box::new(session)));
-                Ok(true)
+                Ok(())
             }
-            Resume::Detach => Ok(true),
-            Resume::Kill => Ok(false),
+            Resume::Detach => Ok(()),
+            r => Err(GdbError::Ended(r.ended().unwrap_or("ended").into())),
         }
     }
 }

@@ -37,7 +37,23 @@ const MONITOR_HELP: &str = "monitor commands: cycle (the emulated cycle and robo
 pub(super) enum Resume {
     Run,
     Detach,
+    /// gdb's `kill`.
     Kill,
+    /// The connection closed without a detach or a kill: gdb quit or died.
+    Gone,
+}
+
+impl Resume {
+    /// Why the run ended, for a run the debugger ended.
+    pub(super) fn ended(self) -> Option<&'static str> {
+        match self {
+            Resume::Kill => Some("the debugger killed it (gdb's kill)"),
+            Resume::Gone => {
+                Some("the debugger's connection closed without a detach (gdb quit or died)")
+            }
+            Resume::Run | Resume::Detach => None,
+        }
+    }
 }
 
 pub(super) struct Session {
@@ -55,6 +71,13 @@ pub(super) struct Session {
     watched_before: Vec<(u16, u8)>,
     flash_size: u32,
     data_size: u32,
+    /// Watchpoints accepted but not served, each with the reason: gdb 13
+    /// prints no text of a refused `Z` packet, so the refusal is said at
+    /// the resume (an `O` packet, then a stop), where gdb's console shows it.
+    refused: Vec<(String, String)>,
+    /// The stub's reasons for what it refused (a `load`) that gdb's reply
+    /// handling cannot show: said on gdb's console at the next resume.
+    notes: Vec<String>,
     _refuser: Refuser,
 }
 
@@ -71,6 +94,8 @@ impl Session {
             watched_before: Vec::new(),
             flash_size: bench.mcu().flash_size(),
             data_size: bench.mcu().data_size(),
+            refused: Vec::new(),
+            notes: Vec::new(),
             _refuser: refuser,
         })
     }
@@ -149,7 +174,7 @@ impl Session {
         match self.serve(bench).map_err(gone)? {
             Resume::Run => Ok(true),
             Resume::Detach => Ok(false),
-            Resume::Kill => Err(BenchError::Debugger("killed".into())),
+            r => Err(BenchError::Debugger(r.ended().unwrap_or("ended").into())),
         }
     }
 
@@ -165,8 +190,22 @@ impl Session {
             let cmd = match self.link.next_packet()? {
                 Packet::Command(c) => c,
                 Packet::Interrupt => continue, // already paused
-                Packet::Closed => return Ok(Resume::Kill),
+                Packet::Closed => return Ok(Resume::Gone),
             };
+            let resumes = matches!(cmd.as_bytes().first(), Some(b'c' | b's'));
+            if resumes {
+                for note in std::mem::take(&mut self.notes) {
+                    self.link.send(&console(&note))?;
+                }
+            }
+            if resumes && !self.refused.is_empty() {
+                // Not run: the reasons, then a stop where it is.
+                for (_, why) in &self.refused {
+                    self.link.send(&console(why))?;
+                }
+                self.link.send(&format!("S{SIGTRAP:02x}"))?;
+                continue;
+            }
             match cmd.as_bytes().first().copied() {
                 Some(b'c') => {
                     if let Some(pc) = cmd.get(1..).and_then(|a| u32::from_str_radix(a, 16).ok()) {
@@ -223,7 +262,12 @@ impl Session {
                 self.memory_map(&cmd["qXfer:memory-map:read::".len()..])
             }
             _ if cmd.starts_with("vFlash") => {
-                eprintln!("gdb: refused a flash write ({}): the bench runs the ELF it started with; restart hil with the other ELF", cmd.split(':').next().unwrap_or(cmd));
+                let what = cmd.split(':').next().unwrap_or(cmd);
+                eprintln!("gdb: refused a flash write ({what}): the bench runs the ELF it started with; restart hil with the other ELF");
+                let note = "hil: the load was refused: flash is read-only, the bench runs the ELF it started with (restart hil with --elf FILE to run another)\n";
+                if !self.notes.iter().any(|n| n == note) {
+                    self.notes.push(note.into());
+                }
                 "E.flash is read-only: the bench runs the ELF it started with".into()
             }
             _ if cmd.starts_with("qRcmd,") => self.monitor(bench, &cmd[6..]),
@@ -269,13 +313,32 @@ impl Session {
         let data = p.addr.wrapping_sub(DATA_OFFSET);
         let end = data as u64 + p.len as u64;
         let sreg = (data..data + p.len).contains(&SREG_DATA);
-        if p.addr < DATA_OFFSET
-            || data < WATCH_FROM
-            || end > self.data_size as u64
-            || sreg
-            || p.len == 0
-        {
-            return "E01".into();
+        let why = if p.addr < DATA_OFFSET || p.len == 0 {
+            Some("it is not in the data space (flash cannot be watched)")
+        } else if data < WATCH_FROM {
+            Some("the registers r0-r31 are touched by nearly every instruction and cannot be watched exactly; watch the variable in memory")
+        } else if sreg {
+            Some("SREG is not kept in the data space while the MCU runs; break where it matters and look at $sreg")
+        } else if end > self.data_size as u64 {
+            Some("it is beyond the end of the data space")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            let key = cmd[1..].to_string();
+            if p.insert {
+                eprintln!("gdb: refused a watchpoint at 0x{:x}: {why}", p.addr);
+                let line = format!(
+                    "hil: the watchpoint at 0x{:x} ({} byte{}) is refused: {why}; delete it to continue\n",
+                    p.addr,
+                    p.len,
+                    if p.len == 1 { "" } else { "s" }
+                );
+                self.refused.push((key, line));
+            } else if let Some(i) = self.refused.iter().position(|r| r.0 == key) {
+                self.refused.remove(i);
+            }
+            return "OK".into();
         }
         let w = Watch {
             kind,

@@ -337,27 +337,26 @@ pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
 
 /// Run `test` under a debugger: the MCU paused at its reset vector until
 /// the debugger continues, then [`run_test`]'s run, step for step (the
-/// debugger only pauses it), the debugger told of the end. None when the
-/// debugger killed the run.
+/// debugger only pauses it), the debugger told of the end.
+/// [`GdbError::Ended`](crate::bench::gdb::GdbError::Ended) when the
+/// debugger killed the run or left it without a detach.
 pub fn run_test_debugged(
     firmware: Firmware,
     robot: &RobotConfig,
     test: Test,
     opts: &TestOptions,
     server: crate::bench::gdb::GdbServer,
-) -> Result<Option<TestRun>, crate::bench::gdb::GdbError> {
+) -> Result<TestRun, crate::bench::gdb::GdbError> {
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
-    if !server.attach(&mut bench)? {
-        return Ok(None);
-    }
+    server.attach(&mut bench)?;
     let run = match run_on(&mut bench, robot, test, opts, None) {
         Ok(run) => run,
-        Err(BenchError::Debugger(_)) => return Ok(None),
+        Err(BenchError::Debugger(why)) => return Err(crate::bench::gdb::GdbError::Ended(why)),
         Err(e) => {
             crate::bench::gdb::run_over(&mut bench, false);
             return Err(e.into());
         }
     };
     crate::bench::gdb::run_over(&mut bench, run.completed);
-    Ok(Some(run))
+    Ok(run)
 }
