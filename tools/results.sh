@@ -14,7 +14,7 @@ usage: tools/results.sh [--quick] [--only PAGE|BLOCK]... [--list] [--help]
 Regenerates the generated blocks of docs/results/*.md from hil commands.
 
   --only NAME  regenerate one page (speed, faults, calibration, robots, timing,
-               blackbox, gap-self-test, mutation) or one block (--list shows
+               blackbox, gap-self-test, sizes, mutation) or one block (--list shows
                them); may be given more than once
   --quick      only the blocks that take a few minutes at most (leaves out
                hil bench --diagnosis, the bench-backed gap runs and the blocks
@@ -69,8 +69,9 @@ blocks=(
   "gap-self-test gap-robots 1 block_gap_robots"
   "gap-self-test gap-self-test-bench 0 block_gap_self_test_bench"
   "gap-self-test gap-thesis-bench 0 block_gap_thesis_bench"
+  "sizes sizes 1 block_sizes"
 )
-pages=(speed faults calibration robots timing blackbox gap-self-test mutation)
+pages=(speed faults calibration robots timing blackbox gap-self-test sizes mutation)
 
 # One command of a block: echoed as `$ hil ...`, its stdout kept, its
 # stderr to the block's log, a non-zero exit written after its output
@@ -145,6 +146,15 @@ block_blackbox() {
   hil_cmd run umbmark-ccw --tests fixtures/arduino/square-demo/tests.toml --deterministic
 }
 block_gap_self_test() { hil_cmd gap --self-test; }
+# What each ELF takes of the ATmega2560's flash and SRAM, as avr-size counts it.
+block_sizes() {
+  local elf
+  for elf in firmware/target/avr-none/release/*.elf firmware/target/arduino/*.elf; do
+    printf '$ avr-size -C --mcu=atmega2560 %s\n' "$elf"
+    avr-size -C --mcu=atmega2560 "$elf" | grep -E '^(Program|Data):'
+    printf '\n'
+  done
+}
 block_gap_thesis() { hil_cmd gap --real fixtures/real/thesis --model "$ideal"; }
 block_gap_robots() {
   hil_cmd gap --real fixtures/real/compact48 --model fixtures/robots/compact48.toml
