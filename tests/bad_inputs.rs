@@ -68,8 +68,11 @@ fn expand(s: &str, tmp: &Path) -> String {
         .replace("{tmp}", &tmp.display().to_string())
 }
 
-/// A pipe's reader: the bytes it got (joined after the case).
-type Reader = (PathBuf, std::thread::JoinHandle<usize>);
+/// A pipe's reader: the path, the bytes it got (joined after the case), and
+/// a handle that holds the pipe open for reading and writing while the case
+/// runs. Held, it lets the reader's open return at once and keeps it reading
+/// until dropped, even if the command never opens the pipe or replaces it.
+type Reader = (PathBuf, std::thread::JoinHandle<usize>, std::fs::File);
 
 fn prepare(spec: &str, tmp: &Path) -> Result<Option<Reader>, String> {
     let (kind, path) = spec
@@ -105,6 +108,11 @@ fn prepare(spec: &str, tmp: &Path) -> Result<Option<Reader>, String> {
         "fifo" => {
             nix::unistd::mkfifo(&path, nix::sys::stat::Mode::S_IRWXU)
                 .map_err(|e| fail(e.to_string()))?;
+            let hold = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .open(&path)
+                .map_err(|e| fail(e.to_string()))?;
             let p = path.clone();
             let reader = std::thread::spawn(move || {
                 let mut bytes = Vec::new();
@@ -113,19 +121,17 @@ fn prepare(spec: &str, tmp: &Path) -> Result<Option<Reader>, String> {
                 }
                 bytes.len()
             });
-            return Ok(Some((path, reader)));
+            return Ok(Some((path, reader, hold)));
         }
         other => return Err(fail(format!("unknown kind {other:?}"))),
     }
     Ok(None)
 }
 
-/// The pipe's reader joined: a writer that never came is stood in for (an
-/// open and close of the write end), so that the reader ends.
-fn finish_reader((path, reader): Reader) -> usize {
-    if !reader.is_finished() {
-        let _ = std::fs::OpenOptions::new().write(true).open(&path);
-    }
+/// The pipe's reader joined: the held handle closed, the pipe has no writer
+/// left and the reader sees its end.
+fn finish_reader((_, reader, hold): Reader) -> usize {
+    drop(hold);
     reader.join().unwrap_or(0)
 }
 
