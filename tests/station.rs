@@ -138,6 +138,9 @@ fn serve_refuses_a_speed_of_zero_in_one_line() {
         .unwrap();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("speed 0: give a factor above 0"), "{err}");
+    assert!(
+        err.contains("speed 0: give a factor from 0.001 to 1000"),
+        "{err}"
+    );
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
 }

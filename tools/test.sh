@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 tools/setup.sh
 cargo fmt --all --check
 # No module may depend on itself through others (the checker, then its own test).
-python3 tools/module-cycles.py hil plant-model calib gap protocol firmware
+python3 tools/module-cycles.py hil plant-model calib gap protocol firmware input-file
 bash tools/module-cycles-test.sh
 # The ci profile: release without link-time optimisation (see Cargo.toml).
 cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings

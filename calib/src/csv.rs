@@ -384,7 +384,7 @@ fn experiments(text: &str, layout: Layout) -> Result<Vec<u32>, Error> {
 }
 
 fn read(path: &Path) -> Result<String, Error> {
-    std::fs::read_to_string(path).map_err(|source| Error::Io {
+    input_file::read_text(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
     })

@@ -293,7 +293,7 @@ impl LoadedManifest {
     /// Reads and validates a manifest (the files it names must exist).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, GapError> {
         let path = path.as_ref().to_path_buf();
-        let text = std::fs::read_to_string(&path).map_err(|source| GapError::Io {
+        let text = input_file::read_text(&path).map_err(|source| GapError::Io {
             path: path.clone(),
             source,
         })?;

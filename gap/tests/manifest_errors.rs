@@ -176,6 +176,19 @@ fn firmware_values() {
     assert!(m.contains("setpoint_left and setpoint_right"), "{m}");
 }
 
+/// A distance per count of 1e308 mm (or any value past a robot's) is refused with its
+/// range, not diagnosed.
+#[test]
+fn firmware_values_within_a_robots_range() {
+    let m = message(parse(
+        &GOOD.replace("mm_per_count = 0.166327", "mm_per_count = 1e308"),
+    ));
+    assert!(
+        m.contains("`firmware.mm_per_count` = 1000000000") && m.contains("0.0001 to 100 mm"),
+        "{m}"
+    );
+}
+
 /// Without a plant config the manifest needs [reference]; with one, a [reference] that
 /// disagrees with it is refused.
 #[test]
@@ -197,7 +210,10 @@ fn reference_rules() {
             format!("{thesis_layout}\n[reference]\nwheelbase_mm = {bad}\nmm_per_count = 0.1669\n");
         let m = message(parse(&zero));
         assert!(
-            m.contains("`reference.wheelbase_mm` must be a positive number"),
+            m.contains(&format!(
+                "`reference.wheelbase_mm` = {}: give a positive number from 10 to 5000 mm",
+                bad.trim_end_matches(".0")
+            )),
             "{m}"
         );
     }

@@ -150,7 +150,7 @@ impl RobotConfig {
     /// ([`Error::InFile`]).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::ReadConfig {
+        let text = input_file::read_text(path).map_err(|source| Error::ReadConfig {
             path: path.to_path_buf(),
             source,
         })?;

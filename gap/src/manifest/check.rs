@@ -55,9 +55,7 @@ impl LoadedManifest {
                 ("reference.wheelbase_mm", r.wheelbase_mm),
                 ("reference.mm_per_count", r.mm_per_count),
             ] {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(self.err(format!("`{f}` must be a positive number, got {v}")));
-                }
+                self.check_range(f, v)?;
             }
         }
         if let Some(e) = &m.endpoints {
@@ -141,18 +139,10 @@ impl LoadedManifest {
             ("leg_mm", f.leg_mm),
             ("turn_umbmark_deg", f.turn_umbmark_deg),
             ("turn_triangle_deg", f.turn_triangle_deg),
+            ("setpoint_left", f.setpoint_left.unwrap_or(1.0)),
+            ("setpoint_right", f.setpoint_right.unwrap_or(1.0)),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(self.err(format!("`{what}.{name}` must be positive, got {v}")));
-            }
-        }
-        for (name, v) in [
-            ("setpoint_left", f.setpoint_left),
-            ("setpoint_right", f.setpoint_right),
-        ] {
-            if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-                return Err(self.err(format!("`{what}.{name}` must be positive")));
-            }
+            self.check_range(&format!("{what}.{name}"), v)?;
         }
         if f.setpoint_left.is_some() != f.setpoint_right.is_some() {
             return Err(self.err(format!(
@@ -160,6 +150,24 @@ impl LoadedManifest {
             )));
         }
         Ok(())
+    }
+
+    /// `field` (its last part names the quantity) within what a robot of the
+    /// thesis' kind can have ([`RANGES`]): positive alone let a distance per
+    /// count of 1e308 mm through to a diagnosis.
+    fn check_range(&self, field: &str, v: f64) -> Result<(), GapError> {
+        let name = field.rsplit('.').next().unwrap_or(field);
+        let (low, high, unit) = RANGES
+            .iter()
+            .find(|(n, ..)| *n == name)
+            .map(|(_, low, high, unit)| (*low, *high, *unit))
+            .unwrap_or((0.0, f64::MAX, ""));
+        if v.is_finite() && v > 0.0 && (low..=high).contains(&v) {
+            return Ok(());
+        }
+        Err(self.err(format!(
+            "`{field}` = {v}: give a positive number from {low} to {high}{unit}"
+        )))
     }
 
     /// A log that is a run of `group` and states its own `[firmware]`, or a reference of its
@@ -190,6 +198,21 @@ impl LoadedManifest {
         Ok(())
     }
 }
+
+/// The range of each number of a manifest's `[firmware]` and `[reference]`,
+/// by field name: the firmware's own parameter ranges (protocol/README.md)
+/// widened to robots of other sizes. Zero is never allowed.
+const RANGES: &[(&str, f64, f64, &str)] = &[
+    ("c_left", 0.1, 10.0, ""),
+    ("c_right", 0.1, 10.0, ""),
+    ("wheelbase_mm", 10.0, 5000.0, " mm"),
+    ("mm_per_count", 0.0001, 100.0, " mm"),
+    ("leg_mm", 1.0, 100_000.0, " mm"),
+    ("turn_umbmark_deg", 1.0, 360.0, " degrees"),
+    ("turn_triangle_deg", 1.0, 360.0, " degrees"),
+    ("setpoint_left", 0.01, 1000.0, " thesis RPM"),
+    ("setpoint_right", 0.01, 1000.0, " thesis RPM"),
+];
 
 /// The first field (in name order) where two values of plain data (numbers, strings, enums)
 /// differ, with both values; numbers the same to rounding ([`close`]) do not differ.

@@ -23,7 +23,7 @@ impl LoadedManifest {
         let reference = self.reference.expect("validated");
         let fw = m.firmware.as_ref().expect("validated").to_firmware();
         let path = self.resolve(&e.file);
-        let text = std::fs::read_to_string(&path).map_err(|source| GapError::Io {
+        let text = input_file::read_text(&path).map_err(|source| GapError::Io {
             path: path.clone(),
             source,
         })?;
@@ -135,7 +135,7 @@ impl LoadedManifest {
             return Ok(None);
         };
         let path = self.resolve(&t.file);
-        let text = std::fs::read_to_string(&path).map_err(|source| GapError::Io {
+        let text = input_file::read_text(&path).map_err(|source| GapError::Io {
             path: path.clone(),
             source,
         })?;

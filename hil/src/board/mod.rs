@@ -260,7 +260,7 @@ impl Board {
     /// The board described by the TOML file at `path`, checked.
     pub fn load(path: impl AsRef<Path>) -> Result<Board, BoardError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| BoardError::Read {
+        let text = input_file::read_text(path).map_err(|source| BoardError::Read {
             path: path.display().to_string(),
             source,
         })?;

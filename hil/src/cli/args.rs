@@ -120,6 +120,14 @@ pub fn parse_param(s: &str) -> Result<(hil::firmware::link::Param, f32), String>
         .into_iter()
         .find(|p| p.name() == name.trim())
         .ok_or_else(|| format!("{name:?} is no firmware parameter; one of {}", names()))?;
+    if p == Param::LegLengthMm {
+        // The bench judges a run by the leg it asked for: a leg set behind
+        // its back would be reported against the other length.
+        return Err(format!(
+            "{name}: the leg is set with --leg-mm (hil line: --length-mm), which the bench \
+             also judges the run by; give it there"
+        ));
+    }
     let r = p.range();
     let v: f32 = value
         .trim()
@@ -192,7 +200,25 @@ impl Target {
                 hil::paths::firmware_elf(build.get_name())
             }
         };
-        Firmware::load(&path).map_err(super::bad_input)
+        let firmware = Firmware::load(&path).map_err(super::bad_input)?;
+        if let Some(d) = &self.description {
+            // The names the description gives must be in this ELF: checked
+            // now, not when the run reaches them.
+            d.resolve(&firmware).map_err(super::bad_input)?;
+            if let Some(name) = d.control_function(&firmware) {
+                name.map_err(super::bad_input)?;
+            }
+            if let Some((p, _)) = self.params.first() {
+                return Err(super::BadInput(format!(
+                    "--param {}: {}: the firmware it describes has no protocol to set parameters \
+                     with; drop --param",
+                    p.name(),
+                    d.path
+                ))
+                .into());
+            }
+        }
+        Ok(firmware)
     }
 
     /// The robot and the firmware, read in that order.
@@ -284,12 +310,15 @@ impl Common {
         Ok(())
     }
 
-    /// For a command that starts no run itself (its client does): `--param` and
-    /// `--keep-firmware-params`, which shape what the bench tells the firmware before each
-    /// run, refused (exit 2), not dropped.
+    /// For a command that starts no run itself (its client does): `--tests`,
+    /// `--param` and `--keep-firmware-params`, which shape how the bench starts
+    /// each run and what it tells the firmware before it, refused (exit 2), not
+    /// dropped.
     pub fn refuse_run_params(&self, command: &str) -> Result<()> {
         let t = &self.target;
-        let option = if !t.params.is_empty() {
+        let option = if t.description.is_some() {
+            "--tests"
+        } else if !t.params.is_empty() {
             "--param"
         } else if t.keep_firmware_params {
             "--keep-firmware-params"
@@ -462,4 +491,49 @@ pub fn parse_seconds(s: &str) -> Result<f64, String> {
         return Err(format!("{s} s is out of range: give a positive robot time"));
     }
     Ok(v)
+}
+
+/// `--jobs`: parallel runs, at least 1. Any larger count is taken and
+/// capped by [`threads`]: threads past the work or the cores only cost.
+#[derive(clap::Args, Clone, Copy)]
+pub struct Jobs {
+    /// Parallel runs (default: all cores; capped at the runs to make and
+    /// at the machine's cores, with a note).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub jobs: Option<u64>,
+}
+
+impl Jobs {
+    /// The worker threads for `work` runs: `--jobs`, else the machine's
+    /// cores, at most one per run and per core. A count given and capped
+    /// is said on stderr, so that `--jobs 100000` is not taken for 100 000
+    /// threads (one per job made 4000 threads and ran six times slower).
+    pub fn threads(self, work: usize) -> usize {
+        cap_jobs(self.jobs, Some(work))
+    }
+
+    /// A pool of [`Jobs::threads`] workers for `work` runs.
+    pub fn pool(self, work: usize) -> anyhow::Result<rayon::ThreadPool> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads(work))
+            .build()
+            .context("starting the worker threads")
+    }
+}
+
+/// `given` parallel jobs (default: all cores) capped at the machine's cores
+/// and, when known, at the `work` to share out; a count given and capped
+/// is said on stderr.
+pub fn cap_jobs(given: Option<u64>, work: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cap = work.map_or(cores, |w| cores.min(w)).max(1);
+    match given {
+        Some(j) if j > cap as u64 => {
+            let runs = work.map_or(String::new(), |w| format!("{w} run(s) to make, "));
+            eprintln!("note: --jobs {j} capped at {cap} ({runs}{cores} core(s) on this machine)");
+            cap
+        }
+        Some(j) => j as usize,
+        None => cap,
+    }
 }

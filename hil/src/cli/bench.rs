@@ -32,8 +32,8 @@ pub struct Bench {
     /// bench is compared with).
     #[arg(long)]
     without_simavr_pwm: bool,
-    /// Time each run this many times, interleaved; the fastest counts.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
+    /// Time each run this many times, interleaved; the fastest counts (1 to 100).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
     repeats: u32,
     /// Time the bench-backed diagnosis instead (`hil gap --bench`): a
     /// dataset of 5 runs of each test (UMBmark CW and CCW, line, triangle)
@@ -130,11 +130,15 @@ impl Bench {
     }
 }
 
+/// The most frames `hil fuzz` sends: a hundred times the default.
+const MAX_FRAMES: u64 = 10_000_000;
+
 #[derive(clap::Args)]
 pub struct Fuzz {
-    /// Number of invalid frames.
-    #[arg(long, default_value_t = 100_000)]
-    frames: usize,
+    /// Number of invalid frames (1 to 10000000).
+    #[arg(long, default_value_t = 100_000,
+          value_parser = clap::value_parser!(u64).range(1..=MAX_FRAMES))]
+    frames: u64,
     #[command(flatten)]
     common: Common,
 }
@@ -144,8 +148,9 @@ impl Fuzz {
         self.common.refuse_trace("fuzz")?;
         let target = &self.common.target;
         let (robot, firmware) = target.load()?;
-        let bar = indicatif::ProgressBar::new(self.frames as u64);
-        let report = hil::runs::fuzz::fuzz(firmware, &robot, self.frames, target.seed, &|n| {
+        let frames = self.frames as usize;
+        let bar = indicatif::ProgressBar::new(self.frames);
+        let report = hil::runs::fuzz::fuzz(firmware, &robot, frames, target.seed, &|n| {
             bar.set_position(n as u64)
         })?;
         bar.finish_and_clear();

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use hil::board::{Board, BoardError};
 
 /// Board descriptions.
@@ -42,9 +42,13 @@ impl BoardCmd {
                 for p in &problems {
                     eprintln!("{p}");
                 }
-                bail!("{}: {} problem(s)", file.display(), problems.len())
+                // Refused input, as `--board` refuses it in `hil run` (exit 2).
+                Err(
+                    super::BadInput(format!("{}: {} problem(s)", file.display(), problems.len()))
+                        .into(),
+                )
             }
-            Err(e) => Err(e.into()),
+            Err(e) => Err(super::bad_input(e)),
         }
     }
 }

@@ -11,7 +11,7 @@ use hil::runs::odometry::{execute, IndexedRun, Plan, RunSet, RunSpec, Shard};
 use hil::runs::report::{json_with_pace, Pace, PaceFields};
 use plant_model::RobotConfig;
 
-use super::args::{Common, Correction, FrameArg, Json, Leg, MethodArg, OutDir, Solve};
+use super::args::{Common, Correction, FrameArg, Jobs, Json, Leg, MethodArg, OutDir, Solve};
 
 #[derive(clap::Args)]
 #[command(mut_arg("leg_mm", |a| a.help("Side of the square in millimetres")))]
@@ -26,9 +26,8 @@ pub struct Umbmark {
     shard: Option<Shard>,
     #[command(flatten)]
     out: OutDir,
-    /// Parallel runs (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    jobs: Jobs,
     #[command(flatten)]
     common: Common,
 }
@@ -56,14 +55,15 @@ impl Umbmark {
             ),
             (None, None) => (None, None),
         };
+        if let Some(s) = shard {
+            // The partial result's file, checked before the runs.
+            super::check_output("--out", &hil::runs::odometry::partial_path(&shard_dir, s))?;
+        }
         let specs = match shard {
             Some(s) => plan.shard(s),
             None => plan.runs(),
         };
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(jobs.unwrap_or(0))
-            .build()
-            .context("starting the worker threads")?;
+        let pool = jobs.pool(specs.len())?;
         let clock = common.print.wall_clock();
         let runs = pool.install(|| {
             execute_with_progress(&firmware, &robot, &plan, &specs, common.target.bench())
@@ -81,7 +81,7 @@ impl Umbmark {
         };
         if let Some(s) = shard {
             let path = hil::runs::odometry::partial_path(&shard_dir, s);
-            hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
+            super::write_output(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
             eprintln!("wrote {} ({} runs)", path.display(), partial.runs.len());
             return Ok(());
         }
@@ -200,7 +200,7 @@ impl Merge {
     pub fn run(self) -> Result<()> {
         let mut partials = Vec::new();
         for p in &self.parts {
-            let text = std::fs::read_to_string(p)
+            let text = input_file::read_text(p)
                 .with_context(|| format!("reading {}", p.display()))
                 .map_err(super::bad_input)?;
             let kind = serde_json::from_str::<serde_json::Value>(&text)
@@ -221,6 +221,17 @@ impl Merge {
                     )
                 })
                 .map_err(super::bad_input)?;
+            part.check()
+                .map_err(|e| super::BadInput(format!("{}: {e}", p.display())))?;
+            if part.plan.experiment != hil::runs::odometry::Experiment::Umbmark {
+                return Err(super::BadInput(format!(
+                    "{}: kind = {:?}: hil merge combines the shards of hil umbmark \
+                     (umbmark-partial)",
+                    p.display(),
+                    part.kind
+                ))
+                .into());
+            }
             partials.push((p.display().to_string(), part));
         }
         // Parts that do not make one experiment are refused (exit 2), as
@@ -251,9 +262,9 @@ pub struct Calibrate {
     /// End points in the layout of umbmark_endpoints.csv or triangular_endpoints.csv.
     #[arg(long, value_name = "FILE")]
     from_csv: Option<PathBuf>,
-    /// The experiment number in the table.
-    #[arg(long, default_value_t = 1)]
-    experiment: u32,
+    /// With --from-csv: the experiment number in the table [default: 1].
+    #[arg(long)]
+    experiment: Option<u32>,
     /// The test (default: umbmark, or with --from-csv from the table's header).
     #[arg(long, value_enum)]
     method: Option<MethodArg>,
@@ -265,8 +276,9 @@ pub struct Calibrate {
     /// default, or in --thesis-compat the GUI's.
     #[arg(long, value_enum)]
     frame: Option<FrameArg>,
-    /// Square side / line length, cm (default 200).
-    #[arg(long)]
+    /// With --from-csv: square side / line length, cm (above 0, up to
+    /// 10000; default 200).
+    #[arg(long, value_parser = parse_side_cm, allow_negative_numbers = true)]
     side_cm: Option<f64>,
     /// The wheelbase the robot's odometry used, mm (default with
     /// --from-csv: the --robot config's, else 130, or in --thesis-compat
@@ -275,14 +287,15 @@ pub struct Calibrate {
     wheelbase_mm: Option<f64>,
     /// With --from-csv: runs per direction (UMBmark) or per test (Triangular
     /// Path) in the table.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(1..=1000))]
-    runs_per_group: u16,
+    /// [default: 5]
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    runs_per_group: Option<u16>,
     #[command(flatten)]
     solve: Solve,
     /// Correction rounds on the emulated robot (without --from-csv); with
-    /// --until-cm, the most to run.
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u16).range(0..=100))]
-    rounds: u16,
+    /// --until-cm, the most to run (0 to 100) [default: 2].
+    #[arg(long, value_parser = clap::value_parser!(u16).range(0..=100))]
+    rounds: Option<u16>,
     /// Stop the rounds once a round's systematic error (UMBmark's E_max, the
     /// triangle centroid's distance) is at most this many cm; exit 1 when no
     /// round reaches it.
@@ -305,30 +318,31 @@ impl Calibrate {
 
     /// Corrections from measured end points.
     fn measured(&self, path: &std::path::Path) -> Result<()> {
-        if self.until_cm.is_some() {
-            return Err(super::BadInput(
-                "--until-cm: a stopping rule of calibration rounds, which --from-csv does not run"
-                    .into(),
-            )
+        // The options of calibration rounds, which --from-csv does not run.
+        let given = [
+            (self.until_cm.is_some(), "--until-cm"),
+            (self.rounds.is_some(), "--rounds"),
+            (self.leg.leg_mm.is_some(), "--leg-mm"),
+        ];
+        if let Some((_, option)) = given.iter().find(|(g, _)| *g) {
+            return Err(super::BadInput(format!(
+                "{option}: an option of calibration rounds on the emulated robot, which \
+                 --from-csv does not run (its table's side is --side-cm)"
+            ))
             .into());
         }
         let method = match self.method {
             None => hil::runs::calibrate::detect(path).map_err(super::bad_input)?,
             Some(m) => m.into(),
         };
-        if let Some(l) = self.side_cm.filter(|l| !(l.is_finite() && *l > 0.0)) {
-            return Err(super::bad_input(anyhow::anyhow!(
-                "--side-cm {l}: give a positive length in centimetres"
-            )));
-        }
         let opts = hil::runs::calibrate::FromCsv {
-            experiment: self.experiment,
+            experiment: self.experiment.unwrap_or(1),
             thesis_compat: self.thesis_compat,
             frame: self.frame.map(Into::into),
             side_cm: self.side_cm,
             wheelbase_mm: self.measured_wheelbase_mm()?,
             solution: self.solve.solution(),
-            runs_per_group: self.runs_per_group.into(),
+            runs_per_group: self.runs_per_group.unwrap_or(5).into(),
         };
         let result = hil::runs::calibrate::from_csv(path, method, &opts)
             .with_context(|| format!("{}", path.display()))
@@ -349,6 +363,21 @@ impl Calibrate {
 
     /// Calibration rounds on the emulated robot.
     fn rounds(&self) -> Result<()> {
+        // The options of a measured table, which rounds do not read.
+        let given = [
+            (self.experiment.is_some(), "--experiment"),
+            (self.runs_per_group.is_some(), "--runs-per-group"),
+            (self.side_cm.is_some(), "--side-cm"),
+            (self.thesis_compat, "--thesis-compat"),
+            (self.frame.is_some(), "--frame"),
+        ];
+        if let Some((_, option)) = given.iter().find(|(g, _)| *g) {
+            return Err(super::BadInput(format!(
+                "{option}: an option of --from-csv (a measured table), which calibration \
+                 rounds do not read (their square's side is --leg-mm)"
+            ))
+            .into());
+        }
         if let Some(d) = &self.common.target.description {
             return Err(super::BadInput(format!(
                 "{}: calibration rounds send each round's correction (cL, cR, wheelbase) over the protocol, which a firmware run from a test description does not speak; run hil umbmark --tests and build the correction into the firmware",
@@ -370,7 +399,7 @@ impl Calibrate {
             ));
         }
         let total = 2 * plan.runs_per_direction;
-        let rounds = usize::from(self.rounds);
+        let rounds = usize::from(self.rounds.unwrap_or(2));
         let bar = progress_bar((rounds + 1) * total, plan.leg_mm);
         let calibration = hil::runs::odometry::calibrate(
             &firmware,
@@ -441,6 +470,17 @@ impl Calibrate {
     }
 }
 
+/// `--side-cm`: the table's square side or line, as a leg of the bench's
+/// tests is bounded (a 1e308 cm side printed a 309-digit length).
+fn parse_side_cm(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 10_000.0 => Ok(v),
+        _ => Err(format!(
+            "{s} is out of range: give a length above 0 and up to 10000 cm"
+        )),
+    }
+}
+
 /// A `--until-cm` error: positive and finite.
 fn parse_until_cm(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
@@ -478,10 +518,11 @@ fn setup(common: &Common, leg: Leg) -> Result<(RobotConfig, Firmware, Plan)> {
     );
     if let Some(d) = &common.target.description {
         if !common.target.params.is_empty() {
-            anyhow::bail!(
+            return Err(super::BadInput(format!(
                 "{}: the firmware it describes has no protocol to set parameters with; drop --param",
                 d.path
-            );
+            ))
+            .into());
         }
         return Ok((robot, firmware, plan.described(d.clone())));
     }

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use hil::firmware::elf::Firmware;
 use hil::runs::faults::{FaultCase, FaultOptions, FaultRow, Verdict};
 use rayon::prelude::*;
@@ -17,8 +17,9 @@ pub struct Faults {
     /// Run only these faults (names as listed by `hil faults --list`).
     #[arg(long = "fault", value_name = "NAME")]
     only: Vec<String>,
-    /// List the faults and their expected reactions.
-    #[arg(long)]
+    /// List the faults and their expected reactions (of the library, or
+    /// of --scenario's file); runs nothing, so it takes no selection.
+    #[arg(long, conflicts_with_all = ["all", "only", "junit"])]
     list: bool,
     /// Run the faults of a scenario file (TOML or JSON) against both
     /// builds instead of the library (reported, not judged; a fault that
@@ -42,7 +43,7 @@ impl Faults {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("faults")?;
         if let Some(path) = &self.junit {
-            super::check_writable("--junit", path)?;
+            super::check_output("--junit", path)?;
         }
         let options = FaultOptions {
             seed: self.common.target.seed,
@@ -106,11 +107,10 @@ impl Faults {
                     cases: vec![junit_case(row, *wall_s)],
                 })
                 .collect();
-            hil::output::write_atomic(
+            super::write_output(
                 path,
                 hil::output::junit::render("hil faults", &suites).as_bytes(),
-            )
-            .with_context(|| format!("writing {}", path.display()))?;
+            )?;
         }
         let count = |v: Verdict| rows.iter().filter(|r| r.verdict == v).count();
         let (failed, not_fired) = (count(Verdict::Fail), count(Verdict::NotFired));
@@ -130,16 +130,21 @@ impl Faults {
     fn select(&self, library: Vec<FaultCase>) -> Result<Vec<FaultCase>> {
         let only = &self.only;
         if let Some(unknown) = only.iter().find(|o| library.iter().all(|f| f.name != *o)) {
-            anyhow::bail!("no fault is called {unknown:?}: `hil faults --list` names them");
+            return Err(super::BadInput(format!(
+                "--fault {unknown:?}: no fault is called so; `hil faults --list` names them"
+            ))
+            .into());
         }
         let selected: Vec<_> = library
             .into_iter()
             .filter(|f| self.all || self.scenario.is_some() || only.iter().any(|o| o == f.name))
             .collect();
         if selected.is_empty() {
-            anyhow::bail!(
+            return Err(super::BadInput(
                 "no fault selected: give --all, --fault NAME (see --list) or --scenario FILE"
-            );
+                    .into(),
+            )
+            .into());
         }
         Ok(selected)
     }

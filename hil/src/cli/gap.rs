@@ -117,18 +117,26 @@ impl Gap {
             return cases_failed(failed.map(|c| c.effect.as_str()), cases.len());
         }
         if self.real.is_empty() {
-            anyhow::bail!("give --real DIR (manifests of real data, e.g. fixtures/real/thesis) or --self-test");
+            return Err(super::BadInput(
+                "give --real DIR (manifests of real data, e.g. fixtures/real/thesis) or --self-test"
+                    .into(),
+            )
+            .into());
         }
-        let mut manifests = Vec::new();
-        for r in &self.real {
-            if r.is_dir() {
-                manifests.extend(gap::load_dir(r)?);
-            } else {
-                manifests.push(gap::LoadedManifest::load(r)?);
+        // The report's files, checked before the diagnosis.
+        if let Some(path) = &self.markdown {
+            if super::check_output("--markdown", path)? == hil::output::Kind::Replace {
+                super::check_output("--markdown", &path.with_extension("svg"))?;
             }
         }
+        if let (Some(shard), Some(dir)) = (self.shard, &self.out) {
+            super::check_output("--out", &hil::runs::gap_bench::partial_path(dir, shard))?;
+        }
+        let mut manifests = self.manifests()?;
         if let Some(m) = &self.model {
-            let cfg = RobotConfig::load(m).with_context(|| format!("model {}", m.display()))?;
+            let cfg = RobotConfig::load(m)
+                .with_context(|| format!("--model {}", m.display()))
+                .map_err(super::bad_input)?;
             let reference = gap::manifest::reference_from_config(&cfg);
             for lm in &mut manifests {
                 lm.reference = Some(reference);
@@ -149,16 +157,53 @@ impl Gap {
             &gap::DiagnoseOptions::default(),
         )?;
         if let Some(path) = &self.markdown {
-            let svg_path = path.with_extension("svg");
-            let svg = gap::plot_svg(&d)?;
-            hil::output::write_atomic(&svg_path, svg.as_bytes())?;
-            let name = svg_path
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned());
-            hil::output::write_atomic(path, gap::render_markdown(&d, name.as_deref()).as_bytes())?;
-            eprintln!("wrote {} and {}", path.display(), svg_path.display());
+            if hil::output::check_file(path).ok() == Some(hil::output::Kind::InPlace) {
+                // A pipe or a device has no folder to put the plot beside.
+                super::write_output(path, gap::render_markdown(&d, None).as_bytes())?;
+                eprintln!("wrote {}", path.display());
+            } else {
+                let svg_path = path.with_extension("svg");
+                let svg = gap::plot_svg(&d)?;
+                super::write_output(&svg_path, svg.as_bytes())?;
+                let name = svg_path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned());
+                let text = gap::render_markdown(&d, name.as_deref());
+                super::write_output(path, text.as_bytes())?;
+                eprintln!("wrote {} and {}", path.display(), svg_path.display());
+            }
         }
         self.json.emit(&d, || gap::render_text(&d))
+    }
+
+    /// The manifests of `--real`: each a folder of them or a manifest file.
+    /// A path that is neither, a folder without one, or a manifest that does
+    /// not check is refused (exit 2) naming it, before any diagnosis.
+    fn manifests(&self) -> Result<Vec<gap::LoadedManifest>> {
+        let mut manifests = Vec::new();
+        for r in &self.real {
+            if r.is_dir() {
+                let found = gap::load_dir(r).map_err(super::bad_input)?;
+                if found.is_empty() {
+                    return Err(super::BadInput(format!(
+                        "--real {}: the folder holds no manifest (*.toml); give a folder of \
+                         manifests, e.g. fixtures/real/thesis",
+                        r.display()
+                    ))
+                    .into());
+                }
+                manifests.extend(found);
+            } else if r.exists() {
+                manifests.push(gap::LoadedManifest::load(r).map_err(super::bad_input)?);
+            } else {
+                return Err(super::BadInput(format!(
+                    "--real {}: no such folder or file",
+                    r.display()
+                ))
+                .into());
+            }
+        }
+        Ok(manifests)
     }
 
     /// The ELF of `--elf`, else of the `--firmware` build.
@@ -174,12 +219,9 @@ impl Gap {
         Firmware::load(&path).map_err(super::bad_input)
     }
 
-    /// `--jobs`, or the machine's cores.
+    /// `--jobs`, or the machine's cores; at most the cores.
     fn jobs(&self) -> usize {
-        self.jobs.map_or_else(
-            || std::thread::available_parallelism().map_or(1, |n| n.get()),
-            usize::from,
-        )
+        super::args::cap_jobs(self.jobs.map(u64::from), None)
     }
 
     fn select_options(&self) -> SelectOptions {
@@ -261,7 +303,7 @@ impl Gap {
                 &|line| eprintln!("{line}"),
             )?;
             let path = hil::runs::gap_bench::partial_path(dir, shard);
-            hil::output::write_atomic(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
+            super::write_output(&path, serde_json::to_string_pretty(&partial)?.as_bytes())?;
             eprintln!(
                 "wrote {} ({} of {} candidates, {} bench runs)",
                 path.display(),
@@ -287,7 +329,7 @@ impl Gap {
     fn merge_shards(&self) -> Result<()> {
         let mut parts = Vec::new();
         for p in &self.merge {
-            let text = std::fs::read_to_string(p)
+            let text = input_file::read_text(p)
                 .with_context(|| format!("reading {}", p.display()))
                 .map_err(super::bad_input)?;
             let part: hil::runs::gap_bench::Partial = serde_json::from_str(&text)

@@ -277,8 +277,8 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
     let target = &c.target;
     let (robot, firmware) = target.load()?;
     let robot_path = target.robot_path();
-    let robot_bytes =
-        std::fs::read(&robot_path).with_context(|| format!("reading {}", robot_path.display()))?;
+    let robot_bytes = input_file::read_bytes(&robot_path)
+        .with_context(|| format!("reading {}", robot_path.display()))?;
     let mut opts = TestOptions {
         leg_mm,
         bench: target.bench(),
@@ -341,6 +341,7 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
 impl Record {
     fn run(self) -> Result<()> {
         let leg_mm = self.leg.leg_mm.unwrap_or(DEFAULT_LEG_MM);
+        super::check_output("--out", &self.out)?;
         let c = self.run.resolve(None)?;
         let m = measure(&c, self.test, leg_mm)?;
         if !m.run.completed {
@@ -358,8 +359,7 @@ impl Record {
             self.tol.over(Tolerances::default()),
             m.quantities,
         );
-        hil::output::write_atomic(&self.out, golden.to_json().as_bytes())
-            .with_context(|| format!("writing {}", self.out.display()))?;
+        super::write_output(&self.out, golden.to_json().as_bytes())?;
         self.json.emit(&golden, || {
             format!(
                 "golden run of {} (legs of {leg_mm} mm, {} ELF {}, seed {}): {} quantities written to {}\n",
@@ -419,6 +419,15 @@ impl Check {
                 );
             }
             print!("{}", hil::runs::golden::render(&rows, &in_force));
+        }
+        if !m.run.completed {
+            // Quantities of part of a run are no comparison with a whole one.
+            return Err(super::Incomplete(format!(
+                "the {} run did not complete ({}): no comparison with the golden run {name}",
+                test.name(),
+                m.run.finding.as_deref().unwrap_or("no reason found")
+            ))
+            .into());
         }
         if !moved.is_empty() {
             anyhow::bail!(

@@ -146,17 +146,34 @@ pub fn bad_input(e: impl Into<anyhow::Error>) -> anyhow::Error {
     BadInput(format!("{:#}", e.into())).into()
 }
 
-/// `FLAG PATH` refused before anything runs (exit 2) when a file cannot be
-/// written there, rather than after a long run whose result would be lost.
-pub fn check_writable(flag: &str, path: &std::path::Path) -> Result<()> {
-    hil::output::check_writable(path)
-        .map_err(|e| bad_input(anyhow::anyhow!("{flag} {}: {e}", path.display())))
+/// `FLAG PATH` checked before anything runs (see [`hil::output::check_file`]):
+/// a folder, a symbolic link or a path below no writable folder refused
+/// (exit 2) now, rather than after a long run whose result would be lost.
+pub fn check_output(flag: &str, path: &std::path::Path) -> Result<hil::output::Kind> {
+    hil::output::check_file(path).map_err(|e| bad_input(anyhow::anyhow!("{flag} {e}")))
 }
 
-/// Parse the command line and run it: exit code 0 on success, 1 when the
-/// command fails, 2 for bad arguments or input refused before anything ran,
-/// 3 when it ran but a run did not complete, 4 when another process writes
-/// the same `--out` folder (nothing ran); every error is one line on stderr.
+/// `FLAG DIR`, a folder files are written into, checked as [`check_output`]
+/// checks a file: absent (it is made) or a folder.
+pub fn check_output_dir(flag: &str, dir: &std::path::Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(BadInput(format!("{flag} {}: it is not a folder", dir.display())).into());
+    }
+    check_output(flag, &dir.join(".hil-probe")).map(|_| ())
+}
+
+/// Write a result file at a path the user named (see [`check_output`]).
+pub fn write_output(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
+    use anyhow::Context;
+    hil::output::write_file(path, bytes).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Parse the command line and run it. One exit code rule for every command
+/// (docs/reference/exit-codes.md): 0 done; 1 the command ran and its check
+/// failed (a reaction not as expected, a budget exceeded, a quantity moved);
+/// 2 bad arguments or input refused before anything ran; 3 a run did not
+/// complete (hung, stopped by the bench, not finished); 4 the output is
+/// locked by another writer (nothing ran). Every error is one line on stderr.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,

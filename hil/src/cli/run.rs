@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use hil::bench::BenchOptions;
 use hil::board::Board;
 use hil::runs::experiment::{run_test, Test, TestRun};
@@ -42,8 +42,20 @@ impl Run {
             gdb,
             common,
         } = self;
-        if let Some(path) = &common.trace.vcd {
-            super::check_writable("--vcd", path)?;
+        // The trace and its GTKWave save file, checked before the run.
+        let vcd_kind = match &common.trace.vcd {
+            Some(path) => {
+                let kind = super::check_output("--vcd", path)?;
+                if kind == hil::output::Kind::Replace {
+                    super::check_output("--vcd", &path.with_extension("gtkw"))?;
+                }
+                Some(kind)
+            }
+            None => None,
+        };
+        if gdb.is_some() && common.target.description.is_some() {
+            // The debugger's host plays the bench interface's start and end.
+            return Err(super::BadInput("--gdb runs a firmware with the bench interface; a firmware run from a test description (--tests) cannot be debugged yet".into()).into());
         }
         let (robot, firmware) = common.target.load()?;
         let mut opts = common.test_options(common.leg_mm(leg)?);
@@ -54,10 +66,6 @@ impl Run {
             opts.framed = s.framed;
         }
         let clock = common.print.wall_clock();
-        if gdb.is_some() && common.target.description.is_some() {
-            // The debugger's host plays the bench interface's start and end.
-            anyhow::bail!("--gdb runs a firmware with the bench interface; a firmware run from a test description (--tests) cannot be debugged yet");
-        }
         let run = match gdb {
             Some(port) => {
                 let server = hil::bench::gdb::GdbServer::bind(port)?;
@@ -84,14 +92,16 @@ impl Run {
             }
             None => run_test(firmware, &robot, test, &opts)?,
         };
-        if let Some(path) = &common.trace.vcd {
-            let [vcd, save] = write_vcd(
+        if let (Some(path), Some(kind)) = (&common.trace.vcd, vcd_kind) {
+            let written = write_vcd(
                 path,
+                kind,
                 &run,
                 common.trace.vcd_pwm,
                 &common.target.bench().board,
             )?;
-            eprintln!("wrote {} and {}", vcd.display(), save.display());
+            let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+            eprintln!("wrote {}", written.join(" and "));
         }
         let pace = Pace::of(run.robot_time_s, clock.stop());
         if common.print.json.json {
@@ -131,6 +141,18 @@ impl Line {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("line")?;
         let target = &self.common.target;
+        if let Some(d) = &target.description {
+            return Err(super::BadInput(format!(
+                "--tests {}: hil line runs the bench interface's line test (command byte 4), \
+                 which a firmware run from a test description does not speak; hil run line \
+                 --tests FILE runs the line the description starts",
+                d.path
+            ))
+            .into());
+        }
+        if let Some(path) = &self.trace_csv {
+            super::check_output("--trace-csv", path)?;
+        }
         let (robot, firmware) = target.load()?;
         let opts = LineOptions {
             length_mm: self.length_mm,
@@ -142,8 +164,7 @@ impl Line {
         let mut run = run_line(firmware, &robot, &opts)?;
         run.summary.rtf = Pace::of(run.summary.robot_time_s, clock.stop()).map(|p| p.rtf());
         if let Some(path) = &self.trace_csv {
-            hil::output::write_atomic(path, hil::runs::report::trace_csv(&run.trace).as_bytes())
-                .with_context(|| format!("writing the trace to {}", path.display()))?;
+            super::write_output(path, hil::runs::report::trace_csv(&run.trace).as_bytes())?;
         }
         self.common
             .print
@@ -152,15 +173,17 @@ impl Line {
     }
 }
 
-/// The trace of `run` at `path` and its GTKWave save file beside it (the
-/// same name, `.gtkw`), naming the trace by its file name so that the pair
-/// opens wherever it is moved. Returns both paths.
+/// The trace of `run` at `path` and, for a regular file, its GTKWave save file
+/// beside it (the same name, `.gtkw`), naming the trace by its file name so that
+/// the pair opens wherever it is moved. A pipe or a device (`kind` in place) has
+/// no folder of its own to put a save file beside. Returns the paths written.
 pub(super) fn write_vcd(
     path: &Path,
+    kind: hil::output::Kind,
     run: &TestRun,
     pwm_edges: bool,
     board: &Board,
-) -> Result<[PathBuf; 2]> {
+) -> Result<Vec<PathBuf>> {
     let input = hil::output::vcd::VcdInput {
         clock_hz: BenchOptions::default().clock.hz(),
         board,
@@ -171,13 +194,14 @@ pub(super) fn write_vcd(
         samples: &run.trace,
         pwm_edges,
     };
-    hil::output::write_atomic(path, hil::output::vcd::render(&input).as_bytes())
-        .with_context(|| format!("writing {}", path.display()))?;
+    super::write_output(path, hil::output::vcd::render(&input).as_bytes())?;
+    if kind == hil::output::Kind::InPlace {
+        return Ok(vec![path.to_path_buf()]);
+    }
     let save = path.with_extension("gtkw");
     let name = path
         .file_name()
         .map_or_else(|| "trace.vcd".into(), |n| n.to_string_lossy());
-    hil::output::write_atomic(&save, hil::output::vcd::gtkw(&name, &input).as_bytes())
-        .with_context(|| format!("writing {}", save.display()))?;
-    Ok([path.to_path_buf(), save])
+    super::write_output(&save, hil::output::vcd::gtkw(&name, &input).as_bytes())?;
+    Ok(vec![path.to_path_buf(), save])
 }

@@ -16,8 +16,8 @@ pub struct Serve {
     /// and the USB serial (USART0) on a second one; their paths are printed.
     #[arg(long, required = true)]
     pty: bool,
-    /// Robot seconds per wall-clock second.
-    #[arg(long, default_value_t = 1.0)]
+    /// Robot seconds per wall-clock second (0.001 to 1000).
+    #[arg(long, default_value_t = 1.0, value_parser = parse_speed)]
     speed: f64,
     #[command(flatten)]
     common: Common,
@@ -46,8 +46,9 @@ pub struct Ui {
     /// A serial port to offer first (a real robot, or `hil serve --pty`).
     #[arg(long, value_name = "DEVICE")]
     port: Option<String>,
-    /// Baud rate of the serial port (the HC-05's is 9600).
-    #[arg(long, default_value_t = 9600)]
+    /// Baud rate of the serial port (the HC-05's is 9600; 50 to 4000000).
+    #[arg(long, default_value_t = 9600,
+          value_parser = clap::value_parser!(u32).range(50..=4_000_000))]
     baud: u32,
     /// TCP port of the page on 127.0.0.1 (0: any free port).
     #[arg(long, default_value_t = 8317)]
@@ -79,6 +80,14 @@ impl Ui {
         };
         ui(options, self.listen_port)
     }
+}
+
+/// `--speed`: a pace the emulated robot can be served at.
+fn parse_speed(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number (robot seconds per wall-clock second)"))?;
+    hil::clients::station::emulated::check_speed(v).map_err(|e| e.to_string())
 }
 
 /// Serve the emulated robot's USARTs on ptys until the emulator stops.

@@ -14,7 +14,7 @@ use plant_model::RobotConfig;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::args::{parse_leg, parse_seconds, Build, Json, Target};
+use super::args::{parse_leg, parse_seconds, Build, Jobs, Json, Target};
 
 #[derive(clap::Args)]
 pub struct TestCmd {
@@ -43,9 +43,8 @@ pub struct TestCmd {
     /// reported hung (its expectations are still judged on what it did).
     #[arg(long, value_name = "S", default_value_t = hil::bench::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
     hang_after: f64,
-    /// Parallel cases (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    jobs: Jobs,
     /// Write a JUnit XML report here.
     #[arg(long, value_name = "FILE")]
     junit: Option<PathBuf>,
@@ -96,10 +95,10 @@ impl TestCmd {
     pub fn run(self) -> Result<()> {
         // Everything checked before anything runs: exit 2 on a bad file.
         if let Some(path) = &self.junit {
-            super::check_writable("--junit", path)?;
+            super::check_output("--junit", path)?;
         }
         if let Some(dir) = &self.artifacts {
-            super::check_writable("--artifacts", &dir.join("probe"))?;
+            super::check_output_dir("--artifacts", dir)?;
         }
         let cases = self
             .files
@@ -116,10 +115,7 @@ impl TestCmd {
         });
         let slugs = slugs(&cases);
         let board = self.board.unwrap_or_default();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.jobs.unwrap_or(0))
-            .build()
-            .context("starting the worker threads")?;
+        let pool = self.jobs.pool(cases.len())?;
         let reports = pool.install(|| {
             cases
                 .into_par_iter()
@@ -130,18 +126,19 @@ impl TestCmd {
         self.json.emit(&reports, || render(&reports))?;
         if let Some(path) = &self.junit {
             let xml = junit(&reports, path);
-            hil::output::write_atomic(path, xml.as_bytes())
-                .with_context(|| format!("writing {}", path.display()))?;
+            super::write_output(path, xml.as_bytes())?;
         }
         let failed = reports.iter().filter(|r| r.verdict == "fail").count();
         let incomplete = reports.iter().filter(|r| r.verdict == "incomplete").count();
         if failed > 0 {
             anyhow::bail!("{failed} of {} test case(s) failed", reports.len());
         }
-        if incomplete > 0 {
+        if let Some(first) = reports.iter().find(|r| r.verdict == "incomplete") {
             return Err(super::Incomplete(format!(
-                "{incomplete} of {} test case(s) did not complete: the bench stopped the run",
-                reports.len()
+                "{incomplete} of {} test case(s) did not complete ({}: {})",
+                reports.len(),
+                first.case,
+                first.message
             ))
             .into());
         }
@@ -293,11 +290,28 @@ fn run_case(
             run.robot_time_s
         ));
     }
-    let pass = failures.is_empty();
+    // A run the bench stopped as hung did not finish what its expectations
+    // are about: it is no pass, whatever held before the hang.
+    let hung = run.hang.is_some().then(|| {
+        format!(
+            "the bench stopped the run: {}",
+            run.finding.as_deref().unwrap_or("hung")
+        )
+    });
+    let pass = failures.is_empty() && hung.is_none();
+    let verdict = match (&hung, pass) {
+        (Some(_), _) => "incomplete",
+        (None, true) => "pass",
+        (None, false) => "fail",
+    };
+    let message = hung
+        .clone()
+        .or_else(|| failures.first().cloned())
+        .unwrap_or_default();
     let mut report = CaseReport {
         pass,
-        verdict: if pass { "pass" } else { "fail" },
-        message: failures.first().cloned().unwrap_or_default(),
+        verdict,
+        message,
         robot_time_s: run.robot_time_s,
         expectations: outcomes,
         ..base
@@ -322,7 +336,14 @@ pub(super) fn save_artifacts(
 ) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     // The trace with its GTKWave save file, as `hil run --vcd` writes them.
-    let [vcd, save] = super::run::write_vcd(&dir.join(format!("{slug}.vcd")), run, false, board)?;
+    // A folder the bench made: the trace is a regular file, with its save file.
+    let mut written = super::run::write_vcd(
+        &dir.join(format!("{slug}.vcd")),
+        hil::output::Kind::Replace,
+        run,
+        false,
+        board,
+    )?;
     let state = dir.join(format!("{slug}.state.json"));
     let json = serde_json::json!({
         "test": run.test,
@@ -334,7 +355,8 @@ pub(super) fn save_artifacts(
     });
     hil::output::write_atomic(&state, serde_json::to_string_pretty(&json)?.as_bytes())
         .with_context(|| format!("writing {}", state.display()))?;
-    Ok(vec![vcd, save, state])
+    written.push(state);
+    Ok(written)
 }
 
 /// One line a case, then the count.
@@ -362,8 +384,14 @@ fn render(reports: &[CaseReport]) -> String {
             let _ = writeln!(s, "      saved {}", a.display());
         }
     }
-    let passed = reports.iter().filter(|r| r.pass).count();
-    let _ = writeln!(s, "{passed} passed, {} failed", reports.len() - passed);
+    let count = |v: &str| reports.iter().filter(|r| r.verdict == v).count();
+    let _ = write!(s, "{} passed, {} failed", count("pass"), count("fail"));
+    match count("incomplete") {
+        0 => s.push('\n'),
+        n => {
+            let _ = writeln!(s, ", {n} incomplete");
+        }
+    }
     s
 }
 

@@ -36,22 +36,24 @@ impl Timing {
             function,
             common,
         } = self;
+        let budgets_path = budgets
+            .unwrap_or_else(|| hil::paths::workspace_root().join("fixtures/timing-budgets.toml"));
+        let budgets = Budgets::load(&budgets_path).map_err(super::bad_input)?;
         let (robot, firmware) = common.target.load()?;
         let described = common
             .target
             .description
             .as_ref()
             .and_then(|d| d.control_function(&firmware))
-            .transpose()?;
+            .transpose()
+            .map_err(super::bad_input)?;
         let function = function
             .or(described)
             .unwrap_or_else(|| "ht_control_tick".into());
-        let budgets_path = budgets
-            .unwrap_or_else(|| hil::paths::workspace_root().join("fixtures/timing-budgets.toml"));
-        let budgets = Budgets::load(&budgets_path)?;
         let clock = BenchOptions::default().clock;
         let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
-        let probe = TimingProbe::new(&firmware, &function, period)?;
+        let probe = TimingProbe::new(&firmware, &function, period)
+            .map_err(|e| super::bad_input(anyhow::anyhow!("--function {function:?}: {e}")))?;
         let opts = common.test_options(common.leg_mm(leg)?);
         let (run, observer) =
             run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
@@ -86,6 +88,15 @@ impl Timing {
                 }
             );
             print!("{}", report.render(&rows));
+        }
+        if !run.completed {
+            // Budgets judged on part of a run are no verdict on the firmware.
+            return Err(super::Incomplete(format!(
+                "the {} run did not complete ({}): its timing is of part of a run",
+                test.name(),
+                run.finding.as_deref().unwrap_or("no reason found")
+            ))
+            .into());
         }
         if !failed.is_empty() {
             anyhow::bail!(

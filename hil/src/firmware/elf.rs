@@ -103,7 +103,7 @@ pub struct Firmware {
 
 impl Firmware {
     pub fn load(path: &Path) -> Result<Self, ElfError> {
-        let bytes = std::fs::read(path).map_err(|source| ElfError::Read {
+        let bytes = input_file::read_bytes(path).map_err(|source| ElfError::Read {
             path: path.to_owned(),
             source,
         })?;

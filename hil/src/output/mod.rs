@@ -1,6 +1,9 @@
 //! Writing results: whole files or nothing, and whole folders or nothing.
 //!
 //! - [`write_atomic`]: one file, written beside its target and renamed over it;
+//! - [`check_file`], [`write_file`] (`file.rs`): a file at a path the user
+//!   named, which may be a pipe or a device (written in place), checked before
+//!   anything runs;
 //! - [`OutputDir`] (`set.rs`): a folder of results (`--out D`) written in full in
 //!   a folder beside it, then put in its place in one rename, by one writer at a
 //!   time (`lock.rs`).
@@ -20,11 +23,13 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
+mod file;
 pub mod junit;
 mod lock;
 mod set;
 pub mod vcd;
 
+pub use file::{check_file, write_file, Kind, Refused};
 pub use lock::{share, SharedLock};
 pub use set::OutputDir;
 
@@ -48,35 +53,6 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         f.sync_all()?;
     }
     std::fs::rename(&tmp, path)
-}
-
-/// Whether a file can be written at `path`, checked before a long run so
-/// that its results are not lost at the end: not a folder, below a folder
-/// this process may write in (the nearest one that exists: [`write_atomic`]
-/// creates the missing ones). A probe file is created there and removed.
-pub fn check_writable(path: &Path) -> std::io::Result<()> {
-    use std::io::{Error, ErrorKind};
-    if path.is_dir() {
-        return Err(Error::new(ErrorKind::InvalidInput, "it is a folder"));
-    }
-    let mut dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    while !dir.exists() {
-        dir = dir
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-    }
-    if !dir.is_dir() {
-        let why = format!("{} is not a folder", dir.display());
-        return Err(Error::new(ErrorKind::InvalidInput, why));
-    }
-    let probe = dir.join(format!(".hil-probe{}", std::process::id()));
-    std::fs::File::create(&probe)
-        .map_err(|e| Error::new(e.kind(), format!("cannot write in {}: {e}", dir.display())))?;
-    std::fs::remove_file(&probe)
 }
 
 /// Why a folder of results was not written. [`OutputError::Busy`],

@@ -101,7 +101,7 @@ pub enum Calibration {
 
 /// Detect the table's layout from its header line.
 pub fn detect(path: &Path) -> anyhow::Result<Method> {
-    let text = std::fs::read_to_string(path)
+    let text = input_file::read_text(path)
         .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", path.display()))?;
     let header = text
         .lines()

@@ -110,6 +110,13 @@ pub enum TimingError {
     },
     #[error("the firmware has no function {0:?} to time")]
     NoFunction(String),
+    #[error("budgets file {path}: {field} = {value}: {allowed}")]
+    Invalid {
+        path: String,
+        field: &'static str,
+        value: String,
+        allowed: &'static str,
+    },
 }
 
 /// Budgets, from a TOML file. All times in microseconds.
@@ -136,14 +143,64 @@ pub struct Budgets {
 
 impl Budgets {
     pub fn load(path: &std::path::Path) -> Result<Self, TimingError> {
-        let text = std::fs::read_to_string(path).map_err(|source| TimingError::Read {
+        let text = input_file::read_text(path).map_err(|source| TimingError::Read {
             path: path.display().to_string(),
             source,
         })?;
-        toml::from_str(&text).map_err(|source| TimingError::Parse {
+        let budgets: Self = toml::from_str(&text).map_err(|source| TimingError::Parse {
             path: path.display().to_string(),
             source,
-        })
+        })?;
+        budgets.check(&path.display().to_string())?;
+        Ok(budgets)
+    }
+
+    /// Every budget a number the measurement can exceed or meet: a NaN or a
+    /// negative budget would report any firmware over it, a CPU load above 1
+    /// could never be exceeded.
+    pub fn check(&self, path: &str) -> Result<(), TimingError> {
+        const TIME: &str = "give a time above 0 and up to 1000000 us (one second)";
+        let invalid = |field, value: String, allowed| TimingError::Invalid {
+            path: path.into(),
+            field,
+            value,
+            allowed,
+        };
+        for (field, v) in [
+            ("control_max_us", self.control_max_us),
+            ("tick_period_us", self.tick_period_us),
+            ("isr_max_us", self.isr_max_us),
+            ("isr_latency_max_us", self.isr_latency_max_us),
+            ("interrupts_off_max_us", self.interrupts_off_max_us),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v <= 1e6) {
+                return Err(invalid(field, v.to_string(), TIME));
+            }
+        }
+        let jitter = self.tick_jitter_max_us;
+        if !(jitter.is_finite() && (0.0..=1e6).contains(&jitter)) {
+            return Err(invalid(
+                "tick_jitter_max_us",
+                jitter.to_string(),
+                "give a time from 0 to 1000000 us (one second)",
+            ));
+        }
+        if self.stack_margin_min_bytes > 8192 {
+            return Err(invalid(
+                "stack_margin_min_bytes",
+                self.stack_margin_min_bytes.to_string(),
+                "give 0 to 8192 bytes (the ATmega2560's RAM)",
+            ));
+        }
+        let load = self.cpu_load_max;
+        if !(load.is_finite() && load > 0.0 && load <= 1.0) {
+            return Err(invalid(
+                "cpu_load_max",
+                load.to_string(),
+                "give a fraction above 0 and up to 1 (the CPU's awake share)",
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -317,7 +317,7 @@ impl StepData {
         match source.into() {
             CsvSource::Text(text) => StepData::parse(text),
             CsvSource::Path(path) => {
-                let text = std::fs::read_to_string(path).map_err(|source| IdentifyError::Read {
+                let text = input_file::read_text(path).map_err(|source| IdentifyError::Read {
                     path: path.to_owned(),
                     source,
                 })?;

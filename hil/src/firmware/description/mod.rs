@@ -116,13 +116,12 @@ impl Description {
     /// Read and check `path`.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| DescriptionError::Read {
+        let text = input_file::read_text(path).map_err(|source| DescriptionError::Read {
             path: path.to_path_buf(),
             source,
         })?;
-        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
         let dir = path.parent().unwrap_or(Path::new("."));
-        file::parse(text, &path.display().to_string(), dir)
+        file::parse(&text, &path.display().to_string(), dir)
     }
 
     /// Parse `text` as if read from `path` (for tests and embedded files).

@@ -203,7 +203,7 @@ impl Golden {
     /// Read and check a golden file.
     pub fn load(path: &Path) -> Result<Self, GoldenError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|error| GoldenError::Read {
+        let text = input_file::read_text(path).map_err(|error| GoldenError::Read {
             path: name.clone(),
             error,
         })?;
@@ -213,6 +213,12 @@ impl Golden {
     /// A golden file's text, checked: its format, every number finite,
     /// tolerances at least 0, no quantity named twice.
     pub fn parse(path: &str, text: &str) -> Result<Self, GoldenError> {
+        // A key given twice is refused: JSON readers keep the last one, so
+        // a file edited by hand could compare a line with a triangle.
+        input_file::json_unique_keys(text).map_err(|error| GoldenError::Parse {
+            path: path.into(),
+            error,
+        })?;
         // The format first, so that a file of another version says so
         // rather than which field it lacks.
         let value: serde_json::Value =
@@ -235,9 +241,11 @@ impl Golden {
             path: path.into(),
             what,
         };
-        if !(golden.leg_mm.is_finite() && golden.leg_mm > 0.0) {
+        // The firmware's legs (protocol/README.md's leg_length_mm): a golden
+        // run of another length was never recorded.
+        if !(golden.leg_mm.is_finite() && (10.0..=5000.0).contains(&golden.leg_mm)) {
             return Err(invalid(format!(
-                "leg_mm = {}: give a length above 0",
+                "leg_mm = {}: give 10 to 5000 mm (the firmware's legs)",
                 golden.leg_mm
             )));
         }

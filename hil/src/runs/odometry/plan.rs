@@ -43,6 +43,7 @@ impl Experiment {
 
 /// What to run. Everything that changes a result is in here.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Plan {
     #[serde(default)]
     pub experiment: Experiment,
@@ -84,6 +85,7 @@ pub fn run_seed(seed: u64, index: usize) -> u64 {
 
 /// One run of a plan: its index, direction and seed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RunSpec {
     pub index: usize,
     pub test: Test,

@@ -11,8 +11,10 @@ use crate::firmware::elf::Firmware;
 use crate::runs::experiment::{run_test, TestOptions, TestRun};
 
 /// Runs of a plan (all of them, or one shard's), each with its index: what
-/// `hil umbmark --shard` writes and `hil merge` reads.
+/// `hil umbmark --shard` writes and `hil merge` reads. A key this bench does
+/// not write is refused: a typo in a hand-edited file is not read as absent.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RunSet {
     /// The experiment's [`super::Experiment::kind`], `-partial` appended for
     /// a shard's runs.
@@ -23,6 +25,7 @@ pub struct RunSet {
 }
 
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct IndexedRun {
     pub spec: RunSpec,
     pub completed: bool,
@@ -141,6 +144,75 @@ impl RunSet {
             shard,
             runs,
         }
+    }
+
+    /// Whether a set read from a file is one the bench could have written:
+    /// its kind the plan's (with `-partial` for a shard's), every number
+    /// within what a run can give. Without it, a kind tag edited from
+    /// triangle to umbmark merged a triangle's runs as squares, and an end
+    /// x of 1e308 went into the correction.
+    pub fn check(&self) -> Result<(), String> {
+        let kind = self.plan.experiment.kind();
+        let expected = match self.shard {
+            Some(_) => format!("{kind}-partial"),
+            None => kind.to_string(),
+        };
+        if self.kind != expected {
+            return Err(format!(
+                "kind = {:?}: a {} of a {kind} plan is {expected:?}",
+                self.kind,
+                if self.shard.is_some() {
+                    "shard's runs"
+                } else {
+                    "set of runs"
+                }
+            ));
+        }
+        let range = |field: String, v: f64, low: f64, high: f64, unit: &str| {
+            if v.is_finite() && (low..=high).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{field} = {v}: give {low} to {high}{unit}"))
+            }
+        };
+        range("plan.leg_mm".into(), self.plan.leg_mm, 10.0, 5000.0, " mm")?;
+        for (i, r) in self.runs.iter().enumerate() {
+            // The farthest a run ends: ten legs of the longest, in cm.
+            for (name, v) in [("x_cm", r.x_cm), ("y_cm", r.y_cm)] {
+                range(format!("runs[{i}].{name}"), v, -5000.0, 5000.0, " cm")?;
+            }
+            range(
+                format!("runs[{i}].robot_time_s"),
+                r.robot_time_s,
+                0.0,
+                86_400.0,
+                " s",
+            )?;
+            range(
+                format!("runs[{i}].awake_fraction"),
+                r.awake_fraction,
+                0.0,
+                1.0,
+                "",
+            )?;
+            for (k, (x, y)) in r.path_cm.iter().enumerate() {
+                range(
+                    format!("runs[{i}].path_cm[{k}].x"),
+                    *x,
+                    -5000.0,
+                    5000.0,
+                    " cm",
+                )?;
+                range(
+                    format!("runs[{i}].path_cm[{k}].y"),
+                    *y,
+                    -5000.0,
+                    5000.0,
+                    " cm",
+                )?;
+            }
+        }
+        Ok(())
     }
 
     /// Whether a run is in the second group (CCW, or the triangles).

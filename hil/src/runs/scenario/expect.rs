@@ -138,6 +138,32 @@ impl VarType {
         }
     }
 
+    /// The values the type holds: (least, most, whole numbers only).
+    pub fn range(self) -> (f64, f64, bool) {
+        match self {
+            VarType::U8 => (0.0, u8::MAX as f64, true),
+            VarType::I8 => (i8::MIN as f64, i8::MAX as f64, true),
+            VarType::U16 => (0.0, u16::MAX as f64, true),
+            VarType::I16 => (i16::MIN as f64, i16::MAX as f64, true),
+            VarType::U32 => (0.0, u32::MAX as f64, true),
+            VarType::I32 => (i32::MIN as f64, i32::MAX as f64, true),
+            VarType::F32 => (f32::MIN as f64, f32::MAX as f64, false),
+        }
+    }
+
+    /// Its name in a scenario file.
+    pub fn name(self) -> &'static str {
+        match self {
+            VarType::U8 => "u8",
+            VarType::I8 => "i8",
+            VarType::U16 => "u16",
+            VarType::I16 => "i16",
+            VarType::U32 => "u32",
+            VarType::I32 => "i32",
+            VarType::F32 => "f32",
+        }
+    }
+
     /// The value of `bytes` (the variable's, little-endian).
     pub fn value(self, b: [u8; 4]) -> f64 {
         match self {
@@ -326,11 +352,11 @@ impl Condition {
             }
             Condition::Var {
                 symbol,
+                ty,
                 eq,
                 ne,
                 min,
                 max,
-                ..
             } => {
                 if symbol.is_empty() {
                     return Err("var symbol = \"\": give the variable's ELF symbol".into());
@@ -344,6 +370,20 @@ impl Condition {
                 for (what, v) in given {
                     if let Some(v) = v.filter(|v| !v.is_finite()) {
                         return Err(format!("var {symbol} {what} = {v}: give a finite number"));
+                    }
+                }
+                // A value the type cannot hold makes the condition always
+                // false (eq = 300 on a u8) or always true (ne = 300): either
+                // way the expectation tests nothing.
+                let (low, high, whole) = ty.range();
+                for (what, v) in given {
+                    let Some(v) = *v else { continue };
+                    if !(low..=high).contains(&v) || (whole && v.fract() != 0.0) {
+                        let kind = if whole { "whole numbers " } else { "" };
+                        return Err(format!(
+                            "var {symbol} {what} = {v}: a {} holds {kind}{low} to {high}",
+                            ty.name()
+                        ));
                     }
                 }
                 Ok(())

@@ -46,7 +46,7 @@ pub(super) fn check_time(what: &str, value: f64, open: bool) -> Result<(), Strin
 impl Scenario {
     /// Read and check a scenario file.
     pub fn load(path: &Path) -> Result<Self, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Read {
+        let text = input_file::read_text(path).map_err(|source| ScenarioError::Read {
             path: path.to_owned(),
             source,
         })?;

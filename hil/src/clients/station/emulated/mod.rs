@@ -44,8 +44,33 @@ pub enum EmulatorError {
     Watch { path: PathBuf, source: nix::Error },
     #[error("the emulator thread ended before the firmware was ready")]
     Lost,
-    #[error("speed {0}: give a factor above 0 (1 = real time, 10 = ten times faster)")]
+    #[error("speed {}: give a factor from {SPEED_MIN} to {SPEED_MAX} (1 = real time, 10 = ten times faster)", shown(*.0))]
     Speed(f64),
+}
+
+/// The slowest pace served: a robot second in about 17 wall minutes. Slower
+/// (1e-300) is no pace a client can use, and its wall durations overflow.
+pub const SPEED_MIN: f64 = 0.001;
+/// The fastest pace asked of the pacer: beyond what a core runs (about
+/// 100x real time), where the robot is simply run as fast as it goes.
+pub const SPEED_MAX: f64 = 1000.0;
+
+/// `v` as a person would write it: 1e-300, not three hundred zeros.
+fn shown(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e16).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// Whether `speed` is a pace [`EmulatedRobot::spawn`] serves.
+pub fn check_speed(speed: f64) -> Result<f64, EmulatorError> {
+    if speed.is_finite() && (SPEED_MIN..=SPEED_MAX).contains(&speed) {
+        Ok(speed)
+    } else {
+        Err(EmulatorError::Speed(speed))
+    }
 }
 
 /// What `hil serve` runs.
@@ -107,7 +132,9 @@ impl Pacer {
     /// Sleep until `robot_elapsed_s` is due; returns the lag in robot
     /// seconds when the loop is behind (0 when on time).
     pub fn wait(&self, robot_elapsed_s: f64) -> f64 {
-        let due = Duration::from_secs_f64(robot_elapsed_s / self.speed);
+        // Saturated, not a panic, should a pace outside SPEED_MIN reach here.
+        let due =
+            Duration::try_from_secs_f64(robot_elapsed_s / self.speed).unwrap_or(Duration::MAX);
         let now = self.start.elapsed();
         if due > now {
             std::thread::sleep(due - now);
@@ -137,9 +164,7 @@ impl EmulatedRobot {
         robot: &RobotConfig,
         options: ServeOptions,
     ) -> Result<Self, EmulatorError> {
-        if !(options.speed.is_finite() && options.speed > 0.0) {
-            return Err(EmulatorError::Speed(options.speed));
-        }
+        check_speed(options.speed)?;
         let board = options.bench.board;
         let command = PtyPort::open("pty")?;
         let usb = options

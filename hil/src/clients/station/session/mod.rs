@@ -237,7 +237,7 @@ pub fn file_name(robot: &str) -> String {
 
 /// The session in `path`, if there is one.
 pub fn load(path: &Path) -> Result<Option<Session>, SessionError> {
-    match std::fs::read_to_string(path) {
+    match input_file::read_text(path) {
         Ok(text) => serde_json::from_str(&text)
             .map(Some)
             .map_err(|source| SessionError::Parse {
