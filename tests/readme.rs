@@ -55,7 +55,11 @@ fn every_hil_example_of_the_readme_runs_as_written() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
-    assert!(failed.is_empty(), "README examples that fail:\n{}", failed.join("\n"));
+    assert!(
+        failed.is_empty(),
+        "README examples that fail:\n{}",
+        failed.join("\n")
+    );
 }
 
 /// Run `example` (a `hil ...` line, no quoting) in `dir`: Ok when it exits 0 and prints.
