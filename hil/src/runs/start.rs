@@ -10,7 +10,6 @@ use crate::bench::{Bench, BenchError};
 use crate::firmware::description::Description;
 use crate::firmware::link::{frame, replies, Command};
 use crate::firmware::params::{plan, refusals, Tell};
-use crate::runs::experiment::contains;
 
 /// The host's start of `test`: the parameters as SET_PARAM frames, then a
 /// framed START_TEST, when there is anything to set or `framed` asks for it;
@@ -103,4 +102,9 @@ pub fn wait_ready(bench: &mut Bench, description: Option<&Description>) -> Resul
         None => bench.run_for(d.ready.after_s)?,
     }
     Ok(())
+}
+
+/// Whether `needle` occurs in `hay`: a text a firmware printed, among its bytes.
+pub(crate) fn contains(hay: &[u8], needle: &[u8]) -> bool {
+    hay.windows(needle.len()).any(|w| w == needle)
 }

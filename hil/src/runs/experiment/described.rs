@@ -8,6 +8,7 @@ use super::{analyse, limit_s, Test, TestOptions, TestRun};
 use crate::bench::{Bench, BenchError, Motion, Observer};
 use crate::firmware::description::{Description, DescriptionError, End, Start};
 use crate::firmware::elf::Firmware;
+use crate::runs::start::contains;
 
 impl From<DescriptionError> for BenchError {
     fn from(e: DescriptionError) -> Self {
@@ -18,10 +19,6 @@ impl From<DescriptionError> for BenchError {
 /// Whether `m` drives a wheel (a leg, a turn, a pulse).
 fn driven(m: Motion) -> bool {
     !matches!(m, Motion::Stopped | Motion::Brake)
-}
-
-pub(crate) fn contains(hay: &[u8], needle: &[u8]) -> bool {
-    hay.windows(needle.len()).any(|w| w == needle)
 }
 
 /// Where the outputs stood at the start: what the end looks past.

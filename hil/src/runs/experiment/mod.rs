@@ -27,7 +27,7 @@ mod analyse;
 mod described;
 
 use analyse::analyse;
-pub(crate) use described::{contains, ended, Mark};
+pub(crate) use described::{ended, Mark};
 
 /// The tests the firmware's selector knows: the protocol's own, shared with
 /// the firmware (their names, selector bytes and shapes are defined there).
