@@ -269,7 +269,7 @@ fn a_stopping_rule_not_met_is_a_failure_and_one_met_is_not() {
     let (code, _, err) = calibrate_cli(&["--from-csv", csv, "--until-cm", "3"]);
     assert_eq!(code, Some(2), "{err}");
     assert!(
-        err.contains("--until-cm: a stopping rule of calibration rounds"),
+        err.contains("--until-cm: an option of calibration rounds on the emulated robot"),
         "{err}"
     );
     for bad in [
