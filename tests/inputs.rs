@@ -518,3 +518,19 @@ fn a_robot_the_firmware_would_refuse_is_refused_before_the_run() {
     let out = hil(&["run", "line", "--robot", &p]);
     assert_refused(&out, "wide.toml: the robust firmware would refuse this robot's wheelbase_mm = 600 (it takes 50-500 mm)");
 }
+
+/// A missing input file's cause is said once: the error names it in its own message, and
+/// the printed chain used to repeat it (`...: No such file ... : No such file ...`).
+#[test]
+fn a_missing_file_is_named_with_its_cause_once() {
+    for args in [
+        &["run", "line", "--scenario", "/nonexistent/s.toml"][..],
+        &["run", "line", "--elf", "/nonexistent/f.elf"][..],
+        &["board", "check", "/nonexistent/b.toml"][..],
+    ] {
+        let out = hil(args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.matches("No such file").count(), 1, "{args:?}: {err}");
+    }
+}

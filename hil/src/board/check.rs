@@ -17,11 +17,9 @@ use crate::mcu::clock::Clock;
 /// Why a board file is refused.
 #[derive(Debug, Error)]
 pub enum BoardError {
-    #[error("board {path}: {source}")]
-    Read {
-        path: String,
-        source: std::io::Error,
-    },
+    /// (The cause is in the message, not a `source`: a chain would print it twice.)
+    #[error("board {path}: {cause}")]
+    Read { path: String, cause: std::io::Error },
     /// Not TOML, or not the schema (an unknown or missing field, a wrong type).
     #[error("{file}:{line}: {message}")]
     Syntax {

@@ -260,9 +260,9 @@ impl Board {
     /// The board described by the TOML file at `path`, checked.
     pub fn load(path: impl AsRef<Path>) -> Result<Board, BoardError> {
         let path = path.as_ref();
-        let text = input_file::read_text(path).map_err(|source| BoardError::Read {
+        let text = input_file::read_text(path).map_err(|cause| BoardError::Read {
             path: path.display().to_string(),
-            source,
+            cause,
         })?;
         Board::from_toml_str(&text, &path.display().to_string())
     }

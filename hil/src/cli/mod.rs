@@ -143,7 +143,7 @@ impl std::error::Error for BadInput {}
 
 /// `e` (with its causes, on one line) as a [`BadInput`].
 pub fn bad_input(e: impl Into<anyhow::Error>) -> anyhow::Error {
-    BadInput(format!("{:#}", e.into())).into()
+    BadInput(one_line(&e.into())).into()
 }
 
 /// `FLAG PATH` checked before anything runs (see [`hil::output::check_file`]):
@@ -182,7 +182,7 @@ pub fn main() -> ExitCode {
     match cli.command.run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", one_line(&e));
             if e.downcast_ref::<Incomplete>().is_some() {
                 ExitCode::from(3)
             } else if e.downcast_ref::<BadInput>().is_some() {
@@ -229,4 +229,42 @@ fn usage_error(e: &clap::Error) -> ExitCode {
     };
     eprintln!("{first}{valid} (see `hil --help`)");
     ExitCode::from(2)
+}
+
+/// `e` and its causes on one line, as `{e:#}` prints them, but a cause whose
+/// text the line already holds is left out: the library's errors name their
+/// cause in their own message (`cannot read the scenario F: No such file`),
+/// and the chain would print it a second time.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.is_empty() {
+            line = text;
+        } else if !line.contains(&text) {
+            line.push_str(": ");
+            line.push_str(&text);
+        }
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_line;
+
+    /// A cause the message already names is said once; a new one is added.
+    #[test]
+    fn an_error_line_names_each_cause_once() {
+        let io = || std::io::Error::new(std::io::ErrorKind::NotFound, "No such file");
+        #[derive(Debug, thiserror::Error)]
+        #[error("cannot read F: {source}")]
+        struct Named {
+            source: std::io::Error,
+        }
+        let e = anyhow::Error::new(Named { source: io() });
+        assert_eq!(one_line(&e), "cannot read F: No such file");
+        let e = anyhow::Error::new(io()).context("reading F");
+        assert_eq!(one_line(&e), "reading F: No such file");
+    }
 }
