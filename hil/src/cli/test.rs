@@ -353,8 +353,7 @@ pub(super) fn save_artifacts(
         "finding": run.finding,
         "last": last,
     });
-    hil::output::write_atomic(&state, serde_json::to_string_pretty(&json)?.as_bytes())
-        .with_context(|| format!("writing {}", state.display()))?;
+    super::write_output(&state, serde_json::to_string_pretty(&json)?.as_bytes())?;
     written.push(state);
     Ok(written)
 }
