@@ -194,14 +194,21 @@ impl BenchCore {
     /// Apply `action` at `cycle` and log it; an action the plant refuses is
     /// not logged but left for the run loop to report.
     pub(super) fn apply_action(&mut self, core: &mut Core, cycle: u64, action: Action) {
+        let t_s = self.clock.seconds(cycle).0;
         match self.act(core, cycle, &action) {
-            Ok(()) => self.faults.log_applied(cycle, action),
-            Err(error) => self.requests.fail(PendingError::Refused {
-                action,
-                error,
-                cycle,
-                pc: core.pc(),
-            }),
+            Ok(()) => {
+                tracing::debug!(t_s, ?action, "fault action applied");
+                self.faults.log_applied(cycle, action);
+            }
+            Err(error) => {
+                tracing::debug!(t_s, ?action, %error, "fault action refused by the plant");
+                self.requests.fail(PendingError::Refused {
+                    action,
+                    error,
+                    cycle,
+                    pc: core.pc(),
+                });
+            }
         }
     }
 

@@ -35,6 +35,12 @@ pub(crate) fn analyse(
     for (k, seg) in segments.iter().enumerate() {
         let start = motions[seg.start].at;
         let stop = motions.get(seg.stop).map(|e| e.at).unwrap_or(end);
+        tracing::debug!(
+            motion = ?motions[seg.start].motion,
+            from_s = clock.seconds(start.cycle).0,
+            to_s = clock.seconds(stop.cycle).0,
+            "segment: the bridge inputs drove the motors"
+        );
         // At rest: when the next segment starts (after braking and waits),
         // or at the end of the run.
         let rest = segments

@@ -219,6 +219,7 @@ pub fn run_test_observed(
     opts: &TestOptions,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
+    let _run = tracing::debug_span!("run", test = test.name(), seed = opts.bench.seed).entered();
     if let Some(d) = &opts.description {
         return described::run_described(firmware, robot, test, opts, d, observer);
     }
@@ -237,12 +238,16 @@ fn run_on(
     observer: Option<Box<dyn Observer>>,
 ) -> Result<TestRun, BenchError> {
     let name = bench.firmware().name();
+    let ready = tracing::debug_span!("ready").entered();
     let (done_before, mut start_cycle) = crate::runs::line::make_ready(bench, opts.leg_mm)?;
     if opts.start_delay_s > 0.0 {
         bench.run_for(opts.start_delay_s)?;
         start_cycle = bench.cycle();
     }
     let vars = *bench.vars()?;
+    tracing::debug!(t_s = bench.robot_time_s(), "firmware ready");
+    drop(ready);
+    let _drive = tracing::debug_span!("drive").entered();
     bench.set_observer(observer);
     let told = start(bench, robot, test, opts);
     let limit = limit_s(test, opts);
@@ -272,6 +277,9 @@ fn run_on(
     // Let the last coast and the UART drain.
     if completed {
         bench.run_for(0.1)?;
+    }
+    if let Some(f) = &finding {
+        tracing::debug!(t_s = bench.robot_time_s(), finding = %f, "the run did not complete");
     }
     let mut run = analyse(bench, test, name, opts, start_cycle, completed, finding);
     run.hang = hang;
