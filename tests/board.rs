@@ -44,17 +44,7 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::no_timer_channel(
     r#"forward = "D9""#, r#"forward = "D22""#, "motor_driver.left.forward",
-    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D9 D10 (timer 2)"
-)]
-#[case::timer_1_is_the_firmwares_clock(
-    r#"forward = "D9"|blue = "D11""#, r#"forward = "D11"|blue = "D9""#, "motor_driver.left.forward",
-    ProblemKind::ReservedTimer { pin: 11, oc: hil::board::PwmSource { timer: 1, channel: 'A' } },
-    "the robust firmware's clock"
-)]
-#[case::timer_0_is_reserved(
-    r#"forward = "D9""#, r#"forward = "D13""#, "motor_driver.left.forward",
-    ProblemKind::ReservedTimer { pin: 13, oc: hil::board::PwmSource { timer: 0, channel: 'A' } },
-    "millis()"
+    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
 )]
 #[case::encoder_a_cannot_interrupt(
     r#"a = "D2""#, r#"a = "D22""#, "encoders.left.a",
@@ -170,6 +160,26 @@ fn other_drivers_load(
     assert_eq!(board.pwm_timers(), vec![2, 5]);
     assert_eq!(board.left_motor.pin2.pwm, None);
     assert_eq!(board.right_motor.pin1.pin.arduino, 46);
+}
+
+/// Motor PWM on timer 0's pins (D4 OC0B, D13 OC0A: PB7 also carries OC1C,
+/// and the Arduino core drives it from OC0A) and timer 1's (D11 OC1A, D12
+/// OC1B) is accepted: whether the firmware uses such a timer as its clock
+/// is judged when it runs.
+#[test]
+fn timer_0_and_timer_1_pins_carry_pwm() {
+    use hil::board::PwmSource;
+    let text = edited(
+        r#"forward = "D9"|reverse = "D8"|forward = "D7"|reverse = "D6"|b = "D4"|green = "D10"|blue = "D11"|red = "D12""#,
+        r#"forward = "D4"|reverse = "D13"|forward = "D11"|reverse = "D12"|b = "D30"|green = "D31"|blue = "D32"|red = "D33""#,
+    );
+    let board = Board::from_toml_str(&text, "my.toml").unwrap();
+    let oc = |timer, channel| Some(PwmSource { timer, channel });
+    assert_eq!(board.left_motor.pin1.pwm, oc(0, 'B'));
+    assert_eq!(board.left_motor.pin2.pwm, oc(0, 'A'));
+    assert_eq!(board.right_motor.pin1.pwm, oc(1, 'A'));
+    assert_eq!(board.right_motor.pin2.pwm, oc(1, 'B'));
+    assert_eq!(board.pwm_timers(), vec![0, 1]);
 }
 
 /// A board with an input on another port and timer runs the firmware as

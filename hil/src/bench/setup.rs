@@ -26,12 +26,18 @@ pub(super) fn build(
         avr.load_flash(*addr, bytes)?;
     }
     // The timers of the board's PWM pins: emulated by the bench (see
-    // pwm.rs), never clocked by simavr; the others' configurations are
-    // judged when something observes them (see timers.rs).
+    // pwm.rs), never clocked by simavr, or mirrored (simavr runs them, the
+    // bench sees the writes); the others' configurations are judged when
+    // something observes them (see timers.rs).
     let timers = avr.handler().bridge.timers().to_vec();
     for timer in &timers {
+        let claim = if timer.is_mirrored() {
+            IoClaim::Observe
+        } else {
+            IoClaim::Replace
+        };
         for addr in timer.write_addresses() {
-            avr.claim_io_write(addr, IoClaim::Replace)?;
+            avr.claim_io_write(addr, claim)?;
         }
         for addr in timer.read_addresses() {
             avr.claim_io_read(addr)?;

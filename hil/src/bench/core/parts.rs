@@ -138,8 +138,11 @@ impl BenchCore {
     /// cycle before the output can change.
     pub(super) fn write_pwm_register(&mut self, core: &mut Core, addr: u16, value: u8) {
         let cycle = core.cycle();
-        // The bench emulates these registers; keep data space readable.
-        core.set_data(addr, value);
+        // The bench emulates these registers; keep data space readable (a
+        // mirrored timer's simavr stored already).
+        if !self.bridge.mirrors(addr) {
+            core.set_data(addr, value);
+        }
         self.advance_plant(cycle);
         match self.bridge.write_register(addr, value, cycle, core.pc()) {
             Ok(outputs_changed) => {
