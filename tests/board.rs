@@ -238,3 +238,60 @@ fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
         "D46 is watched, idle"
     );
 }
+
+/// The robust firmware reads A on D2/D3 (INT4/INT5) and B on D4/D5: a board
+/// with its encoders elsewhere is named, every other pin left as it is; the
+/// boards of the fixtures are not.
+#[test]
+fn encoders_elsewhere_are_named_for_the_robust_firmware() {
+    let moved = Board::from_toml_str(
+        &edited("a = \"D2\"|b = \"D4\"", "a = \"D21\"|b = \"D22\""),
+        "my.toml",
+    )
+    .expect("a valid board");
+    let why = moved.firmware_encoder_mismatch().expect("named");
+    assert_eq!(
+        why,
+        "the robust firmware reads its encoders on left A D2, B D4; right A D3, B D5 (its \
+         INT4/INT5 handlers); this board has them on left A D21, B D22; right A D3, B D5: wire \
+         them there, or run a firmware of your own (--tests)"
+    );
+    assert_eq!(HENRYTWO.firmware_encoder_mismatch(), None);
+    let rover = Board::load(hil::paths::workspace_root().join("fixtures/boards/rover65.toml"))
+        .expect("rover65's board loads");
+    assert_eq!(rover.firmware_encoder_mismatch(), None);
+}
+
+/// `hil board check` refuses such a board (exit 2), checks it for a
+/// firmware of one's own with `--own-firmware` (exit 0), and passes
+/// Henrytwo's.
+#[test]
+fn board_check_refuses_encoders_the_robust_firmware_cannot_read() {
+    let hil = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+            .args(args)
+            .current_dir(hil::paths::workspace_root())
+            .output()
+            .expect("hil runs")
+    };
+    let bad = "fixtures/bad/board-encoders-int0-int1.toml";
+    let out = hil(&["board", "check", bad]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("this board has them on left A D21, B D22; right A D20, B D23"),
+        "{stderr}"
+    );
+    assert_eq!(
+        hil(&["board", "check", "--own-firmware", bad])
+            .status
+            .code(),
+        Some(0)
+    );
+    assert_eq!(
+        hil(&["board", "check", "fixtures/boards/henrytwo.toml"])
+            .status
+            .code(),
+        Some(0)
+    );
+}

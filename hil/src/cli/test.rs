@@ -39,6 +39,11 @@ pub struct TestCmd {
     /// Leg length instead of the file's `leg_mm` (default 2000).
     #[arg(long, value_parser = parse_leg, allow_negative_numbers = true)]
     leg_mm: Option<f64>,
+    /// A firmware parameter to set over the protocol before each case, after
+    /// the robot's geometry and its config's [firmware] settings: NAME=VALUE
+    /// (e.g. kp_left=1.5); repeat for more. Checked before anything runs.
+    #[arg(long = "param", value_name = "NAME=VALUE", value_parser = super::args::parse_param)]
+    params: Vec<(hil::firmware::link::Param, f32)>,
     /// Robot seconds without progress after which a busy firmware is
     /// reported hung (its expectations are still judged on what it did).
     #[arg(long, value_name = "S", default_value_t = hil::bench::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
@@ -166,7 +171,7 @@ impl TestCmd {
             board: self.board,
             seed,
             keep_firmware_params: false,
-            params: Vec::new(),
+            params: self.params.clone(),
         };
         let (robot, firmware) = target.load()?;
         let bench = target.bench();
@@ -185,6 +190,7 @@ impl TestCmd {
             record: true,
             faults: scenario.scheduled(),
             framed: scenario.framed,
+            params: target.params.clone(),
             hang_after_s: Some(self.hang_after),
             ..Default::default()
         };
@@ -292,12 +298,16 @@ fn run_case(
     }
     // A run the bench stopped as hung did not finish what its expectations
     // are about: it is no pass, whatever held before the hang.
-    let hung = run.hang.is_some().then(|| {
-        format!(
+    // Nor did a run that fragmented (more legs or turns than its test's
+    // shape, without a fault to cause it): it did not drive the test.
+    let hung = match (&run.hang, &run.fragments) {
+        (Some(_), _) => Some(format!(
             "the bench stopped the run: {}",
             run.finding.as_deref().unwrap_or("hung")
-        )
-    });
+        )),
+        (None, Some(f)) if !run.completed => Some(f.describe(run.test)),
+        _ => None,
+    };
     let pass = failures.is_empty() && hung.is_none();
     let verdict = match (&hung, pass) {
         (Some(_), _) => "incomplete",

@@ -4,7 +4,7 @@
 
 use plant_model::Side;
 
-use super::{FinalPose, Leg, Test, TestOptions, TestRun, Turn};
+use super::{FinalPose, Fragments, Leg, Test, TestOptions, TestRun, Turn};
 use crate::bench::{Bench, Motion, MotionEvent, Snapshot};
 use crate::firmware::params::Believed;
 
@@ -14,8 +14,8 @@ pub(crate) fn analyse(
     firmware: String,
     opts: &TestOptions,
     start_cycle: u64,
-    completed: bool,
-    finding: Option<String>,
+    mut completed: bool,
+    mut finding: Option<String>,
 ) -> TestRun {
     let core = bench.core();
     let motions: Vec<MotionEvent> = core
@@ -94,6 +94,22 @@ pub(crate) fn analyse(
             _ => {}
         }
     }
+    // Only a run that finished can be judged by its shape: a hung one has
+    // its own finding.
+    let fragments = completed
+        .then(|| Fragments::of(test, legs.len(), turns.len(), &motions))
+        .flatten();
+    let mut warnings = never_fired(bench, opts);
+    if let Some(f) = &fragments {
+        if opts.faults.is_empty() {
+            completed = false;
+            finding = Some(f.describe(test));
+        } else {
+            // An injected fault may cut a leg by design: its case judges the
+            // run; the fragments are named, not made the run's end.
+            warnings.push(f.describe(test));
+        }
+    }
     let (ix, iy) = test.ideal_end(opts.leg_mm);
     TestRun {
         test,
@@ -104,6 +120,7 @@ pub(crate) fn analyse(
         hang: None,
         legs,
         turns,
+        fragments,
         final_pose: FinalPose {
             x_mm: end.x_mm,
             y_mm: end.y_mm,
@@ -136,10 +153,7 @@ pub(crate) fn analyse(
             })
             .collect(),
         believed: Believed::factory(),
-        warnings: never_fired(bench, opts)
-            .into_iter()
-            .chain(core.record_notices())
-            .collect(),
+        warnings: warnings.into_iter().chain(core.record_notices()).collect(),
         faults_never_fired: bench.faults_never_fired(),
     }
 }

@@ -12,6 +12,7 @@
 //! | `mod.rs` | a run: options, results, the bench interface's start and end, the debugger's run |
 //! | `analyse.rs` | legs, turns and the end pose from the bridge and the plant (debounced) |
 //! | `described.rs` | a run of a firmware without the interface, as its test description says |
+//! | `fragments.rs` | a run with more legs or turns than its shape, and the likely cause |
 
 use plant_model::RobotConfig;
 
@@ -25,9 +26,11 @@ use crate::firmware::params::{Believed, Tell};
 
 mod analyse;
 mod described;
+mod fragments;
 
 use analyse::analyse;
 pub(crate) use described::{ended, Mark};
+pub use fragments::Fragments;
 
 /// The tests the firmware's selector knows: the protocol's own, shared with
 /// the firmware (their names, selector bytes and shapes are defined there).
@@ -141,6 +144,11 @@ pub struct TestRun {
     pub hang: Option<crate::bench::hang::HangReport>,
     pub legs: Vec<Leg>,
     pub turns: Vec<Turn>,
+    /// More legs or turns than the test's shape (see [`Fragments`]): then
+    /// the run did not complete the test (`completed` false, `finding` says
+    /// so) unless faults were injected (then a warning).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fragments: Option<Fragments>,
     pub final_pose: FinalPose,
     /// End position error (end minus ideal end) in cm, start frame: x along
     /// the first leg, y to the left.
