@@ -316,6 +316,17 @@ impl Board {
         }
     }
 
+    /// The board's serial links by their names (the board file's section
+    /// names), in USART order: what reports call a USART's output.
+    pub fn uarts(&self) -> Vec<(&'static str, UartWiring)> {
+        let mut v = vec![
+            ("debug_uart", self.debug_uart),
+            ("command_uart", self.command_uart),
+        ];
+        v.sort_by_key(|(_, u)| u.usart);
+        v
+    }
+
     /// Every motor-driver input, in Arduino pin order.
     pub fn bridge_inputs(&self) -> Vec<BridgeInput> {
         let mut v: Vec<BridgeInput> = Side::BOTH

@@ -151,6 +151,7 @@ pub fn render_run(run: &TestRun) -> String {
         run.robot_time_s,
         run.awake_fraction * 100.0
     );
+    s.push_str(&crate::runs::experiment::uarts::render(&run.uarts, "  "));
     s
 }
 

@@ -139,6 +139,7 @@ pub(crate) fn analyse(
             .ok()
             .map(|a| bench.read_u8(a)),
         bluetooth_out: bench.uart_output(bench.board().command_uart.usart).to_vec(),
+        uarts: super::uarts::outputs(bench),
         edges: core.recording().unwrap_or_default().to_vec(),
         drive: core.drive_log().to_vec(),
         uart: core.uart_log().to_vec(),

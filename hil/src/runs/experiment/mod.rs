@@ -13,6 +13,7 @@
 //! | `analyse.rs` | legs, turns and the end pose from the bridge and the plant (debounced) |
 //! | `described.rs` | a run of a firmware without the interface, as its test description says |
 //! | `fragments.rs` | a run with more legs or turns than its shape, and the likely cause |
+//! | `uarts.rs` | what the firmware sent on each USART, named by the board ([`UartOutput`]) |
 
 use plant_model::RobotConfig;
 
@@ -27,10 +28,12 @@ use crate::firmware::params::{Believed, Tell};
 mod analyse;
 mod described;
 mod fragments;
+pub mod uarts;
 
 use analyse::analyse;
 pub(crate) use described::{ended, Mark};
 pub use fragments::Fragments;
+pub use uarts::UartOutput;
 
 /// The tests the firmware's selector knows: the protocol's own, shared with
 /// the firmware (their names, selector bytes and shapes are defined there).
@@ -166,8 +169,13 @@ pub struct TestRun {
     pub applied: Vec<(u64, Action)>,
     /// The firmware's fault code at the end (`HT_FAULT`), when it has one.
     pub fault_code: Option<u8>,
-    /// The bytes the firmware sent on the Bluetooth UART.
+    /// The bytes the firmware sent on the command link (the board's
+    /// `command_uart`; in the JSON as its entry of `uarts`).
+    #[serde(skip)]
     pub bluetooth_out: Vec<u8>,
+    /// What the firmware sent on each USART from reset to the end, named by
+    /// the board (see [`uarts::outputs`]).
+    pub uarts: Vec<UartOutput>,
     /// Pin-level detail, when recorded (see [`TestOptions::record`]).
     #[serde(skip)]
     pub edges: Vec<PinEvent>,
@@ -353,7 +361,8 @@ pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
 
 /// Run `test` under a debugger: the MCU paused at its reset vector until
 /// the debugger continues, then [`run_test`]'s run, step for step (the
-/// debugger only pauses it), the debugger told of the end.
+/// debugger only pauses it; a described firmware's as its description
+/// says), the debugger told of the end.
 /// [`GdbError::Ended`](crate::bench::gdb::GdbError::Ended) when the
 /// debugger killed the run or left it without a detach.
 pub fn run_test_debugged(
@@ -365,7 +374,11 @@ pub fn run_test_debugged(
 ) -> Result<TestRun, crate::bench::gdb::GdbError> {
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
     server.attach(&mut bench)?;
-    let run = match run_on(&mut bench, robot, test, opts, None) {
+    let run = match &opts.description {
+        Some(d) => described::run_described_on(&mut bench, test, opts, d, None),
+        None => run_on(&mut bench, robot, test, opts, None),
+    };
+    let run = match run {
         Ok(run) => run,
         Err(BenchError::Debugger(why)) => return Err(crate::bench::gdb::GdbError::Ended(why)),
         Err(e) => {
