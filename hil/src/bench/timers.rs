@@ -37,11 +37,11 @@
 //! they are refused.
 
 use crate::board::{Board, PwmSource};
-use crate::mcu::pwm::{Kind, Mode, Top};
+use crate::mcu::pwm::layout::{Layout, ATMEGA2560};
+use crate::mcu::pwm::{mode, Kind, Mode, Top};
 use crate::mcu::sim::Core;
 
 use super::error::PendingError;
-use super::registers::{TimerRegs, CHECKED_TIMERS};
 use super::NEVER;
 
 /// How long an unverified configuration may stay in force unobserved:
@@ -137,7 +137,7 @@ pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<u8>; 3] {
 /// A timer simavr runs, as the bench checks it.
 #[derive(Debug, Clone)]
 struct SimavrTimer {
-    regs: TimerRegs,
+    regs: Layout,
     /// Channels A, B, C whose pin the board uses (other than as the
     /// channel's own PWM input, which the bench models: a mirrored timer).
     on_board: [bool; 3],
@@ -164,12 +164,12 @@ impl SimavrTimers {
     /// outputs on the board's PWM inputs are then the bench's).
     pub(super) fn new(board: &Board) -> Self {
         let emulated = emulated(board);
-        let timers = CHECKED_TIMERS
+        let timers = ATMEGA2560
             .iter()
-            .filter(|r| !emulated.contains(&r.n))
+            .filter(|r| !emulated.contains(&r.id.number()))
             .map(|&regs| SimavrTimer {
                 regs,
-                on_board: foreign_channels(board, regs.n).map(|p| p.is_some()),
+                on_board: foreign_channels(board, regs.id.number()).map(|p| p.is_some()),
             })
             .collect();
         Self { timers }
@@ -219,11 +219,9 @@ impl SimavrTimers {
             ((tccrb >> 3) & 0b1) << 2 | (tccra & 0b11)
         };
         let mode = Mode::decode(wgm, r.sixteen_bit);
-        let internal_clock = if r.sixteen_bit {
-            cs <= 5
-        } else {
-            r.n == 2 || cs <= 5
-        };
+        // Clock selects 6 and 7 of the shared prescaler are the external
+        // clock on pin Tn; timer 2's table has none.
+        let internal_clock = mode::prescaler(cs, r.prescalers).is_some();
         // What tests/timer_modes.rs holds to the datasheet: simavr gets
         // the dual slope modes, fast PWM with TOP = OCRnA and CTC with TOP
         // = ICRn wrong.
@@ -243,7 +241,7 @@ impl SimavrTimers {
         if !is_observed || (verified_mode && !connected) {
             return None;
         }
-        let n = r.n;
+        let n = r.id.number();
         let observed = match look {
             Look::Read(a) if a == r.tcnt => format!("read TCNT{n}"),
             Look::Read(_) => format!("read TIFR{n}"),
