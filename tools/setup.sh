@@ -42,6 +42,7 @@ for elf in firmware/target/avr-none/release/*.elf; do
   [ -f "$elf" ] || { echo "setup: the firmware build produced no ELF" >&2; exit 1; }
 done
 
-# The Arduino sketches (the thesis' listing as printed, and a plain user
-# sketch), built with Debian's Arduino core: firmware/target/arduino/*.elf.
+# The Arduino sketches (the thesis' listing as printed, and sketches of our
+# own written as users write them), built with Debian's Arduino core:
+# firmware/target/arduino/*.elf.
 tools/build-sketches.sh

@@ -25,7 +25,7 @@ use crate::bench::uart::HostUart;
 use crate::bench::{BenchOptions, NEVER};
 use crate::board::Board;
 use crate::mcu::clock::Clock;
-use crate::mcu::sim::{Core, Handler, Irq};
+use crate::mcu::sim::{Core, DrivenPin, Handler};
 
 mod parts;
 mod records;

@@ -6,7 +6,7 @@ use super::*;
 /// The callbacks' work that needs several parts: each part does its share,
 /// given the others (or the few values it needs of them).
 impl BenchCore {
-    pub(in crate::bench) fn connect_encoders(&mut self, core: &mut Core, irq: [[Irq; 2]; 2]) {
+    pub(in crate::bench) fn connect_encoders(&mut self, core: &mut Core, irq: [[DrivenPin; 2]; 2]) {
         self.edges.connect(core, irq, &self.robot);
     }
 
