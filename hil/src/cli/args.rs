@@ -190,7 +190,7 @@ impl Target {
     /// The path of the robot config [`Target::robot`] reads.
     pub fn robot_path(&self) -> PathBuf {
         self.robot.clone().unwrap_or_else(|| {
-            let best = hil::paths::robot_config("henrytwo");
+            let best = hil::paths::robot_config(hil::paths::REFERENCE_ROBOT);
             if best.exists() {
                 best
             } else {
