@@ -39,11 +39,9 @@ fn decoded(vcd: &Path, channel: &str) -> Vec<u8> {
         .collect()
 }
 
-#[test]
-fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
-    let _ = support::firmware_path("robust");
-    let dir = std::env::temp_dir().join(format!("hil-vcd-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// `hil run line` of 100 mm with `--vcd DIR/line.vcd` (and so its `.gtkw`
+/// beside): the trace's path.
+fn run_line_with_vcd(dir: &Path) -> std::path::PathBuf {
     let vcd = dir.join("line.vcd");
     let out = Command::new(env!("CARGO_BIN_EXE_hil"))
         .args(["run", "line", "--leg-mm", "100", "--deterministic", "--vcd"])
@@ -55,6 +53,15 @@ fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    vcd
+}
+
+#[test]
+fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
+    let _ = support::firmware_path("robust");
+    let dir = std::env::temp_dir().join(format!("hil-vcd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let vcd = run_line_with_vcd(&dir);
     let text = std::fs::read_to_string(&vcd).unwrap();
 
     // Every sample up to the last change is read.
@@ -138,17 +145,7 @@ fn gtkwave_opens_a_moved_pair_at_the_runs_extent() {
     let dir = std::env::temp_dir().join(format!("hil-gtkw-{}", std::process::id()));
     let moved = dir.join("artifact");
     std::fs::create_dir_all(&moved).unwrap();
-    let vcd = dir.join("line.vcd");
-    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(["run", "line", "--leg-mm", "100", "--deterministic", "--vcd"])
-        .arg(&vcd)
-        .output()
-        .expect("hil runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_line_with_vcd(&dir);
     for name in ["line.vcd", "line.gtkw"] {
         std::fs::rename(dir.join(name), moved.join(name)).unwrap();
     }
