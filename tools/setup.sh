@@ -17,7 +17,7 @@ packages+=(gdb-avr)
 # Every JUnit report is validated against Jenkins' junit-10.xsd with xmllint.
 packages+=(libxml2-utils)
 # A moved VCD and its save file are opened by GTKWave itself, on a virtual display.
-packages+=(gtkwave xvfb)
+packages+=(gtkwave xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
