@@ -268,4 +268,4 @@ fn bench_now(bench: &Bench) -> Snapshot {
 }
 
 #[cfg(test)]
-mod tests;
+pub(super) mod tests;

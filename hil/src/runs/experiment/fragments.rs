@@ -97,25 +97,7 @@ fn duty_zero_returns(motions: &[MotionEvent]) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::Snapshot;
-
-    fn at(motion: Motion, cycle: u64) -> MotionEvent {
-        MotionEvent {
-            motion,
-            at: Snapshot {
-                cycle,
-                x_mm: 0.0,
-                y_mm: 0.0,
-                theta_rad: 0.0,
-                left_count: None,
-                right_count: None,
-                left_edges: 0,
-                right_edges: 0,
-                left_mm: 0.0,
-                right_mm: 0.0,
-            },
-        }
-    }
+    use crate::runs::experiment::analyse::tests::at;
 
     /// A leg whose drive falls to 0 twice and a turn whose drive falls to 0
     /// once; the stops between (a coast, then a reverse pulse or the turn)
