@@ -6,6 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 cargo fmt --all --check
+# The vendored simavr-ffi is the published crate plus its patch files.
+tools/vendor-check.sh
 # No module may depend on itself through others (the checker, then its own test).
 python3 tools/module-cycles.py hil plant-model calib gap protocol firmware input-file
 bash tools/module-cycles-test.sh

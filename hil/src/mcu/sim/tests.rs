@@ -270,3 +270,33 @@ fn a_driven_pin_keeps_its_level_through_port_writes() {
     avr.with_core(|_, core| core.drive(pe4, false));
     assert_eq!(run(&mut avr), 0x20);
 }
+
+/// The vendored simavr keeps the cores of the boards the bench has wiring
+/// for or is asked about (vendor/simavr-ffi/VENDORED.md); the others were
+/// left out of it, and simavr does not know them.
+#[test]
+fn the_vendored_simavr_has_the_kept_cores_only() {
+    let make = |name: &str| {
+        let handler = Writes {
+            seen: Vec::new(),
+            at: 0,
+            attention: false,
+            on_write: OnWrite::Nothing,
+            pin: None,
+            irqs: Vec::new(),
+        };
+        Avr::new(name, 16_000_000, handler)
+    };
+    for name in ["atmega2560", "atmega328p", "atmega32u4"] {
+        assert!(
+            make(name).is_ok(),
+            "{name} missing from the vendored simavr"
+        );
+    }
+    for name in ["atmega1280", "attiny85"] {
+        assert!(
+            matches!(make(name), Err(SimError::UnknownMcu(_))),
+            "{name} was left out of the vendored simavr"
+        );
+    }
+}
