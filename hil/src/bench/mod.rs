@@ -94,6 +94,10 @@ pub struct BenchOptions {
     pub board: Board,
     /// The MCU's supply from the battery, and its brown-out detector.
     pub supply: Supply,
+    /// simavr runs free between its cycle timers (the default), or steps
+    /// one instruction at a time as it does by default. The results are the
+    /// same to the cycle and the bit (tests/free_run.rs); free is faster.
+    pub free_run: bool,
 }
 
 impl Default for BenchOptions {
@@ -108,6 +112,7 @@ impl Default for BenchOptions {
             seed: 0,
             board: Board::default(),
             supply: Supply::default(),
+            free_run: true,
         }
     }
 }

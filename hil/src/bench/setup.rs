@@ -22,6 +22,7 @@ pub(super) fn build(
     let wiring: &Board = &options.board;
     let core = BenchCore::new(robot, options, wiring, counts)?;
     let mut avr = Avr::new("atmega2560", options.clock.hz(), core)?;
+    avr.set_free_run(options.free_run);
     for (addr, bytes) in &firmware.segments {
         avr.load_flash(*addr, bytes)?;
     }

@@ -22,7 +22,18 @@
 //!   external (`pins.rs`);
 //! - the firmware image is loaded from the ELF by the bench ([`crate::firmware::elf`]),
 //!   since a Rust ELF has no `.mmcu` section and simavr's loader prints to
-//!   stdout.
+//!   stdout;
+//! - the core runs free between cycle timers ([`Avr::set_free_run`]):
+//!   simavr's `run_cycle_limit` is 1 by default, so it processes its timers
+//!   after every instruction; raised, the core runs instructions back to back
+//!   up to the next timer's cycle, which the vendored simavr keeps as an
+//!   absolute cycle (`run_cycle_end`, vendor/simavr-ffi/patches) so that the
+//!   cycles the response and the sleep jump add cannot carry it past a timer.
+//!   The burst's end bounds the free run too (`run_cycle_stop`, of the same
+//!   patch: a cycle timer there would also cut a jump over a sleep short),
+//!   and a callback that ends a burst ends the free run after its
+//!   instruction (`trampolines.rs`): every timer fires, and every burst
+//!   ends, after the same instruction as when stepping one at a time.
 //!
 //! # Soundness
 //! The safe API holds whatever safe code does with it:
@@ -92,6 +103,13 @@ use trampolines::{
     io_read_observe_trampoline, io_read_trampoline, io_write_trampoline, irq_trampoline,
     schedule_from_core, schedule_timer,
 };
+
+/// simavr's `run_cycle_limit` while the core runs free: no bound of its own,
+/// only the next cycle timer's and the burst's end (`run_cycle_stop`).
+const FREE_RUN_LIMIT: u64 = u64::MAX;
+/// simavr's default `run_cycle_limit`: back to the timers after every
+/// instruction.
+const STEP_LIMIT: u64 = 1;
 
 /// Errors from creating or driving the simulated MCU.
 #[derive(Debug, Error)]
@@ -179,6 +197,9 @@ pub struct Avr<H: Handler> {
     /// The step function simavr installed at init (what `avr_run` calls),
     /// called directly to save a call per instruction.
     run: unsafe extern "C" fn(*mut ffi::avr_t),
+    /// Bursts and [`Avr::run_to`] let the core run free between cycle
+    /// timers ([`Avr::set_free_run`]).
+    free_run: bool,
 }
 
 impl<H: Handler> Avr<H> {
@@ -213,6 +234,7 @@ impl<H: Handler> Avr<H> {
             shared,
             code_end: 0,
             run,
+            free_run: true,
         })
     }
 
@@ -256,12 +278,41 @@ impl<H: Handler> Avr<H> {
         }
     }
 
+    /// Whether [`Avr::run_burst`] and [`Avr::run_to`] let the core run
+    /// free between cycle timers (the default) or step one instruction at a
+    /// time, as simavr does by default. The results are the same to the
+    /// cycle and the bit either way; free is faster. [`Avr::step`] always
+    /// runs one instruction.
+    pub fn set_free_run(&mut self, on: bool) {
+        self.free_run = on;
+    }
+
+    pub fn free_run(&self) -> bool {
+        self.free_run
+    }
+
+    /// Set simavr's run-cycle bounds: `limit` cycles at most between two
+    /// passes over the timers, never past cycle `stop` (0: no such bound),
+    /// and back to the timers after the next instruction (simavr sets the
+    /// next end when it passes over them).
+    #[inline]
+    fn set_run_limit(&mut self, limit: u64, stop: u64) {
+        // SAFETY: plain field writes on the live MCU; no callback runs.
+        unsafe {
+            let a = self.raw();
+            (*a).run_cycle_limit = limit;
+            (*a).run_cycle_stop = stop;
+            (*a).run_cycle_end = 0;
+        }
+    }
+
     /// Execute one instruction (or, while sleeping, jump to the next timer).
     ///
     /// # Panics
     /// With the panic of a callback the step ran.
     #[inline]
     pub fn step(&mut self) -> CpuState {
+        self.set_run_limit(STEP_LIMIT, 0);
         let avr = self.raw();
         // SAFETY: the MCU is initialised and loaded; callbacks reach the
         // handler through the state's pointer, and `&mut self` means nothing
@@ -282,7 +333,9 @@ impl<H: Handler> Avr<H> {
     /// and is updated; cycles of steps that slept (or began or ended asleep)
     /// are summed in [`Burst::slept`]. The same as calling [`Avr::step`] in
     /// a loop, without leaving this module per instruction, and with one
-    /// bound per instruction as [`Avr::run_to`] has.
+    /// bound per instruction as [`Avr::run_to`] has; with free run
+    /// ([`Avr::set_free_run`]) a step is every instruction up to the next
+    /// cycle timer, the burst's end being one, with the same results.
     ///
     /// # Panics
     /// With the panic of a callback, after the step that ran it.
@@ -295,14 +348,17 @@ impl<H: Handler> Avr<H> {
         // SAFETY: field accesses through the state's pointer; the callbacks
         // run during `run` reach the same state through the same pointer,
         // and nothing holds a reference into it across a step.
-        unsafe {
+        let end = unsafe {
             let end = if (*shared).handler.attention() {
                 0
             } else {
                 until
             };
             (*shared).burst_end.set(end);
-        }
+            end
+        };
+        // A burst begun with attention pending runs one instruction.
+        self.bound_run(end);
         let mut slept = 0;
         let mut was_asleep = *sleeping;
         // SAFETY: plain field read.
@@ -325,8 +381,14 @@ impl<H: Handler> Avr<H> {
                 before = now;
                 continue;
             }
-            // A step that began or ended asleep counts as slept.
+            // A step that began or ended asleep counts as slept: from the
+            // `sleep` instruction on, when the step began awake (with free
+            // run it may have run many instructions before that one).
             let asleep = state == ffi::cpu_Sleeping as i32;
+            if asleep && !was_asleep {
+                // SAFETY: a `Cell` field of the live state.
+                before = unsafe { (*shared).response.sleep_start() };
+            }
             slept += now - before;
             before = now;
             was_asleep = asleep;
@@ -351,6 +413,7 @@ impl<H: Handler> Avr<H> {
     /// With the panic of a callback, at `end` (the bare loop does not
     /// look for one between steps).
     pub fn run_to(&mut self, end: u64) -> CpuState {
+        self.bound_run(end);
         let avr = self.raw();
         let run = self.run;
         let state = loop {
@@ -366,6 +429,20 @@ impl<H: Handler> Avr<H> {
         };
         self.resume_failure();
         decode_state(state)
+    }
+
+    /// Bound the next steps: with free run, by the cycle timers and `end`
+    /// (simavr stops at the first instruction that reaches it, as the loops
+    /// do); otherwise one instruction per step. `end` 0: one instruction.
+    #[inline]
+    fn bound_run(&mut self, end: u64) {
+        if !self.free_run || end == 0 {
+            self.set_run_limit(STEP_LIMIT, 0);
+        } else if end == u64::MAX {
+            self.set_run_limit(FREE_RUN_LIMIT, 0);
+        } else {
+            self.set_run_limit(FREE_RUN_LIMIT, end);
+        }
     }
 
     /// Let time pass without executing: run the cycle timers that are due,

@@ -48,6 +48,8 @@ pub(super) struct Response {
     /// The cycle the last jump over a sleep ended at ([`NOT_ASLEEP`]: none
     /// since the last interrupt was entered).
     sleep_end: Cell<u64>,
+    /// The cycle the last `sleep` instruction began at.
+    sleep_start: Cell<u64>,
 }
 
 impl Response {
@@ -55,7 +57,15 @@ impl Response {
         Self {
             avr,
             sleep_end: Cell::new(NOT_ASLEEP),
+            sleep_start: Cell::new(0),
         }
+    }
+
+    /// The cycle the last `sleep` instruction began at: what a run loop
+    /// stepping one instruction at a time counts a sleep from, however many
+    /// instructions ran before it in the same step.
+    pub(super) fn sleep_start(&self) -> u64 {
+        self.sleep_start.get()
     }
 
     /// Forget a sleep (the MCU was reset: it is awake).
@@ -103,6 +113,10 @@ unsafe extern "C" fn sleep(avr: *mut ffi::avr_t, how_long: ffi::avr_cycle_count_
     // through shared references (its field is a `Cell`).
     unsafe {
         let response = &*((*avr).custom.data as *const Response);
+        // simavr jumps in the step that ran the `sleep`, right after it and
+        // the due timers (which leave the cycle alone); `sleep` takes one
+        // cycle.
+        response.sleep_start.set((*avr).cycle.wrapping_sub(1));
         // Unsigned arithmetic: simavr adds the cycle back right after.
         (*avr).cycle = (*avr).cycle.wrapping_sub(1);
         response

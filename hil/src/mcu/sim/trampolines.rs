@@ -59,6 +59,27 @@ unsafe fn fail<H>(shared: NonNull<Shared<H>>, payload: Payload) {
     }
     failed.set(true);
     burst_end.set(0);
+    // SAFETY: as the caller guarantees.
+    unsafe { end_free_run(shared) };
+}
+
+/// End simavr's free run after the running instruction, as the burst ends
+/// after it: the core returns to the run loop at once, and a timer simavr
+/// registers later in the same instruction cannot set a further end (its
+/// stop, 1, is behind every cycle the core runs at).
+///
+/// # Safety
+/// `shared` is the live state of a live `Avr`.
+#[inline]
+unsafe fn end_free_run<H>(shared: NonNull<Shared<H>>) {
+    // SAFETY: plain field writes on the live MCU, which is running the
+    // instruction this callback is part of; `Avr::run_burst` sets the
+    // limit again as the next burst starts.
+    unsafe {
+        let avr = (*shared.as_ptr()).avr.as_ptr();
+        (*avr).run_cycle_stop = 1;
+        (*avr).run_cycle_end = 0;
+    }
 }
 
 /// Call the handler once: `call` gets the only `&mut H` there is, for its
@@ -90,8 +111,12 @@ unsafe fn with_handler<H: Handler, R>(
     let mut core = unsafe { Core::new(shared, schedule_from_core::<H>) };
     let r = call(handler, &mut core);
     if handler.attention() {
-        // SAFETY: a `Cell` field, disjoint from the handler.
-        unsafe { (*p).burst_end.set(0) };
+        // SAFETY: a `Cell` field, disjoint from the handler; the MCU's
+        // fields, as in `end_free_run`.
+        unsafe {
+            (*p).burst_end.set(0);
+            end_free_run(shared);
+        }
     }
     r
 }

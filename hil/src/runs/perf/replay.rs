@@ -125,6 +125,9 @@ pub fn raw_replay(
         pokes: rec.pokes.clone(),
     };
     let mut avr = Avr::new("atmega2560", clock.hz(), handler)?;
+    // The reference: simavr as upstream runs it, back to its cycle timers
+    // after every instruction.
+    avr.set_free_run(false);
     for (addr, bytes) in &fw.segments {
         avr.load_flash(*addr, bytes)?;
     }
