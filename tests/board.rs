@@ -3,7 +3,9 @@
 //! wrong and what is allowed; Henrytwo's fixture and the other driver kinds
 //! load.
 
-use hil::board::{Board, BoardError, DriverKind, Problem, ProblemKind, HENRYTWO};
+use hil::board::{Board, BoardError, DriverKind, Mcu, Problem, ProblemKind, HENRYTWO};
+
+const MEGA: Mcu = Mcu::Atmega2560;
 use rstest::rstest;
 
 const FIXTURE: &str = include_str!("../fixtures/boards/henrytwo.toml");
@@ -44,15 +46,15 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::no_timer_channel(
     r#"forward = "D9""#, r#"forward = "D22""#, "motor_driver.left.forward",
-    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
+    ProblemKind::NotPwm { pin: 22, mcu: MEGA }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
 )]
 #[case::encoder_a_cannot_interrupt(
     r#"a = "D2""#, r#"a = "D22""#, "encoders.left.a",
-    ProblemKind::CannotInterrupt { pin: 22 }, "give D2 D3 D18"
+    ProblemKind::CannotInterrupt { pin: 22, mcu: MEGA }, "give D2 D3 D18"
 )]
 #[case::uart_out_of_range(
     "usart = 1", "usart = 4", "command_uart.usart",
-    ProblemKind::UartOutOfRange { usart: 4 }, "USART 0-3"
+    ProblemKind::UartOutOfRange { usart: 4, mcu: MEGA }, "USART 0-3"
 )]
 #[case::uart_pin_reused(
     r#"red = "D12""#, r#"red = "D19""#, "command_uart.usart",
@@ -60,15 +62,15 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::same_uart_twice(
     "usart = 0", "usart = 1", "debug_uart.usart",
-    ProblemKind::UartReused { usart: 1, first: "command_uart".into() }, "a USART of its own (0-3)"
+    ProblemKind::UartReused { usart: 1, first: "command_uart".into(), mcu: MEGA }, "a USART of its own (0-3)"
 )]
 #[case::adc_out_of_range(
     "adc = 0", "adc = 16", "battery.adc",
-    ProblemKind::AdcOutOfRange { adc: 16 }, "give 0-15"
+    ProblemKind::AdcOutOfRange { adc: 16, mcu: MEGA }, "give 0-15"
 )]
 #[case::unknown_pin(
     r#"b = "D4""#, r#"b = "D70""#, "encoders.left.b",
-    ProblemKind::UnknownPin { given: "D70".into() }, r#"give "D0"-"D69" or "A0"-"A15""#
+    ProblemKind::UnknownPin { given: "D70".into(), mcu: MEGA }, r#"give "D0"-"D69", "A0"-"A15" or a port pin"#
 )]
 #[case::bad_baud(
     "baud = 9600             # firmware", "baud = 12345678  # firmware", "command_uart.baud",
@@ -190,7 +192,7 @@ fn timer_0_and_timer_1_pins_carry_pwm() {
 #[test]
 fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
     use hil::bench::{Bench, BenchOptions};
-    use hil::board::{mega2560, BridgeInput, PwmSource};
+    use hil::board::{BridgeInput, Mcu, Pin, PwmSource};
     use hil::runs::line::CMD_LINE;
     use hil::runs::start::wait_ready;
 
@@ -199,7 +201,7 @@ fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
 
     let mut board = HENRYTWO;
     board.right_motor.pin2 = BridgeInput {
-        pin: mega2560::pin(46).unwrap(),
+        pin: Pin::arduino(Mcu::Atmega2560, 46).unwrap(),
         pwm: Some(PwmSource {
             timer: 5,
             channel: 'A',
