@@ -393,7 +393,10 @@ fn atmega328p_spot_table() {
     assert!(c.arduino_pin(20).is_none());
     assert_eq!(c.timer(1).unwrap().ocr.len(), 2);
     assert!(c.timer(3).is_none());
-    assert!(c.has_pin(('C', 6)) && !c.has_pin(('C', 7)), "PC6 (RESET) is a pin, PC7 none");
+    assert!(
+        c.has_pin(('C', 6)) && !c.has_pin(('C', 7)),
+        "PC6 (RESET) is a pin, PC7 none"
+    );
     assert_eq!((c.pc_bytes, c.arch), (2, object::elf::EF_AVR_ARCH_AVR5));
     assert_eq!(c.vector_name(18), Some("USART_RX"));
     assert_eq!(
