@@ -297,3 +297,63 @@ fn board_check_refuses_encoders_the_robust_firmware_cannot_read() {
         Some(0)
     );
 }
+
+/// A board names its MCU (`mcu`, the atmega2560 when absent): an Uno's pins
+/// resolve on the ATmega328P (the L298N enables on timer 0's D5/D6, the
+/// encoders on INT0/INT1), and what the 328P lacks is refused with one line
+/// (its one USART). An MCU without a description is refused naming those
+/// described; a pin may be named by port and bit.
+#[test]
+fn a_board_names_its_mcu_and_pins_by_port_and_bit() {
+    let uno = r#"
+mcu = "atmega328p"
+[motor_driver]
+kind = "l298n"
+left = { enable = "D5", in1 = "D7", in2 = "D8" }
+right = { enable = "D6", in1 = "D9", in2 = "D10" }
+[encoders]
+left = { a = "D2", b = "D4" }
+right = { a = "D3", b = "D12" }
+[command_uart]
+usart = 1
+baud = 9600
+[debug_uart]
+usart = 0
+baud = 9600
+[battery]
+adc = 0
+divider = 0.55
+[leds]
+green = "A1"
+blue = "A2"
+red = "PC3"
+"#;
+    let p = problems(uno);
+    let lines: Vec<String> = p.iter().map(ToString::to_string).collect();
+    assert_eq!(
+        p.iter().map(|p| p.field.as_str()).collect::<Vec<_>>(),
+        ["command_uart.usart"],
+        "{lines:?}"
+    );
+    assert!(
+        lines[0].contains("no USART 1; the atmega328p has USART 0"),
+        "{lines:?}"
+    );
+    let tiny = problems(&edited(
+        "[motor_driver]\n",
+        "mcu = \"attiny85\"\n[motor_driver]\n",
+    ));
+    assert_eq!(tiny.len(), 1);
+    assert_eq!(
+        tiny[0].to_string(),
+        "my.toml: mcu: no MCU \"attiny85\" is described; give one of atmega2560, atmega328p, atmega32u4"
+    );
+    // PE4 is the Mega's D2, PK7 its A15.
+    let by_port = edited("a = \"D2\"|divider", "a = \"PE4\"|divider");
+    assert_eq!(Board::from_toml_str(&by_port, "b.toml").unwrap(), HENRYTWO);
+    let p = problems(&edited("a = \"D2\"", "a = \"PI0\""));
+    assert!(
+        p[0].to_string().contains("no atmega2560 pin \"PI0\""),
+        "{p:?}"
+    );
+}
