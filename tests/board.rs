@@ -3,7 +3,9 @@
 //! wrong and what is allowed; Henrytwo's fixture and the other driver kinds
 //! load.
 
-use hil::board::{Board, BoardError, DriverKind, Problem, ProblemKind, HENRYTWO};
+use hil::board::{Board, BoardError, DriverKind, Mcu, Problem, ProblemKind, HENRYTWO};
+
+const MEGA: Mcu = Mcu::Atmega2560;
 use rstest::rstest;
 
 const FIXTURE: &str = include_str!("../fixtures/boards/henrytwo.toml");
@@ -44,15 +46,15 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::no_timer_channel(
     r#"forward = "D9""#, r#"forward = "D22""#, "motor_driver.left.forward",
-    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
+    ProblemKind::NotPwm { pin: 22, mcu: MEGA }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
 )]
 #[case::encoder_a_cannot_interrupt(
     r#"a = "D2""#, r#"a = "D22""#, "encoders.left.a",
-    ProblemKind::CannotInterrupt { pin: 22 }, "give D2 D3 D18"
+    ProblemKind::CannotInterrupt { pin: 22, mcu: MEGA }, "give D2 D3 D18"
 )]
 #[case::uart_out_of_range(
     "usart = 1", "usart = 4", "command_uart.usart",
-    ProblemKind::UartOutOfRange { usart: 4 }, "USART 0-3"
+    ProblemKind::UartOutOfRange { usart: 4, mcu: MEGA }, "USART 0-3"
 )]
 #[case::uart_pin_reused(
     r#"red = "D12""#, r#"red = "D19""#, "command_uart.usart",
@@ -60,15 +62,15 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::same_uart_twice(
     "usart = 0", "usart = 1", "debug_uart.usart",
-    ProblemKind::UartReused { usart: 1, first: "command_uart".into() }, "a USART of its own (0-3)"
+    ProblemKind::UartReused { usart: 1, first: "command_uart".into(), mcu: MEGA }, "a USART of its own (0-3)"
 )]
 #[case::adc_out_of_range(
     "adc = 0", "adc = 16", "battery.adc",
-    ProblemKind::AdcOutOfRange { adc: 16 }, "give 0-15"
+    ProblemKind::AdcOutOfRange { adc: 16, mcu: MEGA }, "give 0-15"
 )]
 #[case::unknown_pin(
     r#"b = "D4""#, r#"b = "D70""#, "encoders.left.b",
-    ProblemKind::UnknownPin { given: "D70".into() }, r#"give "D0"-"D69" or "A0"-"A15""#
+    ProblemKind::UnknownPin { given: "D70".into(), mcu: MEGA }, r#"give "D0"-"D69", "A0"-"A15" or a port pin"#
 )]
 #[case::bad_baud(
     "baud = 9600             # firmware", "baud = 12345678  # firmware", "command_uart.baud",
@@ -190,7 +192,7 @@ fn timer_0_and_timer_1_pins_carry_pwm() {
 #[test]
 fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
     use hil::bench::{Bench, BenchOptions};
-    use hil::board::{mega2560, BridgeInput, PwmSource};
+    use hil::board::{BridgeInput, Mcu, Pin, PwmSource};
     use hil::runs::line::CMD_LINE;
     use hil::runs::start::wait_ready;
 
@@ -199,7 +201,7 @@ fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
 
     let mut board = HENRYTWO;
     board.right_motor.pin2 = BridgeInput {
-        pin: mega2560::pin(46).unwrap(),
+        pin: Pin::arduino(Mcu::Atmega2560, 46).unwrap(),
         pwm: Some(PwmSource {
             timer: 5,
             channel: 'A',
@@ -293,5 +295,65 @@ fn board_check_refuses_encoders_the_robust_firmware_cannot_read() {
             .status
             .code(),
         Some(0)
+    );
+}
+
+/// A board names its MCU (`mcu`, the atmega2560 when absent): an Uno's pins
+/// resolve on the ATmega328P (the L298N enables on timer 0's D5/D6, the
+/// encoders on INT0/INT1), and what the 328P lacks is refused with one line
+/// (its one USART). An MCU without a description is refused naming those
+/// described; a pin may be named by port and bit.
+#[test]
+fn a_board_names_its_mcu_and_pins_by_port_and_bit() {
+    let uno = r#"
+mcu = "atmega328p"
+[motor_driver]
+kind = "l298n"
+left = { enable = "D5", in1 = "D7", in2 = "D8" }
+right = { enable = "D6", in1 = "D9", in2 = "D10" }
+[encoders]
+left = { a = "D2", b = "D4" }
+right = { a = "D3", b = "D12" }
+[command_uart]
+usart = 1
+baud = 9600
+[debug_uart]
+usart = 0
+baud = 9600
+[battery]
+adc = 0
+divider = 0.55
+[leds]
+green = "A1"
+blue = "A2"
+red = "PC3"
+"#;
+    let p = problems(uno);
+    let lines: Vec<String> = p.iter().map(ToString::to_string).collect();
+    assert_eq!(
+        p.iter().map(|p| p.field.as_str()).collect::<Vec<_>>(),
+        ["command_uart.usart"],
+        "{lines:?}"
+    );
+    assert!(
+        lines[0].contains("no USART 1; the atmega328p has USART 0"),
+        "{lines:?}"
+    );
+    let tiny = problems(&edited(
+        "[motor_driver]\n",
+        "mcu = \"attiny85\"\n[motor_driver]\n",
+    ));
+    assert_eq!(tiny.len(), 1);
+    assert_eq!(
+        tiny[0].to_string(),
+        "my.toml: mcu: no MCU \"attiny85\" is described; give one of atmega2560, atmega328p, atmega32u4"
+    );
+    // PE4 is the Mega's D2, PK7 its A15.
+    let by_port = edited("a = \"D2\"|divider", "a = \"PE4\"|divider");
+    assert_eq!(Board::from_toml_str(&by_port, "b.toml").unwrap(), HENRYTWO);
+    let p = problems(&edited("a = \"D2\"", "a = \"PI0\""));
+    assert!(
+        p[0].to_string().contains("no atmega2560 pin \"PI0\""),
+        "{p:?}"
     );
 }

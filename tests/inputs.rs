@@ -232,40 +232,69 @@ fn avr_gcc(dir: &Path, mcu: &str, source: &str, strip: &[&str]) -> String {
 
 const MAIN: &str = "int main(void) { return 0; }\n";
 
-/// An ELF avr-gcc built for another MCU is refused, naming the device (from
-/// its device-info note, or simavr's `.mmcu` section) or, when it names
-/// none, its architecture; an ELF for the atmega2560 is accepted (and then
-/// fails for want of the bench interface, a later check).
+/// The ELF's MCU is read from its device-info note, simavr's `.mmcu`
+/// section or its architecture, and must be the board's (`--mcu`
+/// overrides the ELF's); an MCU the bench has no description of is refused
+/// naming those it has; an ELF for the atmega2560 is accepted on the
+/// default board (and then fails for want of the bench interface, a later
+/// check).
 #[test]
 fn an_elf_for_another_mcu_is_refused() {
     let dir = temp_dir("elf");
     let robot = ideal();
-    let run = |elf: &str| hil(&["run", "line", "--robot", &robot, "--elf", elf]);
+    let run = |elf: &str, more: &[&str]| {
+        let mut args = vec!["run", "line", "--robot", &robot, "--elf", elf];
+        args.extend_from_slice(more);
+        hil(&args)
+    };
     let note = ".note.gnu.avr.deviceinfo";
+    let described = "the bench describes atmega2560, atmega328p, atmega32u4";
 
     let elf = avr_gcc(&dir, "atmega328p", MAIN, &[]);
     assert_refused(
-        &run(&elf),
-        &format!("{elf} is built for atmega328p; the bench emulates the atmega2560"),
+        &run(&elf, &[]),
+        &format!("{elf}: built for the atmega328p (the ELF says), the board is an atmega2560's"),
     );
-    // The same family as the 2560 (avr6), another chip.
+    assert_refused(
+        &run(&elf, &["--mcu", "atmega32u4"]),
+        "built for the atmega32u4 (--mcu says)",
+    );
+    assert_refused(
+        &run(&elf, &["--mcu", "attiny85"]),
+        "no MCU \"attiny85\" is described",
+    );
+    let elf = avr_gcc(&dir, "atmega32u4", MAIN, &[]);
+    assert_refused(&run(&elf, &[]), "built for the atmega32u4 (the ELF says)");
+    // Not described: another chip of the 2560's family (avr6), a tiny.
     let elf = avr_gcc(&dir, "atmega2561", MAIN, &[]);
-    assert_refused(&run(&elf), "is built for atmega2561");
-    // No device named: the architecture in e_flags says avr5.
+    assert_refused(
+        &run(&elf, &[]),
+        &format!("is built for atmega2561; {described}"),
+    );
+    let elf = avr_gcc(&dir, "attiny85", MAIN, &[]);
+    assert_refused(
+        &run(&elf, &[]),
+        &format!("is built for attiny85; {described}"),
+    );
+    // No device named: the architecture in e_flags says avr5, two MCUs
+    // have it, so the board's is taken, which is an avr6.
     let dir5 = temp_dir("elf-avr5");
     let elf = avr_gcc(&dir5, "atmega328p", MAIN, &[note]);
-    assert_refused(&run(&elf), "built for the AVR architecture avr5");
+    assert_refused(&run(&elf, &[]), "is not the atmega2560's avr6");
     // simavr's own tag names the device.
     let dir_mmcu = temp_dir("elf-mmcu");
     let mmcu = "__attribute__((section(\".mmcu\"), used)) const unsigned char mmcu[] = \
                 {1, 11, 'a','t','m','e','g','a','3','2','8','p', 0};\n";
     let elf = avr_gcc(&dir_mmcu, "atmega2560", &format!("{mmcu}{MAIN}"), &[note]);
-    assert_refused(&run(&elf), "is built for atmega328p");
+    assert_refused(
+        &run(&elf, &[]),
+        "names the atmega328p, an avr5, but is built for the AVR architecture avr6",
+    );
 
     for strip in [&[][..], &[note][..]] {
         let dir_ok = temp_dir("elf-2560");
         let elf = avr_gcc(&dir_ok, "atmega2560", MAIN, strip);
-        let out = run(&elf);
+        let out = run(&elf, &[]);
         let err = stderr(&out);
         assert!(!err.contains("built for"), "{err}");
         assert!(err.contains("HT_"), "the next check speaks: {err}");

@@ -160,17 +160,17 @@ fn timer_0_fast_pwm_drives_the_plant() {
 /// core (mode 1, clock/64, no interrupt), runs.
 #[test]
 fn timer_1_is_refused_as_the_clock_of_the_firmware_that_uses_it_so() {
-    use hil::board::{mega2560, BridgeInput, PwmSource, HENRYTWO};
+    use hil::board::{BridgeInput, Mcu, Pin, PwmSource, HENRYTWO};
     use hil::firmware::elf::Firmware;
     let mut board = HENRYTWO;
     board.right_motor.pin2 = BridgeInput {
-        pin: mega2560::pin(11).unwrap(),
+        pin: Pin::arduino(Mcu::Atmega2560, 11).unwrap(),
         pwm: Some(PwmSource {
             timer: 1,
             channel: 'A',
         }),
     };
-    board.battery_leds.blue = mega2560::pin(30).unwrap();
+    board.battery_leds.blue = Pin::arduino(Mcu::Atmega2560, 30).unwrap();
     let run = |firmware: Firmware| {
         let options = BenchOptions {
             board,

@@ -75,12 +75,13 @@ fn timers_of(board: &Board) -> Vec<PwmTimer> {
         .pwm_timers()
         .into_iter()
         .map(|n| {
-            let timer = if timers::mirrored(n) {
-                PwmTimer::mirror(n)
+            let layout = board.mcu.chip().timer(n);
+            let layout = layout.expect("a board's PWM sources are its MCU's modelled timers");
+            if timers::mirrored(n) {
+                PwmTimer::mirrored(layout)
             } else {
-                PwmTimer::number(n)
-            };
-            timer.expect("a board's PWM sources are the MCU's timers")
+                PwmTimer::emulated(layout)
+            }
         })
         .collect()
 }

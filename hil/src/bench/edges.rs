@@ -592,7 +592,7 @@ impl Encoders {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::board::{mega2560, HENRYTWO};
+    use crate::board::{Mcu, Pin, HENRYTWO};
 
     /// B is raised lazily only where its pin cannot interrupt: Henrytwo's
     /// D4 and D5; a board with B on INT0 and INT1 (D21, D20) gets B's edges
@@ -603,8 +603,8 @@ mod tests {
         let henrytwo = Encoders::new(&HENRYTWO);
         assert_eq!(henrytwo.lazy_b_change(&inject), Some([true, true]));
         let mut board = HENRYTWO;
-        board.left_encoder.b = mega2560::pin(21).unwrap();
-        board.right_encoder.b = mega2560::pin(20).unwrap();
+        board.left_encoder.b = Pin::arduino(Mcu::Atmega2560, 21).unwrap();
+        board.right_encoder.b = Pin::arduino(Mcu::Atmega2560, 20).unwrap();
         let eager = Encoders::new(&board);
         assert_eq!(eager.lazy_b_change(&inject), None, "both stay eager");
         assert_eq!(eager.watch(0), Watch::Both);

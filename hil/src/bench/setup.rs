@@ -21,7 +21,8 @@ pub(super) fn build(
 ) -> Result<Avr<BenchCore>, BenchError> {
     let wiring: &Board = &options.board;
     let core = BenchCore::new(robot, options, wiring, counts)?;
-    let mut avr = Avr::new("atmega2560", options.clock.hz(), core)?;
+    // The board's MCU: the ELF's, checked where both are read (the CLI).
+    let mut avr = Avr::new(wiring.mcu.chip().simavr_core, options.clock.hz(), core)?;
     avr.set_free_run(options.free_run);
     for (addr, bytes) in &firmware.segments {
         avr.load_flash(*addr, bytes)?;

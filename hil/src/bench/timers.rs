@@ -37,7 +37,7 @@
 //! they are refused.
 
 use crate::board::{Board, PwmSource};
-use crate::mcu::pwm::layout::{Layout, ATMEGA2560};
+use crate::mcu::pwm::layout::Layout;
 use crate::mcu::pwm::{mode, Kind, Mode, Top};
 use crate::mcu::sim::Core;
 
@@ -164,7 +164,10 @@ impl SimavrTimers {
     /// outputs on the board's PWM inputs are then the bench's).
     pub(super) fn new(board: &Board) -> Self {
         let emulated = emulated(board);
-        let timers = ATMEGA2560
+        let timers = board
+            .mcu
+            .chip()
+            .timers
             .iter()
             .filter(|r| !emulated.contains(&r.id.number()))
             .map(|&regs| SimavrTimer {

@@ -1,5 +1,6 @@
-//! From a board file to a [`Board`]: every pin resolved on the Arduino Mega
-//! and every rule checked before anything runs. Each problem is one line:
+//! From a board file to a [`Board`]: every pin resolved on the board's MCU
+//! (`mcu = "atmega328p"`; the ATmega2560 when absent) and every rule checked
+//! before anything runs. Each problem is one line:
 //! the file, the field, what is wrong and what is allowed.
 
 use std::collections::BTreeMap;
@@ -7,11 +8,11 @@ use std::collections::BTreeMap;
 use thiserror::Error;
 
 use super::file::{BoardFile, DriverFile, EncoderFile, Sides};
-use super::mega2560::{self, UartLine};
 use super::{
     BatteryWiring, Board, BridgeInput, DriverKind, EncoderWiring, LedWiring, MotorWiring, Pin,
-    UartWiring,
+    UartLine, UartWiring,
 };
+use crate::mcu::chip::{Chip, Mcu};
 use crate::mcu::clock::Clock;
 
 /// Why a board file is refused.
@@ -47,26 +48,28 @@ impl std::fmt::Display for Problem {
     }
 }
 
-/// The Mega's PWM pins, those the bench models the timers of.
-const PWM_PINS: &str = "D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2), D2 D3 D5 (timer 3), D6 D7 D8 (timer 4), D44 D45 D46 (timer 5)";
-
-/// What is wrong with one field.
+/// What is wrong with one field. What is allowed comes from the MCU's
+/// description.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ProblemKind {
-    #[error("no Arduino Mega pin {given:?}; give \"D0\"-\"D69\" or \"A0\"-\"A15\"")]
-    UnknownPin { given: String },
+    #[error("no MCU {given:?} is described; give one of {}", Mcu::names())]
+    UnknownMcu { given: String },
+    #[error("no {mcu} pin {given:?}; give {}", pin_names(mcu.chip()))]
+    UnknownPin { given: String, mcu: Mcu },
     #[error("D{pin} is already used by {first}; each pin carries one signal")]
     PinReused { pin: u8, first: String },
-    #[error("D{pin} is on no timer's output-compare channel, so no PWM reaches it; PWM pins: {PWM_PINS}")]
-    NotPwm { pin: u8 },
-    #[error("D{pin} cannot interrupt (no INTn or PCINTn), so the firmware would miss channel A's edges; give D2 D3 D18 D19 D20 D21 (INT), D10-D13 D50-D53 A8-A15 D14 D15 (PCINT)")]
-    CannotInterrupt { pin: u8 },
-    #[error("no USART {usart}; the ATmega2560 has USART 0-3")]
-    UartOutOfRange { usart: i64 },
-    #[error("USART {usart} already carries {first}; each link needs a USART of its own (0-3)")]
-    UartReused { usart: u8, first: String },
-    #[error("no ADC channel {adc}; give 0-15 (pins A0-A15)")]
-    AdcOutOfRange { adc: i64 },
+    #[error("D{pin} is on no timer's output-compare channel, so no PWM reaches it; {mcu} PWM pins: {}", mcu.chip().pwm_pins())]
+    NotPwm { pin: u8, mcu: Mcu },
+    #[error("D{pin} is on timer {timer}: {}; {mcu} PWM pins: {}", mcu.chip().unemulated_timer(*timer).unwrap_or("not emulated"), mcu.chip().pwm_pins())]
+    TimerNotEmulated { pin: u8, timer: u8, mcu: Mcu },
+    #[error("D{pin} cannot interrupt (no INTn or PCINTn), so the firmware would miss channel A's edges; give {}", mcu.chip().interrupt_pins())]
+    CannotInterrupt { pin: u8, mcu: Mcu },
+    #[error("no USART {usart}; the {mcu} has USART {}", mcu.chip().usart_range())]
+    UartOutOfRange { usart: i64, mcu: Mcu },
+    #[error("USART {usart} already carries {first}; each link needs a USART of its own ({})", mcu.chip().usart_range())]
+    UartReused { usart: u8, first: String, mcu: Mcu },
+    #[error("no ADC channel {adc} on a pin of the {mcu}; give {}", mcu.chip().adc_channels())]
+    AdcOutOfRange { adc: i64, mcu: Mcu },
     #[error("{baud} baud is not within {BAUD_TOLERANCE_PERCENT} % of a rate the USART makes from 16 MHz (UBRR 0-4095, normal or double speed); e.g. 9600, 19200, 38400, 57600, 115200")]
     BadBaud { baud: i64 },
     #[error("divider {divider} is not a ratio of volts at the pin per battery volt; give one above 0 and at most 1")]
@@ -104,7 +107,21 @@ pub(super) fn parse(text: &str, file: &str) -> Result<Board, BoardError> {
             .map_or(0, |s| text[..s.start].matches('\n').count() + 1),
         message: e.message().replace('\n', " "),
     })?;
+    let mcu = match raw.mcu.as_deref().map(|m| (m, Mcu::named(m))) {
+        None => Mcu::Atmega2560,
+        Some((_, Some(mcu))) => mcu,
+        Some((given, None)) => {
+            return Err(BoardError::Invalid(vec![Problem {
+                file: file.to_string(),
+                field: "mcu".into(),
+                kind: ProblemKind::UnknownMcu {
+                    given: given.to_string(),
+                },
+            }]))
+        }
+    };
     let mut c = Checker {
+        chip: mcu.chip(),
         file,
         problems: Vec::new(),
         used: BTreeMap::new(),
@@ -119,6 +136,7 @@ pub(super) fn parse(text: &str, file: &str) -> Result<Board, BoardError> {
 
 /// The problems found so far and the pins taken, by Arduino number.
 struct Checker<'a> {
+    chip: &'static Chip,
     file: &'a str,
     problems: Vec<Problem>,
     used: BTreeMap<u8, String>,
@@ -126,20 +144,37 @@ struct Checker<'a> {
     uarts: Vec<(u8, String)>,
 }
 
-/// A pin's Arduino name, `"D<n>"` or `"A<n>"`, as its number.
-pub(super) fn arduino_number(name: &str) -> Option<u8> {
+/// The pin of `chip` named `name`: `"D<n>"` or `"A<n>"` by the Arduino
+/// core's numbers for its board, or `"P<port><bit>"` by port and bit.
+pub(super) fn pin_by_name(chip: &Chip, name: &str) -> Option<Pin> {
     let digits = |s: &str| -> Option<u8> {
         (!s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) && s.len() <= 2)
             .then(|| s.parse().ok())
             .flatten()
     };
-    if let Some(n) = name.strip_prefix('D').and_then(digits) {
-        (n <= mega2560::LAST_PIN).then_some(n)
+    let n = if let Some(n) = name.strip_prefix('D').and_then(digits) {
+        n
     } else if let Some(n) = name.strip_prefix('A').and_then(digits) {
-        (n < 16).then_some(mega2560::A0 + n)
+        chip.analog_pin(n)?
     } else {
-        None
-    }
+        let mut c = name.strip_prefix('P')?.chars();
+        let (port, bit) = (c.next()?, c.next()?.to_digit(10)? as u8);
+        if c.next().is_some() || !chip.has_pin((port, bit)) {
+            return None;
+        }
+        chip.arduino_number((port, bit))?
+    };
+    Pin::arduino(chip.mcu, n)
+}
+
+/// The pin names `chip` offers, as errors say them.
+fn pin_names(chip: &Chip) -> String {
+    format!(
+        "\"D0\"-\"D{}\", \"A0\"-\"A{}\" or a port pin (\"P{}0\")",
+        chip.last_arduino_pin(),
+        chip.analog.channels.len() - 1,
+        chip.ports[0].letter
+    )
 }
 
 impl Checker<'_> {
@@ -149,6 +184,17 @@ impl Checker<'_> {
             field: field.to_string(),
             kind,
         });
+    }
+
+    /// The MCU's pin `bit` of port `port`, which the description has (a
+    /// USART's or an ADC channel's).
+    fn port_pin(&self, port: char, bit: u8) -> Pin {
+        let n = self.chip.arduino_number((port, bit));
+        Pin::arduino(
+            self.chip.mcu,
+            n.expect("a USART or ADC pin has an Arduino number"),
+        )
+        .expect("an Arduino number is a pin")
     }
 
     /// Take `pin` for `what` (said in the message of a later clash).
@@ -169,11 +215,12 @@ impl Checker<'_> {
 
     /// The pin named at `field`, taken.
     fn pin(&mut self, field: &str, name: &str) -> Option<Pin> {
-        let Some(pin) = arduino_number(name).and_then(mega2560::pin) else {
+        let Some(pin) = pin_by_name(self.chip, name) else {
             self.problem(
                 field,
                 ProblemKind::UnknownPin {
                     given: name.to_string(),
+                    mcu: self.chip.mcu,
                 },
             );
             return None;
@@ -189,9 +236,26 @@ impl Checker<'_> {
     fn pwm(&mut self, field: &str, name: &str) -> Option<BridgeInput> {
         let pin = self.pin(field, name)?;
         let Some(&source) = pin.pwm_sources().first() else {
-            self.problem(field, ProblemKind::NotPwm { pin: pin.arduino });
+            self.problem(
+                field,
+                ProblemKind::NotPwm {
+                    pin: pin.arduino,
+                    mcu: self.chip.mcu,
+                },
+            );
             return None;
         };
+        if self.chip.unemulated_timer(source.timer).is_some() {
+            self.problem(
+                field,
+                ProblemKind::TimerNotEmulated {
+                    pin: pin.arduino,
+                    timer: source.timer,
+                    mcu: self.chip.mcu,
+                },
+            );
+            return None;
+        }
         Some(BridgeInput {
             pin,
             pwm: Some(source),
@@ -253,7 +317,8 @@ impl Checker<'_> {
             let a_field = format!("encoders.{side}.a");
             let a = c.pin(&a_field, &e.a);
             if let Some(a) = a.filter(|a| !a.can_interrupt()) {
-                c.problem(&a_field, ProblemKind::CannotInterrupt { pin: a.arduino });
+                let (pin, mcu) = (a.arduino, c.chip.mcu);
+                c.problem(&a_field, ProblemKind::CannotInterrupt { pin, mcu });
             }
             let b = c.pin(&format!("encoders.{side}.b"), &e.b);
             Some(EncoderWiring { a: a?, b: b? })
@@ -266,19 +331,29 @@ impl Checker<'_> {
     /// A USART: its number in range, its two pins taken.
     fn uart(&mut self, name: &str, u: &super::file::UartFile) -> Option<UartWiring> {
         let usart_field = format!("{name}.usart");
-        let pins = u8::try_from(u.usart).ok().and_then(mega2560::uart_pins);
+        let pins = u8::try_from(u.usart)
+            .ok()
+            .and_then(|n| self.chip.usart(n))
+            .map(|u| [u.rxd, u.txd].map(|(port, bit)| self.port_pin(port, bit)));
         let first = self
             .uarts
             .iter()
             .find(|(n, _)| i64::from(*n) == u.usart)
             .map(|(_, name)| name.clone());
         match (pins, first) {
-            (None, _) => self.problem(&usart_field, ProblemKind::UartOutOfRange { usart: u.usart }),
+            (None, _) => self.problem(
+                &usart_field,
+                ProblemKind::UartOutOfRange {
+                    usart: u.usart,
+                    mcu: self.chip.mcu,
+                },
+            ),
             (Some(_), Some(first)) => self.problem(
                 &usart_field,
                 ProblemKind::UartReused {
                     usart: u.usart as u8,
                     first,
+                    mcu: self.chip.mcu,
                 },
             ),
             (Some(pins), None) => {
@@ -317,10 +392,19 @@ impl Checker<'_> {
         let command = self.uart("command_uart", &raw.command_uart);
         let debug = self.uart("debug_uart", &raw.debug_uart);
         let b = &raw.battery;
-        let adc_pin = u8::try_from(b.adc).ok().and_then(mega2560::adc_pin);
+        let adc_pin = u8::try_from(b.adc)
+            .ok()
+            .and_then(|n| self.chip.adc_pin(n))
+            .map(|(port, bit)| self.port_pin(port, bit));
         match adc_pin {
             Some(p) => self.take("battery.adc", p, format!("battery.adc (ADC{})", b.adc)),
-            None => self.problem("battery.adc", ProblemKind::AdcOutOfRange { adc: b.adc }),
+            None => self.problem(
+                "battery.adc",
+                ProblemKind::AdcOutOfRange {
+                    adc: b.adc,
+                    mcu: self.chip.mcu,
+                },
+            ),
         }
         if !(b.divider > 0.0 && b.divider <= 1.0) {
             self.problem(
@@ -331,6 +415,7 @@ impl Checker<'_> {
         let (driver, [left_motor, right_motor]) = motors?;
         let [left_encoder, right_encoder] = encoders?;
         Some(Board {
+            mcu: self.chip.mcu,
             driver,
             left_motor,
             right_motor,

@@ -2,9 +2,10 @@
 //! `check.rs` turns it into a [`super::Board`]; nothing here is checked
 //! beyond its shape (an unknown field is refused).
 //!
-//! A pin is a string: `"D<n>"` for Arduino Mega pin n (D0-D69), or
-//! `"A<n>"` for analog pin n (A0-A15, the same pins as D54-D69), exactly as
-//! the Arduino core and the Mega's silk screen name them.
+//! A pin is a string: `"D<n>"` for Arduino pin n, `"A<n>"` for analog pin
+//! n, exactly as the Arduino core and the board's silk screen name them for
+//! the board's MCU (a Mega's A0 is D54, an Uno's D14), or `"P<port><bit>"`
+//! (`"PE2"`) by the MCU's port and bit.
 
 use serde::Deserialize;
 
@@ -12,6 +13,8 @@ use serde::Deserialize;
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct BoardFile {
+    /// avr-gcc's name of the board's MCU; the ATmega2560 when absent.
+    pub mcu: Option<String>,
     pub motor_driver: DriverFile,
     pub encoders: Sides<EncoderFile>,
     pub command_uart: UartFile,

@@ -10,15 +10,13 @@
 //! |---|---|
 //! | `mod.rs` | [`Board`] and its parts, [`HENRYTWO`], the firmware's driver parameters |
 //! | `file.rs` | the TOML schema, as written |
-//! | `check.rs` | from the file to a [`Board`]: every pin resolved and checked, [`BoardError`] |
-//! | `mega2560.rs` | the Arduino Mega's pins: port, bit, timer channel, interrupts, USART, ADC |
+//! | `check.rs` | from the file to a [`Board`]: every pin resolved on its MCU (`crate::mcu::chip`) and checked, [`BoardError`] |
 //! | `henrytwo.rs` | `board_rs_names_the_same_pins`: the firmware's `board.rs` agrees with [`HENRYTWO`] |
 
 mod check;
 mod file;
 #[cfg(test)]
 mod henrytwo;
-pub mod mega2560;
 
 use std::path::Path;
 
@@ -26,64 +24,98 @@ use henrytwo_protocol::{DriverKind as WireKind, Param, NO_PIN};
 use plant_model::Side;
 
 pub use self::check::{BoardError, Problem, ProblemKind};
-pub use self::mega2560::PwmSource;
+use crate::mcu::chip::{Chip, PortBit};
+pub use crate::mcu::chip::{Mcu, PwmSource, UartLine};
 
-/// An Arduino Mega pin by its name, `"D<n>"` (D0-D69) or `"A<n>"` (A0-A15).
-pub fn pin_named(name: &str) -> Option<Pin> {
-    check::arduino_number(name).and_then(mega2560::pin)
+/// A pin of `mcu` by its name, `"D<n>"`, `"A<n>"` (the Arduino core's
+/// numbers for the MCU's board) or `"P<port><bit>"` (`"PE2"`).
+pub fn pin_named(mcu: Mcu, name: &str) -> Option<Pin> {
+    check::pin_by_name(mcu.chip(), name)
 }
 
-/// An MCU pin: IO port letter and bit, with its Arduino Mega number.
+/// An MCU pin: IO port letter and bit, with its Arduino number and the MCU
+/// it belongs to (whose description says what the pin can do).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Pin {
     pub port: char,
     pub bit: u8,
     pub arduino: u8,
+    #[serde(skip)]
+    pub mcu: Mcu,
 }
 
 impl Pin {
-    /// Data-space address of the pin's PIN register (ATmega2560 datasheet,
-    /// register summary): ports A-G in the low IO space, H-L in extended IO.
+    /// Arduino pin `n` of `mcu`'s board.
+    pub fn arduino(mcu: Mcu, n: u8) -> Option<Pin> {
+        let (port, bit) = mcu.chip().arduino_pin(n)?;
+        Some(Pin {
+            port,
+            bit,
+            arduino: n,
+            mcu,
+        })
+    }
+
+    fn chip(&self) -> &'static Chip {
+        self.mcu.chip()
+    }
+
+    fn at(&self) -> PortBit {
+        (self.port, self.bit)
+    }
+
+    /// Data-space address of the pin's PIN register.
     pub fn pin_register(&self) -> u16 {
-        match self.port {
-            'A' => 0x20,
-            'B' => 0x23,
-            'C' => 0x26,
-            'D' => 0x29,
-            'E' => 0x2C,
-            'F' => 0x2F,
-            'G' => 0x32,
-            'H' => 0x100,
-            'J' => 0x103,
-            'K' => 0x106,
-            'L' => 0x109,
-            p => panic!("the ATmega2560 has no port {p}"),
-        }
+        self.chip()
+            .port(self.port)
+            .map(|p| p.pin)
+            .expect("a pin is on a port of its MCU")
     }
 
-    /// Whether a level change on this pin can start something in the
-    /// ATmega2560 by itself, however the firmware configures it: an external
-    /// interrupt (INT0-7), a pin-change interrupt (PCINT0-23), an input
-    /// capture (ICP1/3/4/5), a counter or asynchronous clock input
-    /// (T0/1/3/4/5, TOSC1/2), a USART clock input (XCK0-3), SPI or TWI. The
-    /// analog comparator's inputs are separate ([`Pin::is_comparator_input`]).
+    /// Whether a level change on this pin can start something in the MCU
+    /// by itself, however the firmware configures it: an external or
+    /// pin-change interrupt, an input capture, a counter or asynchronous
+    /// clock input, a USART clock input, SPI or TWI. The analog
+    /// comparator's inputs are separate ([`Pin::is_comparator_input`]).
     pub fn can_interrupt(&self) -> bool {
-        match (self.port, self.bit) {
-            ('B', _) | ('K', _) => true, // PCINT0-7, PCINT16-23 (and SPI on B0-3)
-            ('D', 0..=7) => true,        // INT0-3, XCK1, ICP1, T1, T0
-            ('E', 0) | ('E', 2) | ('E', 4..=7) => true, // PCINT8, XCK0, INT4-7, T3, ICP3
-            ('G', 3) | ('G', 4) => true, // TOSC2, TOSC1
-            ('H', 2) | ('H', 7) => true, // XCK2, T4
-            ('J', 0..=6) => true,        // PCINT9-15, XCK3
-            ('L', 0..=2) => true,        // ICP4, ICP5, T5
-            _ => false,
-        }
+        self.chip().can_interrupt(self.at())
     }
 
-    /// AIN0 (PE2) or AIN1 (PE3): the analog comparator can interrupt or
-    /// capture on it when ACSR enables that.
+    /// An analog comparator input: the comparator can interrupt or capture
+    /// on it when ACSR enables that.
     pub fn is_comparator_input(&self) -> bool {
-        matches!((self.port, self.bit), ('E', 2) | ('E', 3))
+        self.chip().is_comparator_input(self.at())
+    }
+
+    /// The output-compare channels on this pin, the Arduino core's first.
+    pub fn pwm_sources(&self) -> &'static [PwmSource] {
+        self.chip().pwm_sources(self.at())
+    }
+
+    /// External interrupt INTn on this pin.
+    pub fn external_interrupt(&self) -> Option<u8> {
+        self.chip().external_interrupt(self.at()).map(|e| e.n)
+    }
+
+    /// Pin-change interrupt PCINTn on this pin.
+    pub fn pin_change_interrupt(&self) -> Option<u8> {
+        self.chip().pin_change_interrupt(self.at()).map(|(n, _)| n)
+    }
+
+    /// The interrupt vector a level change on this pin requests, when the
+    /// firmware enables it: its INTn's, else its pin-change group's.
+    pub fn interrupt_vector(&self) -> Option<u8> {
+        self.chip().interrupt_vector(self.at())
+    }
+
+    /// The USART line on this pin.
+    pub fn uart_line(&self) -> Option<UartLine> {
+        self.chip().uart_line(self.at())
+    }
+
+    /// The ADC input channel on this pin.
+    pub fn adc_channel(&self) -> Option<u8> {
+        self.chip().adc_channel(self.at())
     }
 }
 
@@ -180,6 +212,8 @@ pub struct BatteryWiring {
 /// The whole robot's wiring.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Board {
+    /// The MCU every pin is on.
+    pub mcu: Mcu,
     pub driver: DriverKind,
     pub left_motor: MotorWiring,
     pub right_motor: MotorWiring,
@@ -194,7 +228,12 @@ pub struct Board {
 }
 
 const fn pin(port: char, bit: u8, arduino: u8) -> Pin {
-    Pin { port, bit, arduino }
+    Pin {
+        port,
+        bit,
+        arduino,
+        mcu: Mcu::Atmega2560,
+    }
 }
 
 const fn pwm(pin: Pin, timer: u8, channel: char) -> BridgeInput {
@@ -209,6 +248,7 @@ const fn pwm(pin: Pin, timer: u8, channel: char) -> BridgeInput {
 /// left's; `Inercia_Stop_Ad` brakes with D6 and D8: so D7/D6 are the right
 /// motor's forward/reverse inputs and D9/D8 the left's.
 pub const HENRYTWO: Board = Board {
+    mcu: Mcu::Atmega2560,
     driver: DriverKind::Drv8833,
     right_motor: MotorWiring {
         pin1: pwm(pin('H', 4, 7), 4, 'B'),
@@ -416,7 +456,7 @@ mod tests {
     #[test]
     fn an_enable_and_two_directions_map_to_kind_1() {
         let dir = |arduino| BridgeInput {
-            pin: mega2560::pin(arduino).unwrap(),
+            pin: Pin::arduino(Mcu::Atmega2560, arduino).unwrap(),
             pwm: None,
         };
         let mut b = HENRYTWO;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use hil::bench::BenchOptions;
-use hil::board::Board;
+use hil::board::{Board, Mcu};
 use hil::firmware::elf::Firmware;
 use hil::runs::experiment::TestOptions;
 use plant_model::RobotConfig;
@@ -76,6 +76,11 @@ pub struct Target {
     /// built in). Checked before anything runs.
     #[arg(long, value_name = "FILE", value_parser = super::board::parse_board)]
     pub board: Option<Board>,
+    /// The MCU the ELF is built for, over what the ELF says (its device
+    /// note, `.mmcu` section or architecture): atmega2560, atmega328p or
+    /// atmega32u4. It must be the board's (`mcu` in the board file).
+    #[arg(long, value_name = "NAME", value_parser = parse_mcu)]
+    pub mcu: Option<Mcu>,
     /// Seed of the plant's random effects (an experiment's runs each use a
     /// seed mixed from it and the run's index).
     #[arg(long, default_value_t = 0)]
@@ -211,6 +216,7 @@ impl Target {
             }
         };
         let firmware = Firmware::load(&path).map_err(super::bad_input)?;
+        self.check_mcu(&firmware)?;
         // A bench build (it takes parameters: the robust one) reads its
         // encoders on fixed pins: a board with them elsewhere would run and
         // count nothing. Refused here, before the run.
@@ -239,6 +245,35 @@ impl Target {
         Ok(firmware)
     }
 
+    /// The ELF's MCU (`--mcu` over what the ELF says; the board's when it
+    /// says nothing) is the board's, and the ELF's architecture is its.
+    fn check_mcu(&self, firmware: &Firmware) -> Result<()> {
+        let board = self.board.map_or(Mcu::default(), |b| b.mcu);
+        let (mcu, from) = match (self.mcu, firmware.mcu) {
+            (Some(m), _) => (m, "--mcu"),
+            (None, Some(m)) => (m, "the ELF"),
+            (None, None) => (board, "the board"),
+        };
+        if mcu != board {
+            return Err(super::BadInput(format!(
+                "{}: built for the {mcu} ({from} says), the board is an {board}'s (mcu in the \
+                 board file; absent: atmega2560): give a board for the {mcu}, or --mcu {board}",
+                firmware.path.display()
+            ))
+            .into());
+        }
+        let chip = mcu.chip();
+        if firmware.arch != chip.arch {
+            return Err(super::BadInput(format!(
+                "{}: its architecture (e_flags) is not the {mcu}'s {}: rebuild it for the {mcu}",
+                firmware.path.display(),
+                chip.arch_name
+            ))
+            .into());
+        }
+        Ok(())
+    }
+
     /// The robot and the firmware, read in that order.
     pub fn load(&self) -> Result<(RobotConfig, Firmware)> {
         let robot = self.robot()?;
@@ -253,6 +288,11 @@ impl Target {
             ..Default::default()
         }
     }
+}
+
+/// `--mcu NAME`: a described MCU.
+fn parse_mcu(s: &str) -> Result<Mcu, String> {
+    Mcu::named(s).ok_or_else(|| format!("no MCU {s:?} is described; give one of {}", Mcu::names()))
 }
 
 /// `--json` alone, for commands without host timing.

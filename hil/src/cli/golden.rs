@@ -221,6 +221,7 @@ impl RunArgs {
                 .clone()
                 .or_else(|| recorded.map(|r| path(&r.robot))),
             board,
+            mcu: None,
             seed: self.seed.or(recorded.map(|r| r.seed)).unwrap_or(0),
             keep_firmware_params: self.keep_firmware_params
                 || recorded.is_some_and(|r| r.keep_firmware_params),

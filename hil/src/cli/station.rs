@@ -189,8 +189,8 @@ fn how_tests_start(
                 format!("send {shown} on USART{usart}: {pty}")
             }
             Start::Pin { pin, high } => format!(
-                "D{} held {}: a pin no pty can hold; hil run {} --tests {} runs it",
-                pin.arduino,
+                "{} held {}: a pin no pty can hold; hil run {} --tests {} runs it",
+                pin,
                 if *high { "high" } else { "low" },
                 test.name(),
                 d.path

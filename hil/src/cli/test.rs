@@ -177,6 +177,7 @@ impl TestCmd {
             description: self.description.clone(),
             robot: self.robot.clone(),
             board: self.board,
+            mcu: None,
             seed,
             keep_firmware_params: false,
             params: self.params.clone(),

@@ -4,28 +4,27 @@
 //! ELF carries no `.mmcu` section, and the bench needs the symbol table anyway
 //! (to read the firmware's variables and to name the function a PC is in).
 //!
-//! The bench emulates one MCU, the ATmega2560, so an ELF built for another is
-//! refused before it runs (its registers, pins and vectors are elsewhere: it
-//! would run as nonsense): by its architecture in `e_flags` (the 2560's
-//! family is avr6), by the device the toolchain wrote in the
-//! `.note.gnu.avr.deviceinfo` note, and by simavr's `.mmcu` section. An ELF
-//! that names no device is accepted.
+//! The ELF's MCU is read from it ([`Firmware::mcu`]): the device the
+//! toolchain wrote in the `.note.gnu.avr.deviceinfo` note, else simavr's
+//! `.mmcu` section, else its architecture in `e_flags` where only one
+//! described MCU has it (avr6: the ATmega2560). An ELF for an MCU the bench
+//! has no description of (`crate::mcu::chip`) is refused before it runs
+//! (its registers, pins and vectors are elsewhere: it would run as
+//! nonsense); one that names no device runs on its board's MCU.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use object::elf::{EF_AVR_ARCH, EF_AVR_ARCH_AVR6, EM_AVR, PT_LOAD};
+use object::elf::{EF_AVR_ARCH, EM_AVR, PT_LOAD};
 use object::read::elf::{ElfFile32, FileHeader, ProgramHeader};
 use object::{Endianness, Object, ObjectSection, ObjectSymbol, SymbolKind};
 use thiserror::Error;
 
+use crate::mcu::chip::Mcu;
 use crate::mcu::clock::Clock;
 
 /// AVR ELF files put data space at this offset in the address space.
 pub const DATA_OFFSET: u32 = 0x80_0000;
-
-/// The MCU the bench emulates, as avr-gcc's `-mmcu` names it.
-pub const DEVICE: &str = "atmega2560";
 
 #[derive(Debug, Error)]
 pub enum ElfError {
@@ -38,13 +37,22 @@ pub enum ElfError {
     NotElf { path: PathBuf, reason: String },
     #[error("{path} is an ELF for machine {machine}, not for the AVR (machine 83); pass the firmware's ELF")]
     NotAvr { path: PathBuf, machine: u16 },
-    #[error("{path} is built for {device}; the bench emulates the {DEVICE}: rebuild it with -mmcu={DEVICE}")]
+    #[error(
+        "{path} is built for {device}; the bench describes {}: rebuild it for one of them",
+        Mcu::names()
+    )]
     OtherDevice { path: PathBuf, device: String },
-    #[error("{path} is built for the AVR architecture {arch} (e_flags 0x{flags:x}); the bench emulates the {DEVICE}, an avr6: rebuild it with -mmcu={DEVICE}")]
+    #[error("{path} is built for the AVR architecture {arch} (e_flags 0x{flags:x}); the bench describes {} (avr6 and avr5): rebuild it for one of them", Mcu::names())]
     OtherArch {
         path: PathBuf,
         arch: String,
         flags: u32,
+    },
+    #[error("{path} names the {mcu}, an {}, but is built for the AVR architecture {arch}: rebuild it for one MCU", mcu.chip().arch_name)]
+    ArchMismatch {
+        path: PathBuf,
+        mcu: Mcu,
+        arch: String,
     },
     #[error("{path} has no loadable flash segment")]
     Empty { path: PathBuf },
@@ -96,6 +104,11 @@ pub struct Firmware {
     pub path: PathBuf,
     /// (flash byte address, bytes), in address order.
     pub segments: Vec<(u32, Vec<u8>)>,
+    /// The MCU the ELF names (its device, or an architecture only one
+    /// described MCU has); None: it runs on its board's.
+    pub mcu: Option<Mcu>,
+    /// Its AVR architecture (`e_flags & EF_AVR_ARCH`; 0 for a flash image).
+    pub arch: u32,
     symbols: BTreeMap<String, Symbol>,
     /// Function symbols by start address, to name a PC.
     functions: BTreeMap<u32, (String, u64)>,
@@ -137,20 +150,34 @@ impl Firmware {
             });
         }
         // The device first: its name says more than its family.
-        if let Some(device) = declared_device(&file).filter(|d| !d.eq_ignore_ascii_case(DEVICE)) {
-            return Err(ElfError::OtherDevice {
+        let declared = match declared_device(&file) {
+            Some(device) => Some(Mcu::named(&device).ok_or_else(|| ElfError::OtherDevice {
                 path: path.to_owned(),
                 device,
+            })?),
+            None => None,
+        };
+        let flags = header.e_flags(endian);
+        let arch = flags & EF_AVR_ARCH;
+        let same_arch: Vec<Mcu> = Mcu::ALL
+            .into_iter()
+            .filter(|m| m.chip().arch == arch)
+            .collect();
+        if let Some(mcu) = declared.filter(|m| m.chip().arch != arch) {
+            return Err(ElfError::ArchMismatch {
+                path: path.to_owned(),
+                mcu,
+                arch: arch_name(arch),
             });
         }
-        let flags = header.e_flags(endian);
-        if flags & EF_AVR_ARCH != EF_AVR_ARCH_AVR6 {
+        if same_arch.is_empty() {
             return Err(ElfError::OtherArch {
                 path: path.to_owned(),
-                arch: arch_name(flags & EF_AVR_ARCH),
+                arch: arch_name(arch),
                 flags,
             });
         }
+        let mcu = declared.or_else(|| (same_arch.len() == 1).then(|| same_arch[0]));
         let mut segments = Vec::new();
         for ph in file.elf_program_headers() {
             if ph.p_type(endian) != PT_LOAD || ph.p_filesz(endian) == 0 {
@@ -198,6 +225,8 @@ impl Firmware {
         Ok(Self {
             path: path.to_owned(),
             segments,
+            mcu,
+            arch,
             symbols,
             functions,
         })
@@ -209,6 +238,8 @@ impl Firmware {
         Self {
             path: path.to_owned(),
             segments,
+            mcu: None,
+            arch: 0,
             symbols: BTreeMap::new(),
             functions: BTreeMap::new(),
         }

@@ -121,7 +121,7 @@ fn an_output_on_a_pin_the_board_uses_otherwise_is_refused() {
         "{e}"
     );
     let mut board = Board::default();
-    let pin = |n| crate::board::mega2560::pin(n).unwrap();
+    let pin = |n| crate::board::Pin::arduino(crate::board::Mcu::Atmega2560, n).unwrap();
     let oc = |timer, channel| Some(PwmSource { timer, channel });
     board.battery_leds.blue = pin(30);
     board.right_motor.pin1 = BridgeInput {

@@ -36,7 +36,7 @@ impl<'c> Probe<'c> {
         let mut var = None;
         match condition {
             Condition::Pin { pin: name, .. } => {
-                pin = crate::board::pin_named(name);
+                pin = crate::board::pin_named(bench.board().mcu, name);
             }
             Condition::Var { symbol, ty, .. } => {
                 let addr = bench.firmware().variable(symbol, ty.size()).map_err(|e| {

@@ -9,7 +9,7 @@ use serde::Deserialize;
 use thiserror::Error;
 
 use super::{Description, End, Ready, Start, Symbols, UartText};
-use crate::board::pin_named;
+use crate::board::{pin_named, Mcu};
 use henrytwo_protocol::Test;
 
 #[derive(Debug, Error)]
@@ -197,13 +197,16 @@ impl Checker<'_> {
                 Ok(Start::Uart { usart, bytes })
             }
             (None, Some(p)) => {
-                let pin = pin_named(p).ok_or_else(|| {
-                    self.field(
+                // The board's MCU is known at the run; a name no MCU has is
+                // refused now.
+                if !Mcu::ALL.iter().any(|&m| pin_named(m, p).is_some()) {
+                    return Err(self.field(
                         &f("pin"),
                         format!("{p:?}"),
-                        "give \"D0\"-\"D69\" or \"A0\"-\"A15\"",
-                    )
-                })?;
+                        "give a pin of the board's MCU: \"D<n>\", \"A<n>\" or \"P<port><bit>\"",
+                    ));
+                }
+                let pin = p.clone();
                 let high = match d.level.as_deref() {
                     Some("high") => true,
                     Some("low") => false,

@@ -23,7 +23,6 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::board::Pin;
 use crate::firmware::elf::{ElfError, Firmware};
 use henrytwo_protocol::Test;
 
@@ -89,8 +88,9 @@ pub enum Start {
     /// The host sends `bytes` to USART `usart`.
     Uart { usart: u8, bytes: Vec<u8> },
     /// The bench holds `pin` at a level (a button, a jumper) from the start
-    /// to the end of the test.
-    Pin { pin: Pin, high: bool },
+    /// to the end of the test: its name (`"D30"`, `"PE2"`), a pin of the
+    /// board's MCU (resolved when the board is known).
+    Pin { pin: String, high: bool },
 }
 
 /// The firmware's own names for what the bench may read, all optional.

@@ -1,8 +1,10 @@
 //! Where each timer's registers are (ATmega640/1280/2560 datasheet,
 //! register summary): the 8-bit timers 0 (0x44-0x48) and 2 (0xB0-0xB6),
 //! the 16-bit timers 1, 3, 4 and 5 laid out alike (section 17.11) at 0x80,
-//! 0x90, 0xA0 and 0x120. The ATmega2560's timers are the table
-//! [`ATMEGA2560`]: another MCU's come as another such table.
+//! 0x90, 0xA0 and 0x120. The ATmega328P and ATmega32U4 have the same
+//! blocks at the same addresses (the 328P's timer 1 without channel C:
+//! [`Layout::TIMER1_AB`]). Which MCU has which is its description's
+//! (`crate::mcu::chip`).
 
 use super::mode::Prescalers;
 use super::TimerId;
@@ -26,16 +28,6 @@ pub struct Layout {
     /// Its clock select table.
     pub prescalers: Prescalers,
 }
-
-/// The ATmega2560's timers, in timer order.
-pub const ATMEGA2560: [Layout; 6] = [
-    Layout::TIMER0,
-    Layout::TIMER1,
-    Layout::TIMER2,
-    Layout::TIMER3,
-    Layout::TIMER4,
-    Layout::TIMER5,
-];
 
 impl Layout {
     /// Timer 0 (register summary: TCCR0A 0x44 .. OCR0B 0x48, TIMSK0 0x6E,
@@ -69,6 +61,13 @@ impl Layout {
         assr: None,
         sixteen_bit: true,
         prescalers: Prescalers::Shared,
+    };
+
+    /// The ATmega328P's timer 1: the same block, channels A and B only
+    /// (328P register summary: OCR1A 0x88, OCR1B 0x8A).
+    pub const TIMER1_AB: Layout = Layout {
+        ocr: &[('A', 0x88), ('B', 0x8A)],
+        ..Layout::TIMER1
     };
 
     pub const TIMER2: Layout = Layout {
@@ -132,11 +131,6 @@ impl Layout {
         sixteen_bit: true,
         prescalers: Prescalers::Shared,
     };
-
-    /// The ATmega2560's timer `n`.
-    pub fn of(n: u8) -> Option<Layout> {
-        ATMEGA2560.into_iter().find(|l| l.id.number() == n)
-    }
 
     /// The 16-bit registers' low-byte addresses.
     fn wide(&self) -> impl Iterator<Item = u16> + '_ {

@@ -10,12 +10,27 @@ use rstest::rstest;
 
 const F_CPU: u32 = 16_000_000;
 
+/// The ATmega2560's timer `n`'s registers, whose datasheet these tables are.
+fn layout(n: u8) -> Option<Layout> {
+    crate::mcu::chip::ATMEGA2560.timer(n)
+}
+
+/// The ATmega2560's timer `n`, emulated.
+fn number(n: u8) -> Option<PwmTimer> {
+    layout(n).map(PwmTimer::emulated)
+}
+
+/// The ATmega2560's timer `n`, mirrored.
+fn mirror(n: u8) -> Option<PwmTimer> {
+    layout(n).map(PwmTimer::mirrored)
+}
+
 /// The check at each write and the list the bench claims agree on every
 /// data-space address.
 #[test]
 fn owns_write_is_the_list_of_write_addresses() {
-    let emulated = (0..=5).filter_map(PwmTimer::number);
-    for timer in emulated.chain(PwmTimer::mirror(0)) {
+    let emulated = (0..=5).filter_map(number);
+    for timer in emulated.chain(mirror(0)) {
         let list = timer.write_addresses();
         for addr in 0..0x2200u16 {
             assert_eq!(
@@ -147,7 +162,7 @@ const REGS5: Regs16 = Regs16 {
 };
 
 fn started(n: u8, r: &Regs16, cycle: u64) -> PwmTimer {
-    let mut t = PwmTimer::number(n).unwrap();
+    let mut t = number(n).unwrap();
     t.write(r.tccra, 0b0000_0001, cycle).unwrap(); // WGMn0
     t.write(r.tccrb, 0b0000_0001, cycle).unwrap(); // CSn0
     t
@@ -167,7 +182,7 @@ fn sixteen_bit_register_blocks(
     #[case] timsk: u16,
     #[case] tifr: u16,
 ) {
-    let t = PwmTimer::number(n).unwrap();
+    let t = number(n).unwrap();
     let mut list = t.write_addresses();
     list.sort_unstable();
     let mut expected: Vec<u16> = [0, 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13]
@@ -185,12 +200,12 @@ fn sixteen_bit_register_blocks(
 /// TIMSK0 and the reads are simavr's.
 #[test]
 fn timer_0_register_block() {
-    let t = PwmTimer::number(0).unwrap();
+    let t = number(0).unwrap();
     let mut list = t.write_addresses();
     list.sort_unstable();
     assert_eq!(list, [0x44, 0x45, 0x46, 0x47, 0x48, 0x6E]);
     assert_eq!(t.read_addresses(), [0x46, 0x35]);
-    let m = PwmTimer::mirror(0).unwrap();
+    let m = mirror(0).unwrap();
     let mut list = m.write_addresses();
     list.sort_unstable();
     assert_eq!(list, [0x44, 0x45, 0x46, 0x47, 0x48]);
@@ -203,7 +218,7 @@ fn timer_0_register_block() {
 #[test]
 fn interrupts_on_an_emulated_timer_are_the_firmwares_clock() {
     let l = Layout::TIMER1;
-    let mut t = PwmTimer::number(1).unwrap();
+    let mut t = number(1).unwrap();
     t.write(l.timsk, 0, 0).unwrap();
     let err = t.write(l.timsk, 0x02, 0).unwrap_err();
     assert_eq!(
@@ -216,7 +231,7 @@ fn interrupts_on_an_emulated_timer_are_the_firmwares_clock() {
     let text = err.to_string();
     assert!(text.contains("TIMSK1 = 0x02"), "{text}");
     assert!(text.contains("the firmware's clock"), "{text}");
-    let mut m = PwmTimer::mirror(0).unwrap();
+    let mut m = mirror(0).unwrap();
     assert!(!m.owns_write(Layout::TIMER0.timsk));
     assert_eq!(
         m.write(Layout::TIMER0.timsk, 1, 0),
@@ -261,8 +276,8 @@ fn sixteen_bit_prescalers(
     #[values(0, 1, 3, 4, 5)] n: u8,
     #[values((1, 1), (2, 8), (3, 64), (4, 256), (5, 1024))] cs: (u8, u32),
 ) {
-    let r = Layout::of(n).unwrap();
-    let mut t = PwmTimer::number(n).unwrap();
+    let r = layout(n).unwrap();
+    let mut t = number(n).unwrap();
     t.write(r.tccra, 0b1000_0001, 0).unwrap(); // COMnA1 + WGMn0
     t.write(r.tccrb, cs.0, 0).unwrap();
     assert_eq!(t.unverified(0), None);
@@ -288,8 +303,8 @@ fn sixteen_bit_prescalers(
 #[case::timer3(3, 0b01, 0b1_1000)]
 #[case::timer5(5, 0b01, 0b1_1000)]
 fn reserved_modes_are_unverified(#[case] n: u8, #[case] a: u8, #[case] b: u8) {
-    let l = Layout::of(n).unwrap();
-    let mut t = PwmTimer::number(n).unwrap();
+    let l = layout(n).unwrap();
+    let mut t = number(n).unwrap();
     t.write(l.tccra, a, 0).unwrap();
     t.write(l.tccrb, b, 0).unwrap();
     assert_eq!(t.unverified(0), None, "stopped");
@@ -302,7 +317,7 @@ fn reserved_modes_are_unverified(#[case] n: u8, #[case] a: u8, #[case] b: u8) {
 #[test]
 fn interrupts_flags_and_running_counter_writes_are_refused() {
     let l = Layout::TIMER2;
-    let mut t = PwmTimer::timer2();
+    let mut t = number(2).unwrap();
     assert!(t.write(l.timsk, 1, 0).is_err());
     t.write(l.tcnt, 7, 0).unwrap(); // stopped: the counter holds it
     assert_eq!(t.read(l.tcnt, 0), Ok(7));

@@ -66,21 +66,13 @@ pub enum PinDrive {
 }
 
 impl PwmTimer {
-    pub fn timer2() -> Self {
-        Self::new(Layout::TIMER2)
+    /// The timer of register block `layout`, emulated: the model is the
+    /// whole timer, its registers are the bench's and simavr never clocks it.
+    pub fn emulated(layout: Layout) -> Self {
+        Self::new(layout)
     }
 
-    pub fn timer4() -> Self {
-        Self::new(Layout::TIMER4)
-    }
-
-    /// The ATmega2560's timer `n` (0-5), emulated: the model is the whole
-    /// timer, its registers are the bench's and simavr never clocks it.
-    pub fn number(n: u8) -> Option<Self> {
-        Layout::of(n).map(Self::new)
-    }
-
-    /// The ATmega2560's timer `n` (0-5), mirrored: simavr runs it (its
+    /// The timer of register block `layout`, mirrored: simavr runs it (its
     /// counter, interrupts, flags: what firmware that times itself with
     /// the timer needs) and the model follows the firmware's writes to its
     /// mode, clock and compare registers to compute the outputs, which
@@ -88,11 +80,11 @@ impl PwmTimer {
     /// simavr's: [`PwmTimer::write_addresses`] leaves TIMSKn out and
     /// [`PwmTimer::read_addresses`] is empty. The model's counter starts
     /// with simavr's, at the write that clocks the timer.
-    pub fn mirror(n: u8) -> Option<Self> {
-        Layout::of(n).map(|l| Self {
+    pub fn mirrored(layout: Layout) -> Self {
+        Self {
             mirrored: true,
-            ..Self::new(l)
-        })
+            ..Self::new(layout)
+        }
     }
 
     pub fn is_mirrored(&self) -> bool {

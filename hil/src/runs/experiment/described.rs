@@ -103,7 +103,16 @@ pub(crate) fn run_described_on(
     let mark = Mark::now(bench);
     match &start {
         Start::Uart { usart, bytes } => bench.send(*usart, bytes),
-        Start::Pin { pin, high } => bench.drive_pin(*pin, *high)?,
+        Start::Pin { pin, high } => {
+            let mcu = bench.board().mcu;
+            let p = crate::board::pin_named(mcu, pin).ok_or_else(|| {
+                BenchError::Description(format!(
+                    "{}: pin {pin:?} is no pin of the board's {mcu}",
+                    d.path
+                ))
+            })?;
+            bench.drive_pin(p, *high)?
+        }
     }
     let limit = opts
         .limit_s

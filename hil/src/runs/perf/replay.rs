@@ -124,7 +124,7 @@ pub fn raw_replay(
         command: Some((rec.command_cycle, rec.command)),
         pokes: rec.pokes.clone(),
     };
-    let mut avr = Avr::new("atmega2560", clock.hz(), handler)?;
+    let mut avr = Avr::new(HENRYTWO.mcu.chip().simavr_core, clock.hz(), handler)?;
     // The reference: simavr as upstream runs it, back to its cycle timers
     // after every instruction.
     avr.set_free_run(false);
@@ -132,7 +132,8 @@ pub fn raw_replay(
         avr.load_flash(*addr, bytes)?;
     }
     if !simavr_pwm_timers {
-        for t in [PwmTimer::timer2(), PwmTimer::timer4()] {
+        let chip = HENRYTWO.mcu.chip();
+        for t in [2, 4].map(|n| PwmTimer::emulated(chip.timer(n).expect("the Mega's timer"))) {
             for a in t.write_addresses() {
                 avr.claim_io_write(a, IoClaim::Replace)?;
             }

@@ -96,7 +96,9 @@ impl Watch {
         for (i, e) in scenario.expect.iter().enumerate() {
             match &e.that {
                 Condition::Pin { pin, .. } => {
-                    let p = crate::board::pin_named(pin).ok_or_else(|| {
+                    // Scenarios run the robust firmware, a build for the Mega.
+                    let mega = crate::board::Mcu::Atmega2560;
+                    let p = crate::board::pin_named(mega, pin).ok_or_else(|| {
                         format!("expect {}: pin {pin:?} is not a Mega pin", i + 1)
                     })?;
                     if !pins.iter().any(|(n, _)| n == pin) {

@@ -346,9 +346,13 @@ impl Condition {
                 }
             }
             Condition::Pin { pin, .. } => {
-                crate::board::pin_named(pin).map(|_| ()).ok_or_else(|| {
-                    format!("pin = {pin:?}: give an Arduino Mega pin, D0-D69 or A0-A15")
-                })
+                // Scenarios run the robust firmware, a build for the Mega.
+                let mega = crate::board::Mcu::Atmega2560;
+                crate::board::pin_named(mega, pin)
+                    .map(|_| ())
+                    .ok_or_else(|| {
+                        format!("pin = {pin:?}: give an Arduino Mega pin, D0-D69 or A0-A15")
+                    })
             }
             Condition::Var {
                 symbol,

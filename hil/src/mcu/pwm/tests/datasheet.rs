@@ -96,8 +96,8 @@ fn write16(t: &mut PwmTimer, l: &Layout, addr: u16, v: u32, cycle: u64) {
 /// Timer `n` in mode `wgm` with clock select `cs` from cycle 0, channel
 /// B's COM bits `com` at compare value `ocrb`, TOP registers at `top`.
 fn configured(n: u8, wgm: u8, cs: u8, com: u8, ocrb: u32, top: u32) -> PwmTimer {
-    let l = Layout::of(n).unwrap();
-    let mut t = PwmTimer::number(n).unwrap();
+    let l = layout(n).unwrap();
+    let mut t = number(n).unwrap();
     // In mode 0 OCR writes reach the compare unit at once.
     write16(&mut t, &l, l.ocr[0].1, top, 0);
     write16(&mut t, &l, l.ocr[1].1, ocrb, 0);
@@ -260,7 +260,7 @@ fn counter_sequence_and_top_per_mode() {
     for (n, wgm, shape, top, cs, div) in every_case() {
         let top = top_value(n, top);
         let mut t = configured(n, wgm, cs, 0, 0, top);
-        let l = Layout::of(n).unwrap();
+        let l = layout(n).unwrap();
         let step = div as u64;
         let mut read = |steps: u64| {
             let cycle = steps * step;
@@ -293,7 +293,7 @@ fn counter_sequence_and_top_per_mode() {
 fn ocr_buffering_point_per_mode() {
     for (n, wgm, shape, top, cs, div) in every_case() {
         let top = top_value(n, top);
-        let l = Layout::of(n).unwrap();
+        let l = layout(n).unwrap();
         let mut t = configured(n, wgm, cs, 2, top / 3, top);
         let step = div as u64;
         // Half way up the first slope.
@@ -376,7 +376,7 @@ fn set_and_clear_latch_at_the_first_match() {
 #[test]
 fn top_below_the_counter_runs_to_max() {
     let l = Layout::TIMER4;
-    let mut t = PwmTimer::timer4();
+    let mut t = number(4).unwrap();
     t.write(l.tccra, 0b1000_0010, 0).unwrap(); // COM4A1, WGM41
     t.write(l.tccrb, 0b0000_0001, 0).unwrap(); // mode 2, clock/1
     t.write(l.tccrb, 0b0001_1001, 300).unwrap(); // mode 14, ICR4 = 0
@@ -396,7 +396,7 @@ fn top_below_the_counter_runs_to_max() {
 #[test]
 fn pololu_20_khz_on_timer_1() {
     let l = Layout::TIMER1;
-    let mut t = PwmTimer::number(1).unwrap();
+    let mut t = number(1).unwrap();
     t.write(l.tccra, 0xA0, 100).unwrap();
     t.write(l.tccrb, 0x11, 101).unwrap();
     let config = t.config();
@@ -448,7 +448,7 @@ fn arduino_analog_write_on_timer_0() {
     let l = Layout::TIMER0;
     for (ch, com1, ocr) in [('A', 0x80u8, 0x47u16), ('B', 0x20, 0x48)] {
         for v in [1u8, 64, 128, 191, 254] {
-            let mut t = PwmTimer::mirror(0).unwrap();
+            let mut t = mirror(0).unwrap();
             let mut tccra = 0;
             for bit in [0x02, 0x01] {
                 tccra |= bit;
