@@ -17,6 +17,8 @@ fn hil(args: &[&str]) -> std::process::Output {
 }
 
 const COARSE: &str = "fixtures/robots/coarse65.toml";
+/// Coarse65 with the factory gains as its config's own: none are derived.
+const FACTORY_PID: &str = "fixtures/robots/coarse65-factory-pid.toml";
 
 fn json(out: &std::process::Output) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("the report is JSON")
@@ -24,7 +26,7 @@ fn json(out: &std::process::Output) -> serde_json::Value {
 
 #[test]
 fn a_fragmented_square_exits_3_with_the_finding_and_its_cause() {
-    let out = hil(&["run", "umbmark-cw", "--robot", COARSE, "--json"]);
+    let out = hil(&["run", "umbmark-cw", "--robot", FACTORY_PID, "--json"]);
     assert_eq!(out.status.code(), Some(3), "{out:?}");
     let v = json(&out);
     assert_eq!(v["completed"], false, "{v:#}");
@@ -55,7 +57,7 @@ fn a_fragmented_square_exits_3_with_the_finding_and_its_cause() {
         "{stderr}"
     );
     // The text report says so at its head.
-    let out = hil(&["run", "umbmark-cw", "--robot", COARSE]);
+    let out = hil(&["run", "umbmark-cw", "--robot", FACTORY_PID]);
     assert_eq!(out.status.code(), Some(3));
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -67,7 +69,7 @@ fn a_fragmented_square_exits_3_with_the_finding_and_its_cause() {
 
 #[test]
 fn a_fragmented_line_exits_3() {
-    let out = hil(&["run", "line", "--robot", COARSE, "--json"]);
+    let out = hil(&["run", "line", "--robot", FACTORY_PID, "--json"]);
     assert_eq!(out.status.code(), Some(3), "{out:?}");
     let v = json(&out);
     assert_eq!(v["fragments"]["shape_legs"], 1);
@@ -99,7 +101,7 @@ fn hil_test_calls_a_fragmented_case_incomplete() {
         "--leg-mm",
         "2000",
         "--robot",
-        COARSE,
+        FACTORY_PID,
         "--junit",
         junit.to_str().unwrap(),
     ]);

@@ -15,6 +15,7 @@ mod gap;
 mod run;
 mod station;
 mod timing;
+mod tune;
 
 // The user's own firmware tests.
 mod golden;
@@ -74,6 +75,10 @@ enum Command {
     /// (emulated or on a serial port), run tests, watch telemetry, enter end
     /// points and send the correction.
     Ui(station::Ui),
+    /// PID gains for a robot from its motor model and encoders
+    /// (Ziegler-Nichols, as the thesis derived Henrytwo's), checked on the
+    /// bench; --write puts them in the config's [firmware] table.
+    Tune(tune::Tune),
     /// Board descriptions (which MCU pin each part of the robot is on):
     /// `hil board check FILE`.
     Board(board::BoardCmd),
@@ -107,6 +112,7 @@ impl Command {
             Command::Serve(c) => c.run(),
             Command::Ui(c) => c.run(),
             Command::Board(c) => c.run(),
+            Command::Tune(c) => c.run(),
 
             Command::Test(c) => c.run(),
             Command::Golden(c) => c.run(),

@@ -6,6 +6,7 @@
 //! | `vars.rs` | the bench builds' bench interface: `HT_` variables read from SRAM by symbol |
 //! | `params.rs` | what the firmware is told about the robot before a run, and what it then believes |
 //! | `settings.rs` | the robot config's `[firmware]` table: gains, set-points, thresholds, checked |
+//! | `tune.rs` | PID gains derived for a robot from its motor model and encoders; chatter predicted on a loop model |
 //! | `link.rs` | the host's side of the framed protocol (`henrytwo-protocol`) |
 //! | `description/` | firmware that knows nothing of the bench, run from a test description |
 //!
@@ -16,4 +17,5 @@ pub mod elf;
 pub mod link;
 pub mod params;
 pub mod settings;
+pub mod tune;
 pub mod vars;

@@ -150,8 +150,10 @@ pub fn takes_params(firmware: &Firmware) -> bool {
 
 /// The parameters to send before a run of `firmware` on `robot` wired by
 /// `board` (the nominal geometry and the driver wiring, the robot config's
-/// `[firmware]` settings, then `extra` in its order: a later value wins), what the firmware then believes, and a warning when its geometry
-/// is not the robot's.
+/// `[firmware]` settings, derived gains when the config gives none and the
+/// factory gains would chatter ([`crate::firmware::tune::automatic`]), then
+/// `extra` in its order: a later value wins), what the firmware then
+/// believes, and a warning when its geometry is not the robot's.
 pub fn plan(
     firmware: &Firmware,
     robot: &RobotConfig,
@@ -172,6 +174,16 @@ pub fn plan(
                     .filter(|&(p, v)| v != p.factory_default()),
             ),
             Err(e) => refused = Some(format!("the robot config's {e}: none of it was sent")),
+        }
+        // A robot whose config gives no gains and on which the factory
+        // gains are predicted to chatter gets derived ones (Henrytwo never),
+        // unless the run is given gains of its own (--param).
+        let given = extra
+            .iter()
+            .any(|(p, _)| crate::firmware::tune::GAINS.contains(p));
+        if let Some((gains, note)) = crate::firmware::tune::automatic(robot).filter(|_| !given) {
+            crate::firmware::tune::note_once(&note);
+            send.extend(gains);
         }
     }
     if takes_params(firmware) {

@@ -9,6 +9,7 @@
 //! | `faults/` | the fault library, one file a fault, each with the reaction the firmware owes | `hil faults` |
 //! | `scenario/` | scenario files: faults and a user's expectations | `hil run --scenario`, `hil test` |
 //! | `golden/` | golden runs recorded and checked | `hil golden` |
+//! | `tune.rs` | a robot's derived PID gains checked on the bench: step response, no chatter, settling | `hil tune` |
 //! | `timing.rs` | timing budgets of the PID loop, cycle-exact | `hil timing` |
 //! | `fuzz.rs` | invalid frames into the robust firmware's parser | `hil fuzz` |
 //! | `gap_bench/` | the bench itself as the sim-to-real gap model | `hil gap --bench` |
@@ -29,3 +30,4 @@ pub mod report;
 pub mod scenario;
 pub mod start;
 pub mod timing;
+pub mod tune;
