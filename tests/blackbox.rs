@@ -14,6 +14,7 @@ use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
 
 const THESIS_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
 const DEMO_TESTS: &str = "fixtures/arduino/square-demo/tests.toml";
+const PULLUP_TESTS: &str = "fixtures/arduino/pullup-encoders/tests.toml";
 
 /// A description of the repository, and the ELF it names (built by set-up).
 fn described(file: &str) -> (Arc<Description>, Firmware) {
@@ -252,6 +253,70 @@ fn a_generic_sketch_is_reported_as_it_drives() {
     }
 }
 
+/// The counts a sketch printed in its line starting `what`: "what L=<l> R=<r>".
+fn printed_counts(r: &TestRun, what: &str) -> [i64; 2] {
+    let text: Vec<u8> = r
+        .uart
+        .iter()
+        .filter(|(_, n, _)| *n == 0)
+        .map(|(_, _, b)| *b)
+        .collect();
+    let text = String::from_utf8_lossy(&text);
+    let line = text
+        .lines()
+        .find_map(|l| l.strip_prefix(what)?.strip_prefix(" L="))
+        .unwrap_or_else(|| panic!("no {what:?} line in {text:?}"));
+    let (l, r) = line.trim_end().split_once(" R=").expect("L= and R=");
+    [l.parse().unwrap(), r.parse().unwrap()]
+}
+
+/// Encoders on `INPUT_PULLUP`, on ports the sketch writes every control
+/// period (A on PE4/PE5 beside the left enable on PE3; right B on PH4
+/// beside the right enable on PH3): the pull-up leaves the levels the
+/// encoders drive alone, as on silicon, so the counts the sketch prints
+/// after a leg and after a spin are the plant's edges, exactly. (simavr
+/// alone raises a pulled-up input to 1 at each write to its port: the
+/// sketch then miscounts.)
+#[test]
+fn pulled_up_encoders_on_written_ports_count_every_edge() {
+    let (d, fw) = described(PULLUP_TESTS);
+    let board = hil::board::Board::load(
+        hil::paths::workspace_root().join("fixtures/boards/mega-l298n.toml"),
+    )
+    .expect("the board loads");
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
+        bench: BenchOptions {
+            board,
+            ..Default::default()
+        },
+        description: Some(d),
+        ..Default::default()
+    };
+    let r = run_test(fw, &support::robot("henrytwo"), Test::Line, &opts).unwrap();
+    assert!(r.completed, "{:?}", r.finding);
+    assert_eq!(
+        (r.legs.len(), r.turns.len()),
+        (1, 1),
+        "{:?} {:?}",
+        r.legs,
+        r.turns
+    );
+    // At rest after the leg (the spin's start) and at the end.
+    let at = |cycle: u64| {
+        let t = cycle as f64 / 16e6;
+        let s = r.trace.iter().rev().find(|s| s.t_s <= t).unwrap();
+        [s.left_edges, s.right_edges]
+    };
+    let (leg, done) = (printed_counts(&r, "leg"), printed_counts(&r, "spin"));
+    assert!(
+        leg[0] >= 3000 && done[0] <= leg[0] - 600,
+        "{leg:?} {done:?}"
+    );
+    assert_eq!(leg, at(r.turns[0].start_cycle), "after the leg");
+    assert_eq!(done, at(u64::MAX), "at the end");
+}
+
 /// A hang found without any firmware variable: both wheels blocked in the
 /// first turn, the sketch waits for counts that never come (its own time-out
 /// is 15 s); no wheel motion and no change of the drive for the hang time
@@ -340,3 +405,6 @@ fn the_cli_says_what_a_black_box_run_needs() {
         "{err}"
     );
 }
+
+#[path = "blackbox/commands.rs"]
+mod commands;

@@ -44,17 +44,7 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::no_timer_channel(
     r#"forward = "D9""#, r#"forward = "D22""#, "motor_driver.left.forward",
-    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D9 D10 (timer 2)"
-)]
-#[case::timer_1_is_the_firmwares_clock(
-    r#"forward = "D9"|blue = "D11""#, r#"forward = "D11"|blue = "D9""#, "motor_driver.left.forward",
-    ProblemKind::ReservedTimer { pin: 11, oc: hil::board::PwmSource { timer: 1, channel: 'A' } },
-    "the robust firmware's clock"
-)]
-#[case::timer_0_is_reserved(
-    r#"forward = "D9""#, r#"forward = "D13""#, "motor_driver.left.forward",
-    ProblemKind::ReservedTimer { pin: 13, oc: hil::board::PwmSource { timer: 0, channel: 'A' } },
-    "millis()"
+    ProblemKind::NotPwm { pin: 22 }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
 )]
 #[case::encoder_a_cannot_interrupt(
     r#"a = "D2""#, r#"a = "D22""#, "encoders.left.a",
@@ -172,6 +162,26 @@ fn other_drivers_load(
     assert_eq!(board.right_motor.pin1.pin.arduino, 46);
 }
 
+/// Motor PWM on timer 0's pins (D4 OC0B, D13 OC0A: PB7 also carries OC1C,
+/// and the Arduino core drives it from OC0A) and timer 1's (D11 OC1A, D12
+/// OC1B) is accepted: whether the firmware uses such a timer as its clock
+/// is judged when it runs.
+#[test]
+fn timer_0_and_timer_1_pins_carry_pwm() {
+    use hil::board::PwmSource;
+    let text = edited(
+        r#"forward = "D9"|reverse = "D8"|forward = "D7"|reverse = "D6"|b = "D4"|green = "D10"|blue = "D11"|red = "D12""#,
+        r#"forward = "D4"|reverse = "D13"|forward = "D11"|reverse = "D12"|b = "D30"|green = "D31"|blue = "D32"|red = "D33""#,
+    );
+    let board = Board::from_toml_str(&text, "my.toml").unwrap();
+    let oc = |timer, channel| Some(PwmSource { timer, channel });
+    assert_eq!(board.left_motor.pin1.pwm, oc(0, 'B'));
+    assert_eq!(board.left_motor.pin2.pwm, oc(0, 'A'));
+    assert_eq!(board.right_motor.pin1.pwm, oc(1, 'A'));
+    assert_eq!(board.right_motor.pin2.pwm, oc(1, 'B'));
+    assert_eq!(board.pwm_timers(), vec![0, 1]);
+}
+
 /// A board with an input on another port and timer runs the firmware as
 /// Henrytwo's does while that input is idle: with the right motor's reverse
 /// input on D46 (OC5A, port L) the bench emulates timers 2, 4 and 5 and
@@ -226,5 +236,62 @@ fn a_board_on_timer_5_and_port_l_runs_as_henrytwo_while_its_input_is_idle() {
         pins,
         vec![(7, true), (8, false), (9, true), (46, false)],
         "D46 is watched, idle"
+    );
+}
+
+/// The robust firmware reads A on D2/D3 (INT4/INT5) and B on D4/D5: a board
+/// with its encoders elsewhere is named, every other pin left as it is; the
+/// boards of the fixtures are not.
+#[test]
+fn encoders_elsewhere_are_named_for_the_robust_firmware() {
+    let moved = Board::from_toml_str(
+        &edited("a = \"D2\"|b = \"D4\"", "a = \"D21\"|b = \"D22\""),
+        "my.toml",
+    )
+    .expect("a valid board");
+    let why = moved.firmware_encoder_mismatch().expect("named");
+    assert_eq!(
+        why,
+        "the robust firmware reads its encoders on left A D2, B D4; right A D3, B D5 (its \
+         INT4/INT5 handlers); this board has them on left A D21, B D22; right A D3, B D5: wire \
+         them there, or run a firmware of your own (--tests)"
+    );
+    assert_eq!(HENRYTWO.firmware_encoder_mismatch(), None);
+    let rover = Board::load(hil::paths::workspace_root().join("fixtures/boards/rover65.toml"))
+        .expect("rover65's board loads");
+    assert_eq!(rover.firmware_encoder_mismatch(), None);
+}
+
+/// `hil board check` refuses such a board (exit 2), checks it for a
+/// firmware of one's own with `--own-firmware` (exit 0), and passes
+/// Henrytwo's.
+#[test]
+fn board_check_refuses_encoders_the_robust_firmware_cannot_read() {
+    let hil = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+            .args(args)
+            .current_dir(hil::paths::workspace_root())
+            .output()
+            .expect("hil runs")
+    };
+    let bad = "fixtures/bad/board-encoders-int0-int1.toml";
+    let out = hil(&["board", "check", bad]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("this board has them on left A D21, B D22; right A D20, B D23"),
+        "{stderr}"
+    );
+    assert_eq!(
+        hil(&["board", "check", "--own-firmware", bad])
+            .status
+            .code(),
+        Some(0)
+    );
+    assert_eq!(
+        hil(&["board", "check", "fixtures/boards/henrytwo.toml"])
+            .status
+            .code(),
+        Some(0)
     );
 }

@@ -18,6 +18,9 @@ mod support;
 #[path = "station_ui/charts.rs"]
 mod charts;
 
+#[path = "station_ui/serial.rs"]
+mod serial;
+
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -27,7 +30,7 @@ use calib::{
     triangle_correction, umbmark_correction, Endpoint, LineRuns, Solution, TriangleParams,
     TriangleRuns, UmbmarkParams, UmbmarkRuns,
 };
-use charts::{axis, data, legend, wait_count};
+use charts::{axis, data, legend, legend_overflow, wait_count};
 use fantoccini::{Client, ClientBuilder, Locator};
 
 /// Kills a child process when the test ends, passed or not.
@@ -104,6 +107,17 @@ async fn value_of(c: &Client, id: &str) -> Option<f64> {
         .await
         .unwrap()
         .map(|v| v.parse().unwrap())
+}
+
+/// The property `name` of the element `id` (a form field's value).
+async fn prop(c: &Client, id: &str, name: &str) -> String {
+    c.find(Locator::Id(id))
+        .await
+        .unwrap()
+        .prop(name)
+        .await
+        .unwrap()
+        .unwrap_or_default()
 }
 
 /// Poll `id`'s text until `ok` holds, for up to `secs` seconds.
@@ -398,6 +412,26 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     // table with round 0's result; the file on disk holds the ten points.
     c.refresh().await.unwrap();
     wait_text(&c, "round-no", 10, |t| t == "1").await;
+    // ...with the robot connected selected, at the speed it was connected at.
+    let until = Instant::now() + Duration::from_secs(10);
+    loop {
+        let selected = prop(&c, "robot-select", "value").await;
+        let speed = prop(&c, "speed", "value").await;
+        if (selected.as_str(), speed.as_str()) == ("emulated:henrytwo-ideal", "10") {
+            break;
+        }
+        assert!(
+            Instant::now() < until,
+            "a reopened page shows {selected:?} at speed {speed:?}"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    // Table 10's error is said to be the mean of the r_cg, not the E_max
+    // of the rounds table beside it.
+    let caption = text(&c, "table10-caption").await;
+    for word in ["mean", "(rcg CW + rcg CCW)/2", "Emax", "larger"] {
+        assert!(caption.contains(word), "{word:?} not in {caption:?}");
+    }
     let rows = c.find_all(Locator::Css("#rounds tbody tr")).await.unwrap();
     assert_eq!(rows.len(), 2);
     // ...and the robot's parameters, read again.
@@ -478,62 +512,6 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     let _ = std::fs::remove_dir_all(&sessions);
 }
 
-/// The same page drives a robot on a serial port: here `hil serve --pty`,
-/// offered with `hil ui --port`, opened by the page like a real device.
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn the_page_drives_a_robot_on_a_serial_port() {
-    let elf = support::firmware_path("robust");
-    let mut serve = Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(["serve", "--pty", "--speed", "10", "--elf"])
-        .arg(&elf)
-        .arg("--robot")
-        .arg(hil::paths::robot_config("henrytwo-ideal"))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("hil serve starts");
-    let mut line = String::new();
-    BufReader::new(serve.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let serve = Killed(serve);
-    let pty = line.trim().strip_prefix("pty: ").unwrap().to_string();
-    let sessions = std::env::temp_dir().join(format!("station-serial-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&sessions);
-    let (_ui, url) = ui(&sessions, &["--port", &pty]);
-    let (c, _driver) = browser(&sessions.join("chromium-profile")).await;
-    c.goto(&url).await.unwrap();
-    // --port preselects the device.
-    c.wait()
-        .at_most(Duration::from_secs(10))
-        .for_element(Locator::Css("#robot-select option"))
-        .await
-        .unwrap();
-    let selected = c
-        .find(Locator::Id("robot-select"))
-        .await
-        .unwrap()
-        .prop("value")
-        .await
-        .unwrap();
-    assert_eq!(selected.as_deref(), Some(format!("serial:{pty}").as_str()));
-    click(&c, Locator::Id("connect")).await;
-    wait_text(&c, "status", 30, |t| t.starts_with("connected:")).await;
-    type_into(&c, "leg-mm", "200").await;
-    click(&c, Locator::Css("button[data-test='line']")).await;
-    wait_text(&c, "notice", 60, |t| t.contains("line done")).await;
-    // A serial robot shows no pose: the page says to measure the floor.
-    assert!(text(&c, "pose").await.contains("measure"));
-    let file = hil::clients::station::session::file_name(&format!("serial-{pty}"));
-    assert!(sessions.join(&file).exists(), "no session file {file}");
-
-    // The port vanishes: the page says so.
-    drop(serve);
-    wait_text(&c, "status", 20, |t| t.contains("is gone")).await;
-    c.close().await.unwrap();
-    let _ = std::fs::remove_dir_all(&sessions);
-}
-
 /// The emulated robot's clock as the page shows it (its pose line), s.
 async fn robot_time(c: &Client) -> f64 {
     let pose = text(c, "pose").await;
@@ -557,16 +535,20 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
     let (_ui, url) = ui(&sessions, &[]);
     let (c, _driver) = browser(&sessions.join("chromium-profile")).await;
     c.goto(&url).await.unwrap();
-    c.wait()
+    let ideal = c
+        .wait()
         .at_most(Duration::from_secs(10))
         .for_element(Locator::Css(
             "#robot-select option[value='emulated:henrytwo-ideal']",
         ))
         .await
-        .unwrap()
-        .click()
-        .await
         .unwrap();
+    // Without --robot or --port, the reference robot is preselected.
+    assert_eq!(
+        prop(&c, "robot-select", "value").await,
+        format!("emulated:{}", hil::paths::REFERENCE_ROBOT)
+    );
+    ideal.click().await.unwrap();
     // Slow enough for a few telemetry samples per 300 mm line.
     type_into(&c, "speed", "4").await;
     click(&c, Locator::Id("connect")).await;
@@ -628,6 +610,16 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
     for want in ["line", "ideal path", "end point"] {
         assert!(entries.iter().any(|e| e == want), "{entries:?}");
     }
+    // The pose text speaks the floor's frame: the second line's end, 30 cm
+    // from its own start (not 60 cm from where the robot was at Connect).
+    let last_end: f64 = data(&ends[1], "data-x-cm").await;
+    assert_eq!(value_of(&c, "pose-x").await, Some(last_end));
+    assert_eq!(
+        value_of(&c, "pose-y").await,
+        Some(data(&ends[1], "data-y-cm").await)
+    );
+    let pose = text(&c, "pose").await;
+    assert!(pose.contains("start frame"), "{pose:?}");
 
     // The speeds against the firmware's clock, in its unit, reaching the
     // set-point (14.47 thesis RPM).
@@ -654,6 +646,47 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
         .unwrap_or_default();
     assert!(trace.contains('L'), "the left speed drawn: {trace:?}");
     screenshot(&c, "station-ui-charts.png").await;
+
+    // At the fastest pace the page offers, a UMBmark's speed chart still
+    // has samples inside each of its four turns (segments 1, 3, 5, 7).
+    let max = c
+        .find(Locator::Id("speed"))
+        .await
+        .unwrap()
+        .attr("max")
+        .await
+        .unwrap()
+        .expect("the speed field states its maximum");
+    type_into(&c, "speed", &max).await;
+    click(&c, Locator::Id("connect")).await;
+    let at = format!(" at {max}x ");
+    wait_text(&c, "status", 30, |t| t.contains(&at)).await;
+    click(&c, Locator::Css("button[data-test='umbmark-ccw']")).await;
+    wait_count(&c, "#floor circle.end", 1, 60).await;
+    const TURN: u8 = 2;
+    let until = Instant::now() + Duration::from_secs(5);
+    let turns = loop {
+        let speeds = c.find(Locator::Id("speeds")).await.unwrap();
+        let samples: Vec<(f64, u8, u8)> = data(&speeds, "data-samples").await;
+        let mut turns: Vec<u8> = samples
+            .iter()
+            .filter(|s| s.1 == TURN)
+            .map(|s| s.2)
+            .collect();
+        turns.dedup();
+        if turns == [1, 3, 5, 7] || Instant::now() > until {
+            break (turns, samples);
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    };
+    assert_eq!(turns.0, [1, 3, 5, 7], "samples at {max}x: {:?}", turns.1);
+    // Every legend's box holds its labels, "UMBmark CCW" too.
+    let (overflow, checked) = legend_overflow(&c).await;
+    assert!(overflow.is_empty(), "{overflow:?}");
+    let entries = legend(&c, "floor").await;
+    assert!(entries.iter().any(|e| e == "UMBmark CCW"), "{entries:?}");
+    assert!(checked >= 9, "{checked} legend labels");
+    screenshot(&c, "station-ui-fastest.png").await;
     c.close().await.unwrap();
     let _ = std::fs::remove_dir_all(&sessions);
 }

@@ -4,6 +4,10 @@
 #[path = "support/mod.rs"]
 mod support;
 
+use hil::bench::BenchOptions;
+use hil::board::Board;
+use hil::firmware::description::Description;
+use hil::firmware::elf::Firmware;
 use hil::runs::experiment::{run_test_observed, Test, TestOptions};
 use hil::runs::timing::{Budgets, TimingProbe, TimingReport};
 use std::process::Command;
@@ -12,7 +16,7 @@ use std::sync::OnceLock;
 /// A run of `test` with the timing probe on the robust firmware.
 fn measure(test: Test, leg_mm: f64) -> (hil::runs::experiment::TestRun, TimingReport) {
     let fw = support::firmware("robust");
-    let probe = TimingProbe::new(&fw, "ht_control_tick", 240_000).unwrap();
+    let probe = TimingProbe::new(&fw, "ht_control_tick", 240_000, &Board::default()).unwrap();
     let opts = TestOptions {
         leg_mm,
         ..Default::default()
@@ -200,4 +204,99 @@ fn budgets_pass_and_a_breach_fails() {
     assert!(stdout.contains("EXCEEDED"), "{stdout}");
     assert!(stderr.contains("ht_control_tick execution"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A sketch whose encoders are on INT2 (left, D19) and on a pin-change
+/// interrupt (right, D11: PCINT5, vector PCINT0), on its board: each
+/// vector's latency is measured from its own encoder's edges, one per edge
+/// the sketch counted, at least the datasheet's response; the budget row
+/// names both vectors and passes on a measurement, not on nothing.
+#[test]
+fn latency_is_measured_on_int2_and_pin_change_interrupts() {
+    use hil::runs::timing::RESPONSE_CYCLES;
+    let root = hil::paths::workspace_root();
+    let d = Description::load(root.join("fixtures/arduino/int-encoders/tests.toml")).unwrap();
+    let fw = Firmware::load(d.elf.as_ref().unwrap()).expect("built by tools/setup.sh");
+    let board = Board::load(root.join("fixtures/boards/mega-int2-pcint.toml")).unwrap();
+    let control = d.control_function(&fw).unwrap().unwrap();
+    let probe = TimingProbe::new(&fw, &control, 160_000, &board).unwrap();
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
+        bench: BenchOptions {
+            board,
+            ..Default::default()
+        },
+        description: Some(std::sync::Arc::new(d)),
+        ..Default::default()
+    };
+    let (run, obs) = run_test_observed(
+        fw.clone(),
+        &support::robot("henrytwo"),
+        Test::Line,
+        &opts,
+        Some(Box::new(probe)),
+    )
+    .unwrap();
+    assert!(run.completed, "{:?}", run.finding);
+    let probe = obs.unwrap().into_any().downcast::<TimingProbe>().unwrap();
+    let r = probe.report(&fw, &control, 16_000_000, &run.segment_starts());
+    let edges = |s: &str| {
+        let e = r.encoder_vectors.iter().find(|e| e.side == s).unwrap();
+        e.name.clone().unwrap()
+    };
+    assert_eq!(
+        (edges("left"), edges("right")),
+        ("INT2".into(), "PCINT0".into())
+    );
+    let last = run.trace.last().unwrap();
+    for (name, plant) in [("INT2", last.left_edges), ("PCINT0", last.right_edges)] {
+        let isr = r.isrs.iter().find(|i| i.name == name).expect(name);
+        // One entry and one latency per A edge (the robot only went forward).
+        assert_eq!(isr.duration.count as i64, plant, "{name}: runs");
+        assert_eq!(isr.latency.count, isr.duration.count, "{name}: latencies");
+        assert!(
+            isr.latency.min >= RESPONSE_CYCLES,
+            "{name}: {:?}",
+            isr.latency
+        );
+    }
+    let budgets = Budgets::load(&root.join("fixtures/timing-budgets.toml")).unwrap();
+    let rows = r.check(&budgets);
+    let row = rows
+        .iter()
+        .find(|r| r.what.starts_with("encoder edge to handler"))
+        .unwrap();
+    assert_eq!(row.what, "encoder edge to handler (INT2, PCINT0), longest");
+    assert!(row.pass && row.measured.unwrap() > 0.0, "{row:?}");
+}
+
+/// `hil timing --tests` on that sketch and board, with its budgets: both
+/// vectors named in the latency row, measured, and every budget held (exit 0).
+#[test]
+fn hil_timing_measures_a_sketchs_int2_and_pcint_latency() {
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args([
+            "timing",
+            "--tests",
+            "fixtures/arduino/int-encoders/tests.toml",
+            "--board",
+            "fixtures/boards/mega-int2-pcint.toml",
+            "--budgets",
+            "fixtures/arduino/int-encoders/timing-budgets.toml",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let row = v["budgets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["what"] == "encoder edge to handler (INT2, PCINT0), longest")
+        .expect("the latency row names both vectors");
+    assert!(row["measured"].as_f64().unwrap() > 0.0, "{row}");
+    assert_eq!(row["pass"], true);
 }

@@ -39,11 +39,9 @@ fn decoded(vcd: &Path, channel: &str) -> Vec<u8> {
         .collect()
 }
 
-#[test]
-fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
-    let _ = support::firmware_path("robust");
-    let dir = std::env::temp_dir().join(format!("hil-vcd-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// `hil run line` of 100 mm with `--vcd DIR/line.vcd` (and so its `.gtkw`
+/// beside): the trace's path.
+fn run_line_with_vcd(dir: &Path) -> std::path::PathBuf {
     let vcd = dir.join("line.vcd");
     let out = Command::new(env!("CARGO_BIN_EXE_hil"))
         .args(["run", "line", "--leg-mm", "100", "--deterministic", "--vcd"])
@@ -55,6 +53,15 @@ fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    vcd
+}
+
+#[test]
+fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
+    let _ = support::firmware_path("robust");
+    let dir = std::env::temp_dir().join(format!("hil-vcd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let vcd = run_line_with_vcd(&dir);
     let text = std::fs::read_to_string(&vcd).unwrap();
 
     // Every sample up to the last change is read.
@@ -126,4 +133,64 @@ fn sigrok_reads_the_whole_trace_and_decodes_both_uart_directions() {
         "the greeting as text"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// GTKWave itself (under xvfb, as a CI runner has no display) opens the
+/// `.gtkw` of a pair moved away from where the run wrote it, and shows the
+/// run from its start to its last change: its own Tcl interface reports
+/// the window and the traces it loaded.
+#[test]
+fn gtkwave_opens_a_moved_pair_at_the_runs_extent() {
+    let _ = support::firmware_path("robust");
+    let dir = std::env::temp_dir().join(format!("hil-gtkw-{}", std::process::id()));
+    let moved = dir.join("artifact");
+    std::fs::create_dir_all(&moved).unwrap();
+    run_line_with_vcd(&dir);
+    for name in ["line.vcd", "line.gtkw"] {
+        std::fs::rename(dir.join(name), moved.join(name)).unwrap();
+    }
+    let script = dir.join("window.tcl");
+    std::fs::write(
+        &script,
+        "puts \"window [gtkwave::getWindowStartTime] [gtkwave::getWindowEndTime] \
+         [gtkwave::getMaxTime] [gtkwave::getTotalNumTraces]\"\ngtkwave::/File/Quit\n",
+    )
+    .unwrap();
+    let out = Command::new("xvfb-run")
+        .args(["-a", "gtkwave", "-S"])
+        .arg(&script)
+        .arg("line.gtkw")
+        .current_dir(&moved)
+        .output()
+        .expect("xvfb-run and gtkwave run (tools/setup.sh installs them)");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let window: Vec<f64> = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("window "))
+        .unwrap_or_else(|| {
+            panic!(
+                "GTKWave printed no window: {stdout}{}",
+                String::from_utf8_lossy(&out.stderr)
+            )
+        })
+        .split(' ')
+        .map(|v| v.parse().expect("a number"))
+        .collect();
+    let [start, end, last, traces] = window[..] else {
+        panic!("{stdout}")
+    };
+    // From time 0 to just past the last change (the save file's zoom leaves
+    // 2 % to spare over GTKWave's wave pane, which under xvfb is a little
+    // wider than the save file's size assumes).
+    assert_eq!(start, 0.0, "{stdout}");
+    assert!(last > 0.0 && end >= last && end < 1.2 * last, "{stdout}");
+    // Every signal and comment line of the save file is a trace GTKWave
+    // found (a name it cannot find in the VCD is dropped).
+    let listed = std::fs::read_to_string(moved.join("line.gtkw"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with(['[', '*', '@']))
+        .count();
+    assert_eq!(traces as usize, listed, "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-sketches=(firmware/arduino/henrytwo-thesis fixtures/arduino/square-demo)
+sketches=(firmware/arduino/henrytwo-thesis fixtures/arduino/square-demo fixtures/arduino/pullup-encoders fixtures/arduino/int-encoders)
 fqbn=arduino:avr:mega:cpu=atmega2560
 out=firmware/target/arduino
 

@@ -16,6 +16,8 @@ packages+=(python3-serial)
 packages+=(gdb-avr)
 # Every JUnit report is validated against Jenkins' junit-10.xsd with xmllint.
 packages+=(libxml2-utils)
+# A moved VCD and its save file are opened by GTKWave itself, on a virtual display.
+packages+=(gtkwave xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -40,6 +42,7 @@ for elf in firmware/target/avr-none/release/*.elf; do
   [ -f "$elf" ] || { echo "setup: the firmware build produced no ELF" >&2; exit 1; }
 done
 
-# The Arduino sketches (the thesis' listing as printed, and a plain user
-# sketch), built with Debian's Arduino core: firmware/target/arduino/*.elf.
+# The Arduino sketches (the thesis' listing as printed, and sketches of our
+# own written as users write them), built with Debian's Arduino core:
+# firmware/target/arduino/*.elf.
 tools/build-sketches.sh

@@ -12,6 +12,8 @@ bash tools/module-cycles-test.sh
 # The ci profile: release without link-time optimisation (see Cargo.toml).
 cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings
 cargo test --workspace --profile ci
+# The example crate copied out of the repository, as a user has it.
+tools/example-outside.sh
 # The firmware's logic, linted and unit-tested on the host: run from here, cargo
 # ignores firmware/.cargo/config.toml (target avr-none) and builds for the host.
 cargo fmt --manifest-path firmware/Cargo.toml --check

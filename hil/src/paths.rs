@@ -19,6 +19,10 @@ pub fn firmware_elf(name: &str) -> PathBuf {
     dir.join(format!("{name}.elf"))
 }
 
+/// The reference robot: the best estimate of the thesis' Henrytwo, the
+/// config the bench and the station use unless told otherwise.
+pub const REFERENCE_ROBOT: &str = "henrytwo";
+
 /// A robot config in fixtures/robots/.
 pub fn robot_config(name: &str) -> PathBuf {
     workspace_root()

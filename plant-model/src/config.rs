@@ -34,7 +34,15 @@
 //!
 //! [effects.wheel_diameter_ratio]  # optional tables, one per effect: see crate::effects
 //! right_over_left_ratio = 1.036
+//!
+//! [firmware]                 # optional: settings of the firmware that drives the robot
+//! kp_left = 1.0
 //! ```
+//!
+//! The `[firmware]` table is not the plant's: it holds numbers by name for the firmware that
+//! drives this robot (its PID gains, set-points, thresholds), which the bench sends it before
+//! a run. The plant keeps them as written; the bench checks the names and the ranges
+//! against the firmware's (`hil::firmware::settings`).
 
 use std::path::Path;
 
@@ -65,6 +73,10 @@ pub struct RobotConfig {
     /// [`crate::effects`].
     #[serde(default, skip_serializing_if = "Effects::is_empty")]
     pub effects: Effects,
+    /// The `[firmware]` table: the firmware's settings for this robot, by name, as written
+    /// (checked by the bench that sends them, not here; none in Henrytwo's config).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub firmware: std::collections::BTreeMap<String, f64>,
 }
 
 /// Wheel sizes and wheelbase.
@@ -134,6 +146,7 @@ impl Default for RobotConfig {
                 right: MotorModel::FirstOrder(FirstOrderMotor::henrytwo_right()),
             },
             effects: Effects::default(),
+            firmware: std::collections::BTreeMap::new(),
         }
     }
 }

@@ -96,3 +96,26 @@ pub async fn wait_count(c: &Client, css: &str, n: usize, secs: u64) -> Vec<Eleme
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
 }
+
+/// Every legend label of every chart that does not fit its legend's box,
+/// measured as drawn (the text's computed length in its font); and how many
+/// labels were checked.
+pub async fn legend_overflow(c: &Client) -> (Vec<String>, usize) {
+    let js = "
+        const out = []; let n = 0;
+        for (const g of document.querySelectorAll('svg.chart g.legend')) {
+            const box = g.querySelector('rect');
+            const left = Number(box.getAttribute('x'));
+            const right = left + Number(box.getAttribute('width'));
+            for (const t of g.querySelectorAll('text.legend-item')) {
+                n += 1;
+                const x = Number(t.getAttribute('x')), end = x + t.getComputedTextLength();
+                if (x < left || end > right) {
+                    out.push(`${g.closest('svg').id} ${t.textContent}: ${x}..${end} px, box ${left}..${right} px`);
+                }
+            }
+        }
+        return [out, n];";
+    let v = c.execute(js, vec![]).await.unwrap();
+    serde_json::from_value(v).unwrap()
+}

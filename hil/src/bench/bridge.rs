@@ -9,7 +9,7 @@ use plant_model::Side;
 
 use super::driver;
 use super::recorder::{DriveEvent, Motion, Recorder};
-use super::timers::Grace;
+use super::timers::{self, Grace};
 use super::NEVER;
 use crate::board::{Board, BridgeInput, PwmSource};
 use crate::mcu::clock::Clock;
@@ -52,6 +52,9 @@ pub(super) struct Bridge {
     pending_top: Vec<u64>,
     /// Each timer's unverified configuration, until judged (see `timers.rs`).
     grace: Vec<Grace<PwmError>>,
+    /// Each timer's channels whose pin the board uses otherwise (see
+    /// `timers::foreign_channels`).
+    foreign: Vec<[Option<u8>; 3]>,
     ports: Vec<PortState>,
     /// Each motor's pin 1-3 duties as last seen, by side index.
     seen: [[f64; 3]; 2],
@@ -65,11 +68,20 @@ pub(super) struct Bridge {
     stats_cycle: u64,
 }
 
+/// The timers of the board's PWM inputs, emulated or mirrored (see
+/// `timers.rs`).
 fn timers_of(board: &Board) -> Vec<PwmTimer> {
     board
         .pwm_timers()
         .into_iter()
-        .map(|n| PwmTimer::number(n).expect("the board check allows timers 2-5 only"))
+        .map(|n| {
+            let timer = if timers::mirrored(n) {
+                PwmTimer::mirror(n)
+            } else {
+                PwmTimer::number(n)
+            };
+            timer.expect("a board's PWM sources are the MCU's timers")
+        })
         .collect()
 }
 
@@ -89,6 +101,10 @@ impl Bridge {
         let timers = timers_of(&board);
         Self {
             clock,
+            foreign: timers
+                .iter()
+                .map(|t| timers::foreign_channels(&board, t.id().number()))
+                .collect(),
             board,
             pending_top: vec![NEVER; timers.len()],
             grace: vec![Grace::default(); timers.len()],
@@ -120,7 +136,18 @@ impl Bridge {
         }
     }
 
-    /// The timers this bridge emulates, in timer order.
+    /// Whether a timer of the bridge takes writes to `addr`.
+    pub(super) fn owns_write(&self, addr: u16) -> bool {
+        self.timers.iter().any(|t| t.owns_write(addr))
+    }
+
+    /// Whether `addr` is a register of a mirrored timer (simavr's too).
+    pub(super) fn mirrors(&self, addr: u16) -> bool {
+        let t = self.timers.iter().find(|t| t.owns_write(addr));
+        t.is_some_and(|t| t.is_mirrored())
+    }
+
+    /// The timers this bridge emulates or mirrors, in timer order.
     pub(super) fn timers(&self) -> &[PwmTimer] {
         &self.timers
     }
@@ -349,6 +376,16 @@ impl Bridge {
             self.pending_top[which] = self.pending_top[which].min(next);
         }
         let timer = &self.timers[which];
+        let foreign = ['A', 'B', 'C'].into_iter().zip(self.foreign[which]);
+        for (channel, pin) in foreign {
+            if let Some(pin) = pin.filter(|_| timer.channel_connected(channel)) {
+                return Err(PwmError::ForeignOutput {
+                    config: timer.config(),
+                    channel,
+                    pin,
+                });
+            }
+        }
         let problem = timer.unverified(cycle);
         if let Some(e) = problem.clone().filter(|_| timer.connected()) {
             return Err(e.observed("connected a compare output"));

@@ -21,7 +21,7 @@ use super::NEVER;
 use crate::bench::inject::{EncoderFault, Injection};
 use crate::board::{Board, EncoderWiring};
 use crate::mcu::clock::Clock;
-use crate::mcu::sim::{Core, Irq};
+use crate::mcu::sim::{Core, DrivenPin};
 
 /// Transitions planned per wheel beyond the next when nothing tells how
 /// long the inputs will last (see `Encoders::plan_edge`).
@@ -53,7 +53,7 @@ pub fn decode_a_edge(a: bool, b: bool) -> i64 {
 /// then channel (A, B).
 pub(super) struct Encoders {
     wiring: [EncoderWiring; 2],
-    irq: [[Option<Irq>; 2]; 2],
+    irq: [[Option<DrivenPin>; 2]; 2],
     /// The levels on the pins.
     level: [[bool; 2]; 2],
     /// Encoder levels after the encoder faults, before glitches.
@@ -173,14 +173,14 @@ impl Encoders {
 
 impl Encoders {
     /// Connect the encoder lines to their pins, at the plant's levels.
-    pub(super) fn connect(&mut self, core: &mut Core, irq: [[Irq; 2]; 2], robot: &Robot) {
+    pub(super) fn connect(&mut self, core: &mut Core, irq: [[DrivenPin; 2]; 2], robot: &Robot) {
         self.irq = irq.map(|side| side.map(Some));
         for side in Side::BOTH {
             let i = side.index();
             let (a, b) = robot.encoder_levels(side);
             for (irq, level) in self.irq[i].into_iter().zip([a, b]) {
                 if let Some(irq) = irq {
-                    core.raise(irq, level as u32);
+                    core.drive(irq, level);
                 }
             }
             self.level[i] = [a, b];
@@ -476,12 +476,12 @@ impl Encoders {
             return;
         };
         if b != old_b {
-            core.raise(irq_b, b as u32);
+            core.drive(irq_b, b);
             self.level[i][1] = b;
             recorder.pin(when, 2 * i as u8 + 1, b);
         }
         if a != old_a {
-            core.raise(irq_a, a as u32);
+            core.drive(irq_a, a);
             recorder.pin(when, 2 * i as u8, a);
             self.level[i][0] = a;
             self.edges_raised[i] += decode_a_edge(a, b);
@@ -579,7 +579,7 @@ impl Encoders {
             let old_b = self.level[i][1];
             if b != old_b {
                 if let Some(irq_b) = self.irq[i][1] {
-                    core.raise(irq_b, b as u32);
+                    core.drive(irq_b, b);
                 }
                 self.level[i][1] = b;
                 self.lazy_b_reads += 1;

@@ -430,12 +430,11 @@ impl Bench {
         self.avr.schedule(next);
     }
 
-    /// Hold `pin` at a level from now on, as a button or a jumper would
-    /// (the pin's own PORT/DDR settings decide what the firmware reads, as
-    /// on silicon with an external driver).
+    /// Hold `pin` at a level from now on, as a button or a jumper would:
+    /// the firmware reads that level while the pin is an input, whatever it
+    /// writes to the pin's port (its pull-up included), as on silicon.
     pub fn drive_pin(&mut self, pin: crate::board::Pin, high: bool) -> Result<(), BenchError> {
-        let irq = self.avr.port_pin(pin.port, pin.bit)?;
-        self.avr.with_core(|_, c| c.raise(irq, u32::from(high)));
+        self.avr.driven_pin(pin.port, pin.bit, high)?;
         Ok(())
     }
 

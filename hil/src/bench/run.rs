@@ -287,6 +287,12 @@ impl Bench {
         let Some(cycles) = self.hang.as_mut().and_then(|w| w.check(&progress)) else {
             return Ok(());
         };
+        tracing::debug!(
+            t_s = self.robot_time_s(),
+            still_s = self.clock.seconds(cycles).0,
+            at = %self.location(),
+            "hung: no progress, the run is stopped"
+        );
         Err(BenchError::Hang(crate::bench::hang::HangReport {
             still_s: self.clock.seconds(cycles).0,
             at: self.location(),

@@ -9,7 +9,7 @@ use super::registers::ACSR;
 use super::{BenchError, BenchOptions};
 use crate::board::Board;
 use crate::firmware::elf::Firmware;
-use crate::mcu::sim::{Avr, IoClaim, Irq, SimError};
+use crate::mcu::sim::{Avr, DrivenPin, IoClaim, SimError};
 
 /// The MCU running `firmware`, its pins wired to `robot`'s parts as
 /// `options.board` says, the bench's first event scheduled.
@@ -26,12 +26,18 @@ pub(super) fn build(
         avr.load_flash(*addr, bytes)?;
     }
     // The timers of the board's PWM pins: emulated by the bench (see
-    // pwm.rs), never clocked by simavr; the others' configurations are
-    // judged when something observes them (see timers.rs).
+    // pwm.rs), never clocked by simavr, or mirrored (simavr runs them, the
+    // bench sees the writes); the others' configurations are judged when
+    // something observes them (see timers.rs).
     let timers = avr.handler().bridge.timers().to_vec();
     for timer in &timers {
+        let claim = if timer.is_mirrored() {
+            IoClaim::Observe
+        } else {
+            IoClaim::Replace
+        };
         for addr in timer.write_addresses() {
-            avr.claim_io_write(addr, IoClaim::Replace)?;
+            avr.claim_io_write(addr, claim)?;
         }
         for addr in timer.read_addresses() {
             avr.claim_io_read(addr)?;
@@ -62,11 +68,14 @@ pub(super) fn build(
         avr.observe_io_read(wiring.encoder(side).b.pin_register())?;
     }
     avr.claim_io_write(ACSR, IoClaim::Observe)?;
-    let mut encoder_pins = |side: Side| -> Result<[Irq; 2], SimError> {
+    // Driven from outside: the firmware's port writes (a pull-up switched
+    // on) leave their levels alone. Low until `connect_encoders` raises the
+    // plant's levels.
+    let mut encoder_pins = |side: Side| -> Result<[DrivenPin; 2], SimError> {
         let e = wiring.encoder(side);
         Ok([
-            avr.port_pin(e.a.port, e.a.bit)?,
-            avr.port_pin(e.b.port, e.b.bit)?,
+            avr.driven_pin(e.a.port, e.a.bit, false)?,
+            avr.driven_pin(e.b.port, e.b.bit, false)?,
         ])
     };
     let encoders = [encoder_pins(Side::Left)?, encoder_pins(Side::Right)?];

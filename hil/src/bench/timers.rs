@@ -15,6 +15,12 @@
 //!
 //! On the bench's timers every mode is emulated; what is not (an external
 //! or asynchronous clock, a reserved mode) is refused at either moment.
+//! Their interrupts are refused at once: the firmware times itself with
+//! the timer (its clock), which the bench does not emulate on a timer it
+//! runs for the board's PWM pins. Timer 0, the Arduino core's `millis()`
+//! timer, is not taken over but mirrored ([`mirrored`]): simavr runs it,
+//! judged as below, and the bench computes the outputs on the board's PWM
+//! pins from the registers written.
 //!
 //! On simavr's timers a clocked configuration is accepted when it is
 //! verified, or when nothing can observe it: no interrupt of the timer
@@ -31,11 +37,11 @@
 //! they are refused.
 
 use crate::board::{Board, PwmSource};
-use crate::mcu::pwm::{Kind, Mode, Top};
+use crate::mcu::pwm::layout::{Layout, ATMEGA2560};
+use crate::mcu::pwm::{mode, Kind, Mode, Top};
 use crate::mcu::sim::Core;
 
 use super::error::PendingError;
-use super::registers::{TimerRegs, CHECKED_TIMERS};
 use super::NEVER;
 
 /// How long an unverified configuration may stay in force unobserved:
@@ -84,11 +90,56 @@ impl<E: PartialEq> Grace<E> {
     }
 }
 
+/// Whether the bench mirrors timer `n` when a board's PWM pin is on it
+/// (simavr runs it, the model computes its outputs: `PwmTimer::mirror`)
+/// rather than emulating it. Timer 0 is the Arduino core's `millis()`
+/// timer, whose overflow interrupt every Arduino sketch enables and whose
+/// counter and flags `micros()` reads: the bench has no model of a timer's
+/// interrupts, simavr's are verified for the mode the core uses (fast PWM,
+/// 8-bit), so its counter stays simavr's. The others are emulated, and
+/// their interrupts refused as the firmware's clock.
+pub(super) fn mirrored(n: u8) -> bool {
+    n == 0
+}
+
+/// The timers of the board's PWM pins the bench emulates (those it does
+/// not mirror), in timer order.
+pub(super) fn emulated(board: &Board) -> Vec<u8> {
+    let mut v = board.pwm_timers();
+    v.retain(|&n| !mirrored(n));
+    v
+}
+
+/// For each channel A, B, C of timer `n`: the pin the board uses for
+/// something other than that channel's own PWM input, if its compare
+/// output is on one (an encoder or LED pin, or a motor input the board
+/// drives from another channel: PB7 is OC0A and OC1C). A compare output
+/// connected there would drive a pin the bench models otherwise.
+pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<u8>; 3] {
+    let mut pins = vec![
+        (board.battery_leds.green, None),
+        (board.battery_leds.blue, None),
+        (board.battery_leds.red, None),
+    ];
+    for side in plant_model::Side::BOTH {
+        let e = board.encoder(side);
+        pins.extend([(e.a, None), (e.b, None)]);
+    }
+    pins.extend(board.bridge_inputs().iter().map(|b| (b.pin, b.pwm)));
+    ['A', 'B', 'C'].map(|channel| {
+        let oc = PwmSource { timer: n, channel };
+        pins.iter()
+            .find(|(p, own)| p.pwm_sources().contains(&oc) && *own != Some(oc))
+            .map(|(p, _)| p.arduino)
+    })
+}
+
 /// A timer simavr runs, as the bench checks it.
 #[derive(Debug, Clone)]
 struct SimavrTimer {
-    regs: TimerRegs,
-    /// Channels A, B, C whose pin the board uses.
+    regs: Layout,
+    /// Channels A, B, C whose pin the board uses (other than as the
+    /// channel's own PWM input, which the bench models: a mirrored timer).
     on_board: [bool; 3],
 }
 
@@ -109,30 +160,16 @@ pub(super) enum Look {
 
 impl SimavrTimers {
     /// The timers of `board` that simavr runs: all but those the bench
-    /// emulates (`emulated`).
-    pub(super) fn new(board: &Board, emulated: &[u8]) -> Self {
-        let mut pins = vec![
-            board.battery_leds.green,
-            board.battery_leds.blue,
-            board.battery_leds.red,
-        ];
-        for side in plant_model::Side::BOTH {
-            let e = board.encoder(side);
-            pins.extend([e.a, e.b]);
-        }
-        pins.extend(board.bridge_inputs().iter().map(|b| b.pin));
-        let timers = CHECKED_TIMERS
+    /// emulates ([`emulated`]; it mirrors the others, whose compare
+    /// outputs on the board's PWM inputs are then the bench's).
+    pub(super) fn new(board: &Board) -> Self {
+        let emulated = emulated(board);
+        let timers = ATMEGA2560
             .iter()
-            .filter(|r| !emulated.contains(&r.n))
+            .filter(|r| !emulated.contains(&r.id.number()))
             .map(|&regs| SimavrTimer {
                 regs,
-                on_board: ['A', 'B', 'C'].map(|channel| {
-                    let oc = PwmSource {
-                        timer: regs.n,
-                        channel,
-                    };
-                    pins.iter().any(|p| p.pwm_sources().contains(&oc))
-                }),
+                on_board: foreign_channels(board, regs.id.number()).map(|p| p.is_some()),
             })
             .collect();
         Self { timers }
@@ -182,11 +219,9 @@ impl SimavrTimers {
             ((tccrb >> 3) & 0b1) << 2 | (tccra & 0b11)
         };
         let mode = Mode::decode(wgm, r.sixteen_bit);
-        let internal_clock = if r.sixteen_bit {
-            cs <= 5
-        } else {
-            r.n == 2 || cs <= 5
-        };
+        // Clock selects 6 and 7 of the shared prescaler are the external
+        // clock on pin Tn; timer 2's table has none.
+        let internal_clock = mode::prescaler(cs, r.prescalers).is_some();
         // What tests/timer_modes.rs holds to the datasheet: simavr gets
         // the dual slope modes, fast PWM with TOP = OCRnA and CTC with TOP
         // = ICRn wrong.
@@ -206,7 +241,7 @@ impl SimavrTimers {
         if !is_observed || (verified_mode && !connected) {
             return None;
         }
-        let n = r.n;
+        let n = r.id.number();
         let observed = match look {
             Look::Read(a) if a == r.tcnt => format!("read TCNT{n}"),
             Look::Read(_) => format!("read TIFR{n}"),

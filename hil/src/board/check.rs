@@ -10,7 +10,7 @@ use super::file::{BoardFile, DriverFile, EncoderFile, Sides};
 use super::mega2560::{self, UartLine};
 use super::{
     BatteryWiring, Board, BridgeInput, DriverKind, EncoderWiring, LedWiring, MotorWiring, Pin,
-    PwmSource, UartWiring,
+    UartWiring,
 };
 use crate::mcu::clock::Clock;
 
@@ -47,9 +47,8 @@ impl std::fmt::Display for Problem {
     }
 }
 
-/// The PWM pins the bench and the robust firmware drive: those of timers 2-5.
-const PWM_PINS: &str =
-    "D9 D10 (timer 2), D2 D3 D5 (timer 3), D6 D7 D8 (timer 4), D44 D45 D46 (timer 5)";
+/// The Mega's PWM pins, those the bench models the timers of.
+const PWM_PINS: &str = "D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2), D2 D3 D5 (timer 3), D6 D7 D8 (timer 4), D44 D45 D46 (timer 5)";
 
 /// What is wrong with one field.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -60,8 +59,6 @@ pub enum ProblemKind {
     PinReused { pin: u8, first: String },
     #[error("D{pin} is on no timer's output-compare channel, so no PWM reaches it; PWM pins: {PWM_PINS}")]
     NotPwm { pin: u8 },
-    #[error("D{pin} is {oc} on timer {}, {}; PWM pins: {PWM_PINS}", oc.timer, why_reserved(oc.timer))]
-    ReservedTimer { pin: u8, oc: PwmSource },
     #[error("D{pin} cannot interrupt (no INTn or PCINTn), so the firmware would miss channel A's edges; give D2 D3 D18 D19 D20 D21 (INT), D10-D13 D50-D53 A8-A15 D14 D15 (PCINT)")]
     CannotInterrupt { pin: u8 },
     #[error("no USART {usart}; the ATmega2560 has USART 0-3")]
@@ -74,13 +71,6 @@ pub enum ProblemKind {
     BadBaud { baud: i64 },
     #[error("divider {divider} is not a ratio of volts at the pin per battery volt; give one above 0 and at most 1")]
     BadDivider { divider: f64 },
-}
-
-fn why_reserved(timer: u8) -> &'static str {
-    match timer {
-        1 => "the robust firmware's clock (its control period)",
-        _ => "reserved: the Arduino core's millis() (the thesis firmware's clock), left to simavr",
-    }
 }
 
 /// The receiver's tolerance the bench accepts: the datasheet recommends at
@@ -192,19 +182,14 @@ impl Checker<'_> {
         Some(pin)
     }
 
-    /// A driver input driven with PWM, by a timer of 2-5.
+    /// A driver input driven with PWM, by the timer channel on its pin
+    /// (on D13, which carries OC0A and OC1C, OC0A: the Arduino core's
+    /// `analogWrite`). Whether the firmware may use that timer as well (as
+    /// its clock) is judged when it runs (`bench/timers.rs`).
     fn pwm(&mut self, field: &str, name: &str) -> Option<BridgeInput> {
         let pin = self.pin(field, name)?;
-        let sources = pin.pwm_sources();
-        let Some(&source) = sources.iter().find(|s| (2..=5).contains(&s.timer)) else {
-            let kind = match sources.first() {
-                Some(&oc) => ProblemKind::ReservedTimer {
-                    pin: pin.arduino,
-                    oc,
-                },
-                None => ProblemKind::NotPwm { pin: pin.arduino },
-            };
-            self.problem(field, kind);
+        let Some(&source) = pin.pwm_sources().first() else {
+            self.problem(field, ProblemKind::NotPwm { pin: pin.arduino });
             return None;
         };
         Some(BridgeInput {

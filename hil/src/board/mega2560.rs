@@ -160,6 +160,18 @@ impl Pin {
         }
     }
 
+    /// The interrupt vector a level change on this pin requests, when the
+    /// firmware enables it (datasheet table 14-1): INTn is vector n + 1;
+    /// the pin-change groups PCINT0-7, PCINT8-15 and PCINT16-23 are
+    /// vectors 9, 10 and 11 (PCINT0, PCINT1, PCINT2).
+    pub fn interrupt_vector(&self) -> Option<u8> {
+        match (self.external_interrupt(), self.pin_change_interrupt()) {
+            (Some(n), _) => Some(n + 1),
+            (None, Some(n)) => Some(9 + n / 8),
+            (None, None) => None,
+        }
+    }
+
     /// Pin-change interrupt PCINTn on this pin: PCINT0-7 on PB0-7, PCINT8
     /// on PE0, PCINT9-15 on PJ0-6, PCINT16-23 on PK0-7.
     pub fn pin_change_interrupt(&self) -> Option<u8> {
@@ -292,6 +304,12 @@ mod tests {
         assert_eq!(d(10).pin_change_interrupt(), Some(4));
         assert_eq!(d(15).pin_change_interrupt(), Some(9));
         assert_eq!(d(69).pin_change_interrupt(), Some(23));
+        // INT4, INT5, INT2, INT3, INT0; PCINT4, PCINT9, PCINT23; none.
+        for (n, vector) in [(2, 5), (3, 6), (19, 3), (18, 4), (21, 1), (10, 9), (15, 10)] {
+            assert_eq!(d(n).interrupt_vector(), Some(vector), "D{n}");
+        }
+        assert_eq!(d(69).interrupt_vector(), Some(11));
+        assert_eq!(d(22).interrupt_vector(), None);
         assert_eq!(d(19).uart_line(), Some(UartLine::Rxd(1)));
         assert_eq!(d(54).adc_channel(), Some(0));
         assert_eq!(d(69).adc_channel(), Some(15));

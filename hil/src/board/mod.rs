@@ -256,7 +256,37 @@ impl Default for Board {
     }
 }
 
+/// The encoder pins the bench's firmware builds read, left then right:
+/// their INT4/INT5 handlers count channel A on D2/D3 and read B from D4/D5
+/// (`firmware/src/board.rs`, which agrees with [`HENRYTWO`], tested), so
+/// they cannot serve encoders wired elsewhere.
+pub const FIRMWARE_ENCODERS: [EncoderWiring; 2] = [HENRYTWO.left_encoder, HENRYTWO.right_encoder];
+
+/// "left A D2, B D4; right A D3, B D5".
+fn encoder_pins(e: [EncoderWiring; 2]) -> String {
+    format!(
+        "left A D{}, B D{}; right A D{}, B D{}",
+        e[0].a.arduino, e[0].b.arduino, e[1].a.arduino, e[1].b.arduino
+    )
+}
+
 impl Board {
+    /// Why the bench's firmware builds cannot read this board's encoders
+    /// (they are not on [`FIRMWARE_ENCODERS`]), naming both sets of pins; None
+    /// when they can. A run would count no edge and end as "did not
+    /// complete": a board check and every run of those builds refuse it first.
+    pub fn firmware_encoder_mismatch(&self) -> Option<String> {
+        let ours = [self.left_encoder, self.right_encoder];
+        (ours != FIRMWARE_ENCODERS).then(|| {
+            format!(
+                "the robust firmware reads its encoders on {} (its INT4/INT5 handlers); this \
+                 board has them on {}: wire them there, or run a firmware of your own (--tests)",
+                encoder_pins(FIRMWARE_ENCODERS),
+                encoder_pins(ours)
+            )
+        })
+    }
+
     /// The board described by the TOML file at `path`, checked.
     pub fn load(path: impl AsRef<Path>) -> Result<Board, BoardError> {
         let path = path.as_ref();
@@ -284,6 +314,17 @@ impl Board {
             Side::Left => &self.left_encoder,
             Side::Right => &self.right_encoder,
         }
+    }
+
+    /// The board's serial links by their names (the board file's section
+    /// names), in USART order: what reports call a USART's output.
+    pub fn uarts(&self) -> Vec<(&'static str, UartWiring)> {
+        let mut v = vec![
+            ("debug_uart", self.debug_uart),
+            ("command_uart", self.command_uart),
+        ];
+        v.sort_by_key(|(_, u)| u.usart);
+        v
     }
 
     /// Every motor-driver input, in Arduino pin order.

@@ -93,6 +93,15 @@ pub struct Target {
     pub params: Vec<(hil::firmware::link::Param, f32)>,
 }
 
+/// The `[firmware]` settings of the robot config at `path`, checked against
+/// the firmware's ranges before anything runs: one error line naming the
+/// file, the key and the range (exit 2).
+pub fn check_firmware_settings(path: &std::path::Path, robot: &RobotConfig) -> Result<()> {
+    hil::firmware::settings::of(robot)
+        .map(drop)
+        .map_err(|e| super::BadInput(format!("robot config {}: {e}", path.display())).into())
+}
+
 /// `--tests FILE`: a test description, read and checked.
 pub fn parse_description(
     s: &str,
@@ -159,6 +168,7 @@ impl Target {
     pub fn robot(&self) -> Result<RobotConfig> {
         // The loader's errors name the file.
         let robot = RobotConfig::load(self.robot_path()).map_err(super::bad_input)?;
+        check_firmware_settings(&self.robot_path(), &robot)?;
         // The robust build is told the robot's geometry before each run, and refuses
         // what lies outside its limits: refuse such a robot here, before anything runs.
         let told = self.firmware == Build::Robust
@@ -180,7 +190,7 @@ impl Target {
     /// The path of the robot config [`Target::robot`] reads.
     pub fn robot_path(&self) -> PathBuf {
         self.robot.clone().unwrap_or_else(|| {
-            let best = hil::paths::robot_config("henrytwo");
+            let best = hil::paths::robot_config(hil::paths::REFERENCE_ROBOT);
             if best.exists() {
                 best
             } else {
@@ -201,6 +211,14 @@ impl Target {
             }
         };
         let firmware = Firmware::load(&path).map_err(super::bad_input)?;
+        // A bench build (it takes parameters: the robust one) reads its
+        // encoders on fixed pins: a board with them elsewhere would run and
+        // count nothing. Refused here, before the run.
+        if self.description.is_none() && hil::firmware::params::takes_params(&firmware) {
+            if let Some(why) = self.board.and_then(|b| b.firmware_encoder_mismatch()) {
+                return Err(super::BadInput(format!("--board: {why}")).into());
+            }
+        }
         if let Some(d) = &self.description {
             // The names the description gives must be in this ELF: checked
             // now, not when the run reaches them.

@@ -15,7 +15,9 @@ const SKETCH_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
 
 #[derive(clap::Args)]
 pub struct Bench {
-    /// The test to time.
+    /// The test to time. With --tests, the firmware it describes is timed
+    /// (bench and raw simavr on the same inputs), alone: the thesis build
+    /// and sketch are the robust build's references.
     #[arg(long, default_value = "umbmark-cw")]
     test: Test,
     #[command(flatten)]
@@ -55,18 +57,34 @@ pub struct Bench {
 impl Bench {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("bench")?;
+        let described = self.common.target.description.as_deref();
+        if let (true, Some(d)) = (self.diagnosis, described) {
+            return Err(super::BadInput(format!(
+                "--tests {}: --diagnosis times the bench-backed diagnosis, which sets each run's \
+                 robot over the bench protocol; a firmware run from a test description has none \
+                 (hil bench --tests FILE times its runs against raw simavr)",
+                d.path
+            ))
+            .into());
+        }
+        if let Some(d) = described {
+            // Said before anything runs: not a bench error after the reset.
+            d.start(self.test).map_err(super::bad_input)?;
+        }
         let (robot, firmware) = self.common.target.load()?;
         if self.diagnosis {
             return self.diagnosis(robot, firmware);
         }
+        // The thesis build and sketch are timed beside the robust build, as
+        // the project's own references; a described firmware is timed alone.
         let thesis_path = hil::paths::firmware_elf("thesis");
-        let thesis = if !self.without_thesis && thesis_path.exists() {
+        let thesis = if !self.without_thesis && described.is_none() && thesis_path.exists() {
             Some(Firmware::load(&thesis_path)?)
         } else {
             None
         };
         let sketch_tests = hil::paths::workspace_root().join(SKETCH_TESTS);
-        let sketch = match self.without_sketch {
+        let sketch = match self.without_sketch || described.is_some() {
             true => None,
             false => {
                 let d = hil::firmware::description::Description::load(&sketch_tests)?;
@@ -80,6 +98,7 @@ impl Bench {
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
         let report = hil::runs::perf::measure(&hil::runs::perf::BenchPlan {
             robust: &firmware,
+            described,
             thesis: thesis.as_ref(),
             sketch: sketch.as_ref().map(|(f, d)| (f, d)),
             robot: &robot,

@@ -21,14 +21,22 @@ enum BoardCommand {
         /// The board TOML (e.g. fixtures/boards/henrytwo.toml).
         #[arg(value_name = "FILE")]
         file: PathBuf,
+        /// The board is for a firmware of your own (run with --tests): skip
+        /// the check that the robust firmware can read its encoders.
+        #[arg(long)]
+        own_firmware: bool,
     },
 }
 
 impl BoardCmd {
     pub fn run(self) -> Result<()> {
-        let BoardCommand::Check { file } = self.command;
+        let BoardCommand::Check { file, own_firmware } = self.command;
         match Board::load(&file) {
             Ok(board) => {
+                if let Some(why) = board.firmware_encoder_mismatch().filter(|_| !own_firmware) {
+                    // Refused as every run of the robust firmware refuses it.
+                    return Err(super::BadInput(format!("{}: {why}", file.display())).into());
+                }
                 let params: serde_json::Map<String, serde_json::Value> = board
                     .firmware_params()
                     .into_iter()

@@ -100,7 +100,7 @@ impl Faults {
                     name: format!("hil faults {}", row.fault),
                     properties: hil::output::junit::run_properties(
                         "faults",
-                        &robust.name(),
+                        &row.firmware,
                         self.common.target.seed,
                         row.robust_observed.robot_time_s,
                     ),
@@ -154,10 +154,16 @@ impl Faults {
 /// (a reaction not as expected, a fault that never fired), skipped when it
 /// was run against no expectation (a scenario's faults).
 fn junit_case(row: &FaultRow, wall_s: f64) -> hil::output::junit::Case {
-    let out = format!(
-        "fault: {}\nexpected: {}\nrobust: {}\nthesis: {}",
-        row.what, row.expected, row.robust, row.thesis
+    let mut out = format!(
+        "fault: {}\nexpected: {}\n{}: {}\nthesis: {}",
+        row.what, row.expected, row.firmware, row.robust, row.thesis
     );
+    // What the firmware under test printed, as `hil run` shows it.
+    let uarts = &row.robust_observed.uarts;
+    if !uarts.is_empty() {
+        out.push('\n');
+        out.push_str(hil::runs::experiment::uarts::render(uarts, "").trim_end());
+    }
     hil::output::junit::Case {
         name: row.fault.clone(),
         classname: "hil.faults".into(),

@@ -81,6 +81,16 @@ pub struct Gap {
     /// With --bench: which firmware build to run.
     #[arg(long, requires = "bench", value_enum, default_value_t = Build::Robust)]
     firmware: Build,
+    /// With --bench: board TOML of the robot (default: Henrytwo's). Checked
+    /// before anything runs.
+    #[arg(long, requires = "bench", value_name = "FILE", value_parser = super::board::parse_board)]
+    board: Option<hil::board::Board>,
+    /// With --bench: a firmware parameter to set before each run, after the
+    /// robot config's [firmware] settings and the experiment's own
+    /// (NAME=VALUE, e.g. kp_left=1.5); repeat for more.
+    #[arg(long = "param", requires = "bench", value_name = "NAME=VALUE",
+          value_parser = super::args::parse_param)]
+    params: Vec<(hil::firmware::link::Param, f32)>,
     /// With --bench: firmware ELF to run instead of the build in firmware/target.
     #[arg(long, requires = "bench", value_name = "FILE")]
     elf: Option<PathBuf>,
@@ -242,9 +252,11 @@ impl Gap {
     /// names (they must name the same robot).
     fn nominal(&self, manifests: &[gap::LoadedManifest]) -> Result<RobotConfig> {
         if let Some(m) = &self.model {
-            return RobotConfig::load(m)
+            let cfg = RobotConfig::load(m)
                 .with_context(|| format!("model {}", m.display()))
-                .map_err(super::bad_input);
+                .map_err(super::bad_input)?;
+            super::args::check_firmware_settings(m, &cfg)?;
+            return Ok(cfg);
         }
         let mut found: Option<(RobotConfig, PathBuf)> = None;
         for lm in manifests.iter().filter(|m| m.manifest.endpoints.is_some()) {
@@ -269,7 +281,10 @@ impl Gap {
                     )))
                 }
                 Some(_) => {}
-                None => found = Some((cfg, path)),
+                None => {
+                    super::args::check_firmware_settings(&path, &cfg)?;
+                    found = Some((cfg, path))
+                }
             }
         }
         found
@@ -277,9 +292,22 @@ impl Gap {
             .ok_or_else(|| super::bad_input(anyhow::anyhow!("no manifest with end points")))
     }
 
+    /// The bench as the model: the firmware on `nominal`, on `--board`, with `--param`.
+    fn bench_model(&self, nominal: RobotConfig) -> Result<BenchModel> {
+        let firmware = self.firmware()?;
+        if hil::firmware::params::takes_params(&firmware) {
+            if let Some(why) = self.board.and_then(|b| b.firmware_encoder_mismatch()) {
+                return Err(super::BadInput(format!("--board: {why}")).into());
+            }
+        }
+        Ok(BenchModel::new(firmware, nominal, self.jobs())
+            .on_board(self.board.unwrap_or_default())
+            .with_params(self.params.clone()))
+    }
+
     fn bench_real(&self, manifests: &[gap::LoadedManifest], rule: &SplitRule) -> Result<()> {
         let nominal = self.nominal(manifests)?;
-        let bench = BenchModel::new(self.firmware()?, nominal, self.jobs());
+        let bench = self.bench_model(nominal)?;
         let with_endpoints: Vec<_> = manifests
             .iter()
             .filter(|m| m.manifest.endpoints.is_some())
@@ -353,7 +381,7 @@ impl Gap {
     }
 
     fn bench_self_test(&self) -> Result<()> {
-        let bench = BenchModel::new(self.firmware()?, RobotConfig::default(), self.jobs());
+        let bench = self.bench_model(RobotConfig::default())?;
         // Each --hidden value is one case; effects joined by '+' are hidden together.
         let mut hidden: Vec<Vec<(String, f64)>> = Vec::new();
         for h in &self.hidden {

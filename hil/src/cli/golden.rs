@@ -294,7 +294,7 @@ fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
     let clock = BenchOptions::default().clock;
     // The nominal period only sets the probe's jitter figure, unused here.
     let period = clock.cycles_in(plant_model::Seconds(15e-3));
-    let probe = TimingProbe::new(&firmware, CONTROL_FUNCTION, period)
+    let probe = TimingProbe::new(&firmware, CONTROL_FUNCTION, period, &opts.bench.board)
         .ok()
         .map(|p| Box::new(p) as Box<dyn Observer>);
     let (run, observer) = run_test_observed(firmware.clone(), &robot, test, &opts, probe)?;

@@ -175,6 +175,7 @@ pub fn write_output(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
 /// complete (hung, stopped by the bench, not finished); 4 the output is
 /// locked by another writer (nothing ran). Every error is one line on stderr.
 pub fn main() -> ExitCode {
+    log_if_asked();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return usage_error(&e),
@@ -198,6 +199,23 @@ pub fn main() -> ExitCode {
             }
         }
     }
+}
+
+/// The bench's own log on stderr when `RUST_LOG` asks for it
+/// (`RUST_LOG=hil=debug`): spans per run and phase, and what the bench
+/// decided (a segment, a fault applied, a hang) at robot time (`t_s`). No
+/// wall-clock stamps: two runs of one config log the same lines. Without
+/// `RUST_LOG` no subscriber is installed and every event is skipped at its
+/// call site.
+fn log_if_asked() {
+    let Ok(filter) = tracing_subscriber::EnvFilter::try_from_default_env() else {
+        return;
+    };
+    tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .without_time()
+        .init();
 }
 
 /// Help and version go to stdout as clap writes them; a usage error is one

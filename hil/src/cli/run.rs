@@ -53,10 +53,6 @@ impl Run {
             }
             None => None,
         };
-        if gdb.is_some() && common.target.description.is_some() {
-            // The debugger's host plays the bench interface's start and end.
-            return Err(super::BadInput("--gdb runs a firmware with the bench interface; a firmware run from a test description (--tests) cannot be debugged yet".into()).into());
-        }
         let (robot, firmware) = common.target.load()?;
         let mut opts = common.test_options(common.leg_mm(leg)?);
         opts.hang_after_s = hang_after;
@@ -127,9 +123,10 @@ impl Run {
 
 #[derive(clap::Args)]
 pub struct Line {
-    /// Length of the line in millimetres.
-    #[arg(long, default_value_t = 2000.0, value_parser = parse_leg, allow_negative_numbers = true)]
-    length_mm: f64,
+    /// Length of the line in millimetres [default: 2000, or a described
+    /// firmware's own leg].
+    #[arg(long, value_parser = parse_leg, allow_negative_numbers = true)]
+    length_mm: Option<f64>,
     /// Write the plant trace (10 ms samples) as CSV.
     #[arg(long, value_name = "FILE")]
     trace_csv: Option<PathBuf>,
@@ -141,21 +138,15 @@ impl Line {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("line")?;
         let target = &self.common.target;
-        if let Some(d) = &target.description {
-            return Err(super::BadInput(format!(
-                "--tests {}: hil line runs the bench interface's line test (command byte 4), \
-                 which a firmware run from a test description does not speak; hil run line \
-                 --tests FILE runs the line the description starts",
-                d.path
-            ))
-            .into());
-        }
         if let Some(path) = &self.trace_csv {
             super::check_output("--trace-csv", path)?;
         }
+        if target.description.is_some() {
+            return self.run_described();
+        }
         let (robot, firmware) = target.load()?;
         let opts = LineOptions {
-            length_mm: self.length_mm,
+            length_mm: self.length_mm.unwrap_or(super::args::DEFAULT_LEG_MM),
             bench: target.bench(),
             tell: target.tell(),
             params: target.params.clone(),
@@ -170,6 +161,44 @@ impl Line {
             .print
             .json
             .emit(&run.summary, || run.summary.render())
+    }
+}
+
+impl Line {
+    /// The description's `line` test, reported as `hil run line` reports it:
+    /// the line summary reads the bench interface's variables (the cut-off
+    /// counts, the firmware's own distance per count), which a described
+    /// firmware does not have.
+    fn run_described(&self) -> Result<()> {
+        let common = &self.common;
+        let leg_mm = common.leg_mm(Leg {
+            leg_mm: self.length_mm,
+        })?;
+        if let Some(d) = &common.target.description {
+            // Said before anything runs: not a bench error after the reset.
+            d.start(Test::Line).map_err(super::bad_input)?;
+        }
+        let (robot, firmware) = common.target.load()?;
+        let clock = common.print.wall_clock();
+        let run = run_test(firmware, &robot, Test::Line, &common.test_options(leg_mm))?;
+        if let Some(path) = &self.trace_csv {
+            super::write_output(path, hil::runs::report::trace_csv(&run.trace).as_bytes())?;
+        }
+        let pace = Pace::of(run.robot_time_s, clock.stop());
+        if common.print.json.json {
+            let v = json_with_pace(&run, pace, PaceFields::Rtf)?;
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        } else {
+            print!("{}", hil::runs::report::render_run(&run));
+        }
+        if !run.completed {
+            return Err(super::Incomplete(format!(
+                "the line run did not complete: {}",
+                run.finding.as_deref().unwrap_or("no reason found")
+            ))
+            .into());
+        }
+        Ok(())
     }
 }
 

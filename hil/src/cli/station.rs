@@ -26,7 +26,11 @@ pub struct Serve {
 impl Serve {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("serve")?;
-        self.common.refuse_run_params("serve")?;
+        // A described firmware is served as it is: its client starts its
+        // tests as the description says (printed below).
+        if self.common.target.description.is_none() {
+            self.common.refuse_run_params("serve")?;
+        }
         self.common
             .refuse_result_format("serve", "it serves the emulated robot until stopped")?;
         let target = &self.common.target;
@@ -37,7 +41,7 @@ impl Serve {
             ..Default::default()
         };
         let (robot, firmware) = target.load()?;
-        serve(firmware, &robot, options)
+        serve(firmware, &robot, options, target.description.clone())
     }
 }
 
@@ -63,6 +67,16 @@ pub struct Ui {
 impl Ui {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("ui")?;
+        if let Some(d) = &self.common.target.description {
+            return Err(super::BadInput(format!(
+                "--tests {}: hil ui's station starts each test with the bench protocol's framed \
+                 START_TEST and follows it by the firmware's replies, which a firmware run from \
+                 a test description does not send; serve it with hil serve --pty --tests FILE and \
+                 start its tests as the description says, or run them with hil run TEST --tests FILE",
+                d.path
+            ))
+            .into());
+        }
         self.common.refuse_run_params("ui")?;
         self.common
             .refuse_result_format("ui", "it serves the station's page until stopped")?;
@@ -91,12 +105,24 @@ fn parse_speed(s: &str) -> Result<f64, String> {
 }
 
 /// Serve the emulated robot's USARTs on ptys until the emulator stops.
-fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Result<()> {
+fn serve(
+    firmware: Firmware,
+    robot: &RobotConfig,
+    options: ServeOptions,
+    description: Option<std::sync::Arc<hil::firmware::description::Description>>,
+) -> Result<()> {
     let speed = options.speed;
     let board = options.bench.board;
-    let name = firmware.name();
-    let emu =
-        EmulatedRobot::spawn(firmware, robot, options).context("starting the emulated robot")?;
+    let name = match &description {
+        Some(d) => d.firmware_name(&firmware),
+        None => firmware.name(),
+    };
+    let starts = description
+        .as_deref()
+        .map(|d| how_tests_start(d, &board))
+        .unwrap_or_default();
+    let emu = EmulatedRobot::spawn_described(firmware, robot, options, description)
+        .context("starting the emulated robot")?;
     let pty = emu.path().display();
     let usb = emu
         .usb_path()
@@ -122,6 +148,7 @@ fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Resu
         board.debug_uart.baud,
         hil::clients::station::emulated::QUEUE_CAP / 1024,
     );
+    eprint!("{starts}");
     let mut warned = false;
     while !emu.finished() {
         std::thread::sleep(std::time::Duration::from_millis(200));
@@ -135,6 +162,47 @@ fn serve(firmware: Firmware, robot: &RobotConfig, options: ServeOptions) -> Resu
         Some(e) => anyhow::bail!("the emulated robot stopped: {e}"),
         None => Ok(()),
     }
+}
+
+/// How a client of `hil serve` starts each of the description's tests, one
+/// line each: the bytes to send on which pty, or why a pty cannot.
+fn how_tests_start(
+    d: &hil::firmware::description::Description,
+    board: &hil::board::Board,
+) -> String {
+    use hil::firmware::description::Start;
+    let mut s = String::new();
+    for (test, start) in &d.tests {
+        let line = match start {
+            Start::Uart { usart, bytes } => {
+                let pty = if *usart == board.command_uart.usart {
+                    "the pty"
+                } else if *usart == board.debug_uart.usart {
+                    "the usb pty"
+                } else {
+                    "no pty (only the board's command_uart and debug_uart are served)"
+                };
+                let shown = match std::str::from_utf8(bytes) {
+                    Ok(t) if !t.chars().any(char::is_control) => format!("{t:?}"),
+                    _ => format!("the bytes {bytes:?}"),
+                };
+                format!("send {shown} on USART{usart}: {pty}")
+            }
+            Start::Pin { pin, high } => format!(
+                "D{} held {}: a pin no pty can hold; hil run {} --tests {} runs it",
+                pin.arduino,
+                if *high { "high" } else { "low" },
+                test.name(),
+                d.path
+            ),
+        };
+        s.push_str(&format!(
+            "test {} ({}) starts: {line}\n",
+            test.name(),
+            d.path
+        ));
+    }
+    s
 }
 
 /// Run the station's web page on loopback until interrupted.

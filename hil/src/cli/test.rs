@@ -27,6 +27,11 @@ pub struct TestCmd {
     /// Run this ELF instead of the file's build.
     #[arg(long, value_name = "FILE")]
     elf: Option<PathBuf>,
+    /// Test description (docs/reference/test-description.md) of a firmware
+    /// that knows nothing of the bench: each case's test starts and ends as
+    /// it says, on its `elf` unless --elf is given. Checked before anything runs.
+    #[arg(long = "tests", value_name = "FILE", value_parser = super::args::parse_description)]
+    description: Option<std::sync::Arc<hil::firmware::description::Description>>,
     /// Robot config TOML (default: fixtures/robots/henrytwo.toml).
     #[arg(long, value_name = "FILE")]
     robot: Option<PathBuf>,
@@ -39,6 +44,11 @@ pub struct TestCmd {
     /// Leg length instead of the file's `leg_mm` (default 2000).
     #[arg(long, value_parser = parse_leg, allow_negative_numbers = true)]
     leg_mm: Option<f64>,
+    /// A firmware parameter to set over the protocol before each case, after
+    /// the robot's geometry and its config's [firmware] settings: NAME=VALUE
+    /// (e.g. kp_left=1.5); repeat for more. Checked before anything runs.
+    #[arg(long = "param", value_name = "NAME=VALUE", value_parser = super::args::parse_param)]
+    params: Vec<(hil::firmware::link::Param, f32)>,
     /// Robot seconds without progress after which a busy firmware is
     /// reported hung (its expectations are still judged on what it did).
     #[arg(long, value_name = "S", default_value_t = hil::bench::hang::DEFAULT_HANG_AFTER_S, value_parser = parse_seconds)]
@@ -85,6 +95,9 @@ pub struct CaseReport {
     pub expectations: Vec<Outcome>,
     /// Files saved for triage, on a failure.
     pub artifacts: Vec<PathBuf>,
+    /// What the firmware sent on each USART (empty when the bench stopped
+    /// the run before it ended).
+    pub uarts: Vec<hil::runs::experiment::UartOutput>,
     /// Wall-clock seconds the case took (the JUnit `time`); not in the
     /// JSON, which stays the same from run to run.
     #[serde(skip)]
@@ -161,12 +174,12 @@ impl TestCmd {
         let target = Target {
             firmware: build,
             elf: self.elf.clone(),
-            description: None,
+            description: self.description.clone(),
             robot: self.robot.clone(),
             board: self.board,
             seed,
             keep_firmware_params: false,
-            params: Vec::new(),
+            params: self.params.clone(),
         };
         let (robot, firmware) = target.load()?;
         let bench = target.bench();
@@ -174,18 +187,30 @@ impl TestCmd {
             super::bad_input(anyhow::anyhow!("the scenario {}, {e}", file.display()))
         })?;
         let test = scenario.test.unwrap_or(Test::Line);
+        let asked = self.leg_mm.or(scenario.leg_mm);
+        let leg_mm = match &self.description {
+            // The test must be one the description starts: said now, not
+            // as a bench error in the middle of the cases.
+            Some(d) => {
+                d.start(test).map_err(|e| {
+                    super::bad_input(anyhow::anyhow!("the scenario {}: {e}", file.display()))
+                })?;
+                d.leg_mm(asked, super::args::DEFAULT_LEG_MM)
+                    .map_err(super::bad_input)?
+            }
+            None => asked.unwrap_or(super::args::DEFAULT_LEG_MM),
+        };
         let opts = TestOptions {
-            leg_mm: self
-                .leg_mm
-                .or(scenario.leg_mm)
-                .unwrap_or(super::args::DEFAULT_LEG_MM),
+            leg_mm,
             bench,
             limit_s: scenario.limit_s,
             // The VCD of a failed case needs the pins' detail.
             record: true,
             faults: scenario.scheduled(),
             framed: scenario.framed,
+            params: target.params.clone(),
             hang_after_s: Some(self.hang_after),
+            description: self.description.clone(),
             ..Default::default()
         };
         let name = scenario.name.clone().unwrap_or_else(|| stem(file));
@@ -230,7 +255,10 @@ fn run_case(
     artifacts: Option<&Path>,
     slug: &str,
 ) -> Result<CaseReport> {
-    let firmware_name = c.firmware.name();
+    let firmware_name = match &c.opts.description {
+        Some(d) => d.firmware_name(&c.firmware),
+        None => c.firmware.name(),
+    };
     let seed = c.opts.bench.seed;
     let clock = c.opts.bench.clock;
     // Wall time around the run, for the JUnit report only.
@@ -255,6 +283,7 @@ fn run_case(
         robot_time_s: 0.0,
         expectations: Vec::new(),
         artifacts: Vec::new(),
+        uarts: Vec::new(),
         wall_time_s,
     };
     let (run, observer) = match outcome {
@@ -292,12 +321,16 @@ fn run_case(
     }
     // A run the bench stopped as hung did not finish what its expectations
     // are about: it is no pass, whatever held before the hang.
-    let hung = run.hang.is_some().then(|| {
-        format!(
+    // Nor did a run that fragmented (more legs or turns than its test's
+    // shape, without a fault to cause it): it did not drive the test.
+    let hung = match (&run.hang, &run.fragments) {
+        (Some(_), _) => Some(format!(
             "the bench stopped the run: {}",
             run.finding.as_deref().unwrap_or("hung")
-        )
-    });
+        )),
+        (None, Some(f)) if !run.completed => Some(f.describe(run.test)),
+        _ => None,
+    };
     let pass = failures.is_empty() && hung.is_none();
     let verdict = match (&hung, pass) {
         (Some(_), _) => "incomplete",
@@ -314,6 +347,7 @@ fn run_case(
         message,
         robot_time_s: run.robot_time_s,
         expectations: outcomes,
+        uarts: run.uarts.clone(),
         ..base
     };
     if !pass {
@@ -429,7 +463,9 @@ fn junit(reports: &[CaseReport], path: &Path) -> String {
                         text: details.join("\n"),
                     }),
                     skipped: None,
-                    system_out: None,
+                    // What the firmware printed, as the text report shows it.
+                    system_out: (!r.uarts.is_empty())
+                        .then(|| hil::runs::experiment::uarts::render(&r.uarts, "")),
                     attachments: r
                         .artifacts
                         .iter()

@@ -52,9 +52,9 @@ impl Timing {
             .unwrap_or_else(|| "ht_control_tick".into());
         let clock = BenchOptions::default().clock;
         let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
-        let probe = TimingProbe::new(&firmware, &function, period)
-            .map_err(|e| super::bad_input(anyhow::anyhow!("--function {function:?}: {e}")))?;
         let opts = common.test_options(common.leg_mm(leg)?);
+        let probe = TimingProbe::new(&firmware, &function, period, &opts.bench.board)
+            .map_err(|e| super::bad_input(anyhow::anyhow!("--function {function:?}: {e}")))?;
         let (run, observer) =
             run_test_observed(firmware.clone(), &robot, test, &opts, Some(Box::new(probe)))?;
         let probe = observer
@@ -62,10 +62,13 @@ impl Timing {
             .context("the timing probe was lost")?;
         let report = probe.report(&firmware, &function, clock.hz(), &run.segment_starts());
         let rows = report.check(&budgets);
-        let failed: Vec<&str> = rows
+        let failed: Vec<String> = rows
             .iter()
             .filter(|r| !r.pass)
-            .map(|r| r.what.as_str())
+            .map(|r| match r.measured {
+                Some(_) => r.what.clone(),
+                None => format!("{}: not measured", r.what),
+            })
             .collect();
         if common.print.json.json {
             let v = serde_json::json!({
@@ -100,7 +103,7 @@ impl Timing {
         }
         if !failed.is_empty() {
             anyhow::bail!(
-                "{} timing budget(s) exceeded: {} (budgets in {})",
+                "{} timing budget(s) exceeded or not measured: {} (budgets in {})",
                 failed.len(),
                 failed.join("; "),
                 budgets_path.display()

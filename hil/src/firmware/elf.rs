@@ -203,6 +203,17 @@ impl Firmware {
         })
     }
 
+    /// A firmware of flash alone, without symbols: the hand-assembled
+    /// programs tests run on the bench (named by `path`'s file stem).
+    pub fn from_flash(path: &Path, segments: Vec<(u32, Vec<u8>)>) -> Self {
+        Self {
+            path: path.to_owned(),
+            segments,
+            symbols: BTreeMap::new(),
+            functions: BTreeMap::new(),
+        }
+    }
+
     /// The build's name: the ELF's file stem ("robust", "thesis").
     pub fn name(&self) -> String {
         self.path

@@ -5,6 +5,7 @@
 //! | `elf.rs` | firmware images: flash segments and symbols read from an AVR ELF |
 //! | `vars.rs` | the bench builds' bench interface: `HT_` variables read from SRAM by symbol |
 //! | `params.rs` | what the firmware is told about the robot before a run, and what it then believes |
+//! | `settings.rs` | the robot config's `[firmware]` table: gains, set-points, thresholds, checked |
 //! | `link.rs` | the host's side of the framed protocol (`henrytwo-protocol`) |
 //! | `description/` | firmware that knows nothing of the bench, run from a test description |
 //!
@@ -14,4 +15,5 @@ pub mod description;
 pub mod elf;
 pub mod link;
 pub mod params;
+pub mod settings;
 pub mod vars;

@@ -149,8 +149,8 @@ pub fn takes_params(firmware: &Firmware) -> bool {
 }
 
 /// The parameters to send before a run of `firmware` on `robot` wired by
-/// `board` (the nominal geometry and the driver wiring, then `extra` in its
-/// order), what the firmware then believes, and a warning when its geometry
+/// `board` (the nominal geometry and the driver wiring, the robot config's
+/// `[firmware]` settings, then `extra` in its order: a later value wins), what the firmware then believes, and a warning when its geometry
 /// is not the robot's.
 pub fn plan(
     firmware: &Firmware,
@@ -160,8 +160,19 @@ pub fn plan(
     extra: &[(Param, f32)],
 ) -> (Vec<(Param, f32)>, Believed, Option<String>) {
     let mut send = Vec::new();
+    let mut refused = None;
     if tell == Tell::Robot && takes_params(firmware) {
         send = to_send(robot, board);
+        // The robot config's [firmware] settings, checked when it was
+        // loaded; a config built in code that was not is named, not sent.
+        match crate::firmware::settings::of(robot) {
+            Ok(settings) => send.extend(
+                settings
+                    .into_iter()
+                    .filter(|&(p, v)| v != p.factory_default()),
+            ),
+            Err(e) => refused = Some(format!("the robot config's {e}: none of it was sent")),
+        }
     }
     if takes_params(firmware) {
         send.extend_from_slice(extra);
@@ -172,6 +183,10 @@ pub fn plan(
         &Believed::factory().after(&nominal(robot)),
         firmware,
     );
+    let warning = match (warning, refused) {
+        (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+        (a, b) => a.or(b),
+    };
     (send, believed, warning)
 }
 

@@ -91,13 +91,11 @@ impl Vars {
 
 /// The board's UARTs in USART order, each once: (USART, baud).
 fn uarts(board: &Board) -> Vec<(u8, u32)> {
-    let mut v = vec![
-        (board.debug_uart.usart, board.debug_uart.baud),
-        (board.command_uart.usart, board.command_uart.baud),
-    ];
-    v.sort_unstable();
-    v.dedup_by_key(|u| u.0);
-    v
+    board
+        .uarts()
+        .iter()
+        .map(|(_, u)| (u.usart, u.baud))
+        .collect()
 }
 
 /// The level changes of 8N1 frames of `bytes` (start cycle, byte) at

@@ -101,10 +101,10 @@ pub fn render_run(run: &TestRun) -> String {
         run.test.name(),
         run.firmware,
         run.seed,
-        if run.completed {
-            "completed"
-        } else {
-            "DID NOT COMPLETE"
+        match (run.completed, &run.fragments) {
+            (true, _) => "completed",
+            (false, Some(_)) => "FRAGMENTED: not a complete run of the test",
+            (false, None) => "DID NOT COMPLETE",
         }
     );
     if let Some(f) = &run.finding {
@@ -151,6 +151,7 @@ pub fn render_run(run: &TestRun) -> String {
         run.robot_time_s,
         run.awake_fraction * 100.0
     );
+    s.push_str(&crate::runs::experiment::uarts::render(&run.uarts, "  "));
     s
 }
 

@@ -4,9 +4,10 @@
 //! - the control tick: the period and jitter of the entries of the control
 //!   function (`ht_control_tick`), and its execution time (min/mean/max
 //!   cycles) with the time spent in interrupts that preempted it taken out;
-//! - each interrupt vector used: latency from the encoder pin edge to the
-//!   vector's first instruction (for INT4/INT5), and duration from the vector
-//!   to the end of its RETI;
+//! - each interrupt vector used: duration from the vector to the end of its
+//!   RETI, and for the vectors of the board's encoder A pins (INT0-7 or a
+//!   pin-change group, [`crate::board::Pin::interrupt_vector`]) the latency
+//!   from the pin's edge to the vector's first instruction;
 //! - the longest stretch with interrupts disabled (ISR bodies included, since
 //!   the AVR clears I on entry), and where it started;
 //! - CPU load (awake fraction) and the stack's high-water mark against the end
@@ -21,7 +22,10 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use plant_model::Side;
+
 use crate::bench::{Observer, Step};
+use crate::board::Board;
 use crate::firmware::elf::Firmware;
 
 const RETI: u16 = 0x9518;
@@ -29,66 +33,11 @@ const RET: u16 = 0x9508;
 /// The ATmega2560 pushes a 3-byte return address (22-bit PC).
 const RETURN_ADDRESS_BYTES: u16 = 3;
 
-/// ATmega2560 interrupt vectors by number (datasheet table 14-1).
-pub const VECTOR_NAMES: [&str; 57] = [
-    "RESET",
-    "INT0",
-    "INT1",
-    "INT2",
-    "INT3",
-    "INT4",
-    "INT5",
-    "INT6",
-    "INT7",
-    "PCINT0",
-    "PCINT1",
-    "PCINT2",
-    "WDT",
-    "TIMER2_COMPA",
-    "TIMER2_COMPB",
-    "TIMER2_OVF",
-    "TIMER1_CAPT",
-    "TIMER1_COMPA",
-    "TIMER1_COMPB",
-    "TIMER1_COMPC",
-    "TIMER1_OVF",
-    "TIMER0_COMPA",
-    "TIMER0_COMPB",
-    "TIMER0_OVF",
-    "SPI_STC",
-    "USART0_RX",
-    "USART0_UDRE",
-    "USART0_TX",
-    "ANALOG_COMP",
-    "ADC",
-    "EE_READY",
-    "TIMER3_CAPT",
-    "TIMER3_COMPA",
-    "TIMER3_COMPB",
-    "TIMER3_COMPC",
-    "TIMER3_OVF",
-    "USART1_RX",
-    "USART1_UDRE",
-    "USART1_TX",
-    "TWI",
-    "SPM_READY",
-    "TIMER4_CAPT",
-    "TIMER4_COMPA",
-    "TIMER4_COMPB",
-    "TIMER4_COMPC",
-    "TIMER4_OVF",
-    "TIMER5_CAPT",
-    "TIMER5_COMPA",
-    "TIMER5_COMPB",
-    "TIMER5_COMPC",
-    "TIMER5_OVF",
-    "USART2_RX",
-    "USART2_UDRE",
-    "USART2_TX",
-    "USART3_RX",
-    "USART3_UDRE",
-    "USART3_TX",
-];
+mod vectors;
+pub use vectors::VECTOR_NAMES;
+
+#[cfg(test)]
+mod tests;
 
 /// Interrupt response (datasheet 7.8.1): at least five cycles from the
 /// request to the vector's first instruction on a 3-byte-PC device, five more
@@ -249,16 +198,33 @@ pub struct IsrTiming {
     pub name: String,
     /// Cycles from the vector's first instruction to the end of RETI.
     pub duration: Stats,
-    /// Cycles from the encoder edge to the vector (INT4/INT5 only): the
-    /// instruction in progress, handlers before it, and the response (see
-    /// [`RESPONSE_CYCLES`]).
+    /// Cycles from an encoder's A edge to the vector (the vectors of the
+    /// encoders' A pins only): the instruction in progress, handlers before
+    /// it, and the response (see [`RESPONSE_CYCLES`]).
     pub latency: Stats,
+}
+
+/// An encoder's A pin and the vector whose latency is measured for it.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct EncoderVector {
+    /// "left" or "right".
+    pub side: &'static str,
+    /// The pin's Arduino name ("D2").
+    pub pin: String,
+    /// The vector its edges request (None: the pin cannot interrupt).
+    pub vector: Option<u8>,
+    pub name: Option<String>,
 }
 
 /// Watches a run; see the module docs.
 pub struct TimingProbe {
     control_fn: u32,
     vectors: BTreeMap<u32, u8>,
+    encoders: Vec<EncoderVector>,
+    /// Per encoder vector, the last edge a latency was measured from: an
+    /// entry with no newer edge (a B edge on the same pin-change group, a
+    /// flag set by the firmware) measures nothing.
+    served: BTreeMap<u8, u64>,
     isr_stack: Vec<IsrFrame>,
     fn_frame: Option<FnFrame>,
     /// Cycle of every entry of the control function, in order (one per
@@ -276,15 +242,38 @@ pub struct TimingProbe {
 
 impl TimingProbe {
     /// Probe the control function `control_fn` (a symbol), whose nominal
-    /// period is `period_cycles`.
-    pub fn new(fw: &Firmware, control_fn: &str, period_cycles: u64) -> Result<Self, TimingError> {
+    /// period is `period_cycles`, and the latency of the interrupts of
+    /// `board`'s encoder A pins.
+    pub fn new(
+        fw: &Firmware,
+        control_fn: &str,
+        period_cycles: u64,
+        board: &Board,
+    ) -> Result<Self, TimingError> {
         let f = fw
             .symbol(control_fn)
             .map_err(|_| TimingError::NoFunction(control_fn.into()))?;
         let vectors = (1u8..57).map(|n| (n as u32 * 4, n)).collect();
+        let encoders = Side::BOTH
+            .map(|side| {
+                let a = board.encoder(side).a;
+                let vector = a.interrupt_vector();
+                EncoderVector {
+                    side: match side {
+                        Side::Left => "left",
+                        Side::Right => "right",
+                    },
+                    pin: format!("D{}", a.arduino),
+                    vector,
+                    name: vector.map(Self::vector_name),
+                }
+            })
+            .to_vec();
         Ok(Self {
             control_fn: f.addr,
             vectors,
+            encoders,
+            served: BTreeMap::new(),
             isr_stack: Vec::new(),
             fn_frame: None,
             entries: Vec::new(),
@@ -341,9 +330,14 @@ impl Observer for TimingProbe {
         // already at.
         if s.pc_after != s.pc_before {
             if let Some(&v) = self.vectors.get(&s.pc_after) {
-                // A jump to the slot is an interrupt only if the stack grew by
-                // (at least) a return address.
-                if s.sp_after + RETURN_ADDRESS_BYTES <= s.sp_before {
+                // A jump to the slot is an interrupt only if the response
+                // cleared I or the stack grew by (at least) a return address.
+                // The response ends the step of the instruction before it,
+                // which may have popped (a `pop`, a `ret`): then the stack
+                // is no lower, but I went from set to clear, which no
+                // instruction that lands on a vector does.
+                let responded = s.interrupts_before && !s.interrupts_after;
+                if responded || s.sp_after + RETURN_ADDRESS_BYTES <= s.sp_before {
                     // The response ends the step; waking, the CPU starts up
                     // first (asleep), then responds (awake).
                     if s.slept {
@@ -357,13 +351,20 @@ impl Observer for TimingProbe {
                     let t = self.isrs.entry(v).or_default();
                     t.vector = v;
                     t.name = Self::vector_name(v);
-                    let edge = match v {
-                        5 => Some(s.last_a_edge[0]),
-                        6 => Some(s.last_a_edge[1]),
-                        _ => None,
-                    };
-                    if let Some(e) = edge.filter(|&e| e > 0 && e <= s.cycle_after) {
+                    // The newest A edge of the encoders on this vector
+                    // (two may share a pin-change group), if not served.
+                    let served = self.served.get(&v).copied().unwrap_or(0);
+                    let edge = self
+                        .encoders
+                        .iter()
+                        .zip(s.last_a_edge)
+                        .filter(|(e, _)| e.vector == Some(v))
+                        .map(|(_, edge)| edge)
+                        .filter(|&e| e > served && e <= s.cycle_after)
+                        .max();
+                    if let Some(e) = edge {
                         t.latency.add(s.cycle_after - e);
+                        self.served.insert(v, e);
                     }
                 }
             }
@@ -410,6 +411,8 @@ pub struct TimingReport {
     /// them: the firmware restarts its tick there, after a pause.
     pub tick_restarts: usize,
     pub isrs: Vec<IsrTiming>,
+    /// The encoders' A pins and their vectors: the latencies are theirs.
+    pub encoder_vectors: Vec<EncoderVector>,
     pub interrupts_off_max_cycles: u64,
     pub interrupts_off_max_at: Option<String>,
     pub stack_min_sp: u16,
@@ -454,6 +457,7 @@ impl TimingProbe {
             tick_jitter_max_cycles: jitter,
             tick_restarts: restarts,
             isrs: self.isrs.values().cloned().collect(),
+            encoder_vectors: self.encoders.clone(),
             interrupts_off_max_cycles: self.longest_off.0,
             interrupts_off_max_at: fw
                 .function_at(self.longest_off.1)
@@ -474,7 +478,9 @@ impl TimingProbe {
 #[derive(Debug, Clone, Serialize)]
 pub struct BudgetRow {
     pub what: String,
-    pub measured: f64,
+    /// None: nothing was measured (a latency with no sample), which is no
+    /// pass.
+    pub measured: Option<f64>,
     pub budget: f64,
     pub unit: &'static str,
     pub pass: bool,
@@ -485,32 +491,53 @@ impl TimingReport {
         cycles * 1e6 / self.clock_hz as f64
     }
 
+    /// The encoder latency's row name and its longest latency in cycles:
+    /// None unless every encoder's vector measured at least one (an
+    /// encoder pin that cannot interrupt, or a vector the firmware never
+    /// took on an edge, is not measured).
+    fn encoder_latency(&self) -> (String, Option<u64>) {
+        let mut names: Vec<String> = Vec::new();
+        let mut longest = Some(0);
+        for e in &self.encoder_vectors {
+            let name = e.name.clone().unwrap_or_else(|| format!("{} none", e.pin));
+            let lat = e
+                .vector
+                .and_then(|v| self.isrs.iter().find(|i| i.vector == v))
+                .map(|i| i.latency)
+                .filter(|l| l.count > 0);
+            longest = longest.zip(lat).map(|(m, l)| m.max(l.max));
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        (
+            format!("encoder edge to handler ({}), longest", names.join(", ")),
+            longest,
+        )
+    }
+
     /// Compare against `b`.
     pub fn check(&self, b: &Budgets) -> Vec<BudgetRow> {
         let mut rows = Vec::new();
-        let mut row = |what: &str, measured: f64, budget: f64, unit, upper: bool| {
+        let mut row = |what: &str, measured: Option<f64>, budget: f64, unit, upper: bool| {
             rows.push(BudgetRow {
                 what: what.into(),
                 measured,
                 budget,
                 unit,
-                pass: if upper {
-                    measured <= budget
-                } else {
-                    measured >= budget
-                },
+                pass: measured.is_some_and(|m| if upper { m <= budget } else { m >= budget }),
             })
         };
         row(
             &format!("{} execution, max", self.control_function),
-            self.us(self.control_cycles.max as f64),
+            Some(self.us(self.control_cycles.max as f64)),
             b.control_max_us,
             "us",
             true,
         );
         row(
             "control tick jitter, max |period - nominal|",
-            self.us(self.tick_jitter_max_cycles as f64),
+            Some(self.us(self.tick_jitter_max_cycles as f64)),
             b.tick_jitter_max_us,
             "us",
             true,
@@ -518,34 +545,34 @@ impl TimingReport {
         let isr_max = self.isrs.iter().map(|i| i.duration.max).max().unwrap_or(0);
         row(
             "interrupt handler, longest",
-            self.us(isr_max as f64),
+            Some(self.us(isr_max as f64)),
             b.isr_max_us,
             "us",
             true,
         );
-        let lat = self.isrs.iter().map(|i| i.latency.max).max().unwrap_or(0);
+        let (what, lat) = self.encoder_latency();
         row(
-            "encoder edge to handler, longest",
-            self.us(lat as f64),
+            &what,
+            lat.map(|c| self.us(c as f64)),
             b.isr_latency_max_us,
             "us",
             true,
         );
         row(
             "interrupts disabled, longest",
-            self.us(self.interrupts_off_max_cycles as f64),
+            Some(self.us(self.interrupts_off_max_cycles as f64)),
             b.interrupts_off_max_us,
             "us",
             true,
         );
         row(
             "stack margin",
-            self.stack_margin_bytes as f64,
+            Some(self.stack_margin_bytes as f64),
             b.stack_margin_min_bytes as f64,
             "bytes",
             false,
         );
-        row("CPU load", self.cpu_load, b.cpu_load_max, "", true);
+        row("CPU load", Some(self.cpu_load), b.cpu_load_max, "", true);
         rows
     }
 
@@ -595,6 +622,29 @@ impl TimingReport {
             }
             let _ = writeln!(s);
         }
+        for e in &self.encoder_vectors {
+            let seen = e
+                .vector
+                .and_then(|v| self.isrs.iter().find(|i| i.vector == v))
+                .is_some_and(|i| i.latency.count > 0);
+            match &e.name {
+                None => {
+                    let _ = writeln!(
+                        s,
+                        "  {} encoder A {}: cannot interrupt, latency not measured",
+                        e.side, e.pin
+                    );
+                }
+                Some(name) if !seen => {
+                    let _ = writeln!(
+                        s,
+                        "  {} encoder A {}: {name} never ran after an edge, latency not measured",
+                        e.side, e.pin
+                    );
+                }
+                Some(_) => {}
+            }
+        }
         let _ = writeln!(
             s,
             "interrupts disabled at most {:.2} us (at {}), lowest SP 0x{:04x}, static data ends 0x{:04x}, CPU load {:.2} %",
@@ -606,19 +656,21 @@ impl TimingReport {
         );
         let _ = writeln!(
             s,
-            "\n  {:<46} {:>12} {:>12}  result",
+            "\n  {:<50} {:>12} {:>12}  result",
             "budget", "measured", "limit"
         );
         for r in rows {
+            let (measured, result) = match r.measured {
+                Some(m) => (
+                    format!("{m:>9.2} {:<2}", r.unit),
+                    if r.pass { "ok" } else { "EXCEEDED" },
+                ),
+                None => (format!("{:>12}", "-"), "NOT MEASURED"),
+            };
             let _ = writeln!(
                 s,
-                "  {:<46} {:>9.2} {:<2} {:>9.2} {:<2}  {}",
-                r.what,
-                r.measured,
-                r.unit,
-                r.budget,
-                r.unit,
-                if r.pass { "ok" } else { "EXCEEDED" }
+                "  {:<50} {measured} {:>9.2} {:<2}  {result}",
+                r.what, r.budget, r.unit,
             );
         }
         s

@@ -97,3 +97,55 @@ fn a_sketchs_fast_pwm_on_icr_runs() {
     }
     assert!(b.expired_grace(NEVER - 1).is_none());
 }
+
+/// A compare output connected to a pin the board uses for something else
+/// is refused, naming the pin: on Henrytwo, OC4A, OC4B, OC4C are motor
+/// inputs, OC2A (D10) the green LED; with D13 driven from OC0A and D11
+/// from OC1A, timer 1's OC1C shares D13. The channels the board drives
+/// pass.
+#[test]
+fn an_output_on_a_pin_the_board_uses_otherwise_is_refused() {
+    const TCCR2A: u16 = 0xB0;
+    let mut b = bridge();
+    b.write_register(TCCR2A, 0x21, 10, PC).unwrap(); // COM2B1: D9, a motor input
+    let e = b.write_register(TCCR2A, 0xA1, 12, PC).unwrap_err(); // COM2A1: D10
+    assert!(
+        matches!(
+            e,
+            PwmError::ForeignOutput {
+                channel: 'A',
+                pin: 10,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let mut board = Board::default();
+    let pin = |n| crate::board::mega2560::pin(n).unwrap();
+    let oc = |timer, channel| Some(PwmSource { timer, channel });
+    board.battery_leds.blue = pin(30);
+    board.right_motor.pin1 = BridgeInput {
+        pin: pin(13),
+        pwm: oc(0, 'A'),
+    };
+    board.right_motor.pin2 = BridgeInput {
+        pin: pin(11),
+        pwm: oc(1, 'A'),
+    };
+    let mut b = Bridge::new(board, Clock::MEGA_16MHZ);
+    const TCCR1A: u16 = 0x80;
+    b.write_register(TCCR1A, 0x81, 10, PC).unwrap(); // COM1A1: D11
+    let e = b.write_register(TCCR1A, 0x89, 12, PC).unwrap_err(); // COM1C1: D13
+    assert!(
+        matches!(
+            e,
+            PwmError::ForeignOutput {
+                channel: 'C',
+                pin: 13,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("OC1C to D13"), "{e}");
+}

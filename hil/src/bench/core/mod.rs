@@ -25,7 +25,7 @@ use crate::bench::uart::HostUart;
 use crate::bench::{BenchOptions, NEVER};
 use crate::board::Board;
 use crate::mcu::clock::Clock;
-use crate::mcu::sim::{Core, Handler, Irq};
+use crate::mcu::sim::{Core, DrivenPin, Handler};
 
 mod parts;
 mod records;
@@ -94,7 +94,7 @@ impl BenchCore {
             faults: FaultSchedule::default(),
             recorder: Recorder::new(wiring.battery_leds),
             requests: Requests::default(),
-            simavr_timers: SimavrTimers::new(wiring, &wiring.pwm_timers()),
+            simavr_timers: SimavrTimers::new(wiring),
             next_step: step_cycles,
             step_cycles,
             trace_every,
@@ -231,9 +231,11 @@ impl Handler for BenchCore {
         }
         if self.simavr_timers.watches(Look::Write(addr)) {
             self.check_simavr_timer(core, Look::Write(addr));
-            return;
         }
-        self.write_pwm_register(core, addr, value);
+        // A mirrored timer's registers are both simavr's and the bench's.
+        if self.bridge.owns_write(addr) {
+            self.write_pwm_register(core, addr, value);
+        }
     }
 
     fn attention(&self) -> bool {

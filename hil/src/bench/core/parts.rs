@@ -6,7 +6,7 @@ use super::*;
 /// The callbacks' work that needs several parts: each part does its share,
 /// given the others (or the few values it needs of them).
 impl BenchCore {
-    pub(in crate::bench) fn connect_encoders(&mut self, core: &mut Core, irq: [[Irq; 2]; 2]) {
+    pub(in crate::bench) fn connect_encoders(&mut self, core: &mut Core, irq: [[DrivenPin; 2]; 2]) {
         self.edges.connect(core, irq, &self.robot);
     }
 
@@ -138,8 +138,11 @@ impl BenchCore {
     /// cycle before the output can change.
     pub(super) fn write_pwm_register(&mut self, core: &mut Core, addr: u16, value: u8) {
         let cycle = core.cycle();
-        // The bench emulates these registers; keep data space readable.
-        core.set_data(addr, value);
+        // The bench emulates these registers; keep data space readable (a
+        // mirrored timer's simavr stored already).
+        if !self.bridge.mirrors(addr) {
+            core.set_data(addr, value);
+        }
         self.advance_plant(cycle);
         match self.bridge.write_register(addr, value, cycle, core.pc()) {
             Ok(outputs_changed) => {
@@ -194,14 +197,21 @@ impl BenchCore {
     /// Apply `action` at `cycle` and log it; an action the plant refuses is
     /// not logged but left for the run loop to report.
     pub(super) fn apply_action(&mut self, core: &mut Core, cycle: u64, action: Action) {
+        let t_s = self.clock.seconds(cycle).0;
         match self.act(core, cycle, &action) {
-            Ok(()) => self.faults.log_applied(cycle, action),
-            Err(error) => self.requests.fail(PendingError::Refused {
-                action,
-                error,
-                cycle,
-                pc: core.pc(),
-            }),
+            Ok(()) => {
+                tracing::debug!(t_s, ?action, "fault action applied");
+                self.faults.log_applied(cycle, action);
+            }
+            Err(error) => {
+                tracing::debug!(t_s, ?action, %error, "fault action refused by the plant");
+                self.requests.fail(PendingError::Refused {
+                    action,
+                    error,
+                    cycle,
+                    pc: core.pc(),
+                });
+            }
         }
     }
 

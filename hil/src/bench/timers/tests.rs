@@ -68,7 +68,7 @@ fn program(steps: &[(u16, Option<u8>)]) -> Vec<u8> {
 /// D11 and D12 the battery LEDs: OC1A and OC1B on board pins).
 fn refusals(steps: &[(u16, Option<u8>)]) -> Vec<String> {
     let board = Board::default();
-    let timers = SimavrTimers::new(&board, &board.pwm_timers());
+    let timers = SimavrTimers::new(&board);
     let (writes, reads) = (timers.write_addresses(), timers.read_addresses());
     let judge = Judge {
         timers,

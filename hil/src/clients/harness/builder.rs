@@ -55,7 +55,7 @@ impl HarnessBuilder {
     pub fn build(self) -> Result<Harness, HarnessError> {
         let robot_path = self
             .robot
-            .unwrap_or_else(|| crate::paths::robot_config("henrytwo"));
+            .unwrap_or_else(|| crate::paths::robot_config(crate::paths::REFERENCE_ROBOT));
         let robot = RobotConfig::load(&robot_path).map_err(HarnessError::Robot)?;
         let board = match &self.board {
             Some(path) => Board::load(path)?,

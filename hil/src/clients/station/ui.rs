@@ -11,7 +11,6 @@ use std::convert::Infallible;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Duration;
 
 use axum::extract::{Json, State};
 use axum::http::{header, StatusCode};
@@ -25,7 +24,7 @@ use serde_json::json;
 use thiserror::Error;
 use tokio::sync::{broadcast, Mutex};
 
-use super::client::{Link, LinkError, LinkOptions, Notice};
+use super::client::{Link, LinkError, LinkOptions};
 use super::emulated::{EmulatedRobot, EmulatorError, ServeOptions};
 use super::session::{self, Evaluation, Params, RoundEntry, Session, SessionError};
 use crate::bench::BenchOptions;
@@ -37,12 +36,9 @@ const APP_JS: &str = include_str!("ui/app.js");
 const CHARTS_JS: &str = include_str!("ui/charts.js");
 
 mod floor;
+mod poll;
 
-use floor::{end_error, in_start_frame, run_pose, StartPose};
-
-/// Telemetry polling period (wall clock): a GET_TELEMETRY and a GET_STATE
-/// take ~60 ms on the wire at 9600 baud, so 4 Hz leaves room for commands.
-const POLL: Duration = Duration::from_millis(250);
+use floor::StartPose;
 
 /// The firmware's control tick (timer 1, exactly 15 ms): its telemetry
 /// counts them, the robot's own clock, emulated or real.
@@ -112,7 +108,9 @@ impl UiOptions {
 }
 
 /// The robot configs in `dir` (`*.toml`), by name, sorted; `first` (a
-/// config given on the command line) leads the list.
+/// config given on the command line) leads the list, else the reference
+/// robot ([`crate::paths::REFERENCE_ROBOT`]) when it is among them: the
+/// page preselects the first.
 pub fn robot_configs(dir: &std::path::Path, first: Option<PathBuf>) -> Vec<(String, PathBuf)> {
     let name = |p: &std::path::Path| {
         p.file_stem()
@@ -129,7 +127,12 @@ pub fn robot_configs(dir: &std::path::Path, first: Option<PathBuf>) -> Vec<(Stri
         })
         .unwrap_or_default();
     all.sort();
-    if let Some(f) = first {
+    let reference = || {
+        all.iter()
+            .find(|(n, _)| n == crate::paths::REFERENCE_ROBOT)
+            .map(|(_, p)| p.clone())
+    };
+    if let Some(f) = first.or_else(reference) {
         all.retain(|(n, _)| *n != name(&f));
         all.insert(0, (name(&f), f));
     }
@@ -138,6 +141,8 @@ pub fn robot_configs(dir: &std::path::Path, first: Option<PathBuf>) -> Vec<(Stri
 
 struct Connection {
     label: String,
+    /// What the page asked for, shown again by a tab opened later.
+    selection: ConnectRequest,
     link: Arc<Mutex<Link>>,
     emulator: Option<Arc<EmulatedRobot>>,
     poller: tokio::task::JoinHandle<()>,
@@ -232,6 +237,9 @@ struct Robots {
     default_port: Option<String>,
     baud: u32,
     connected: Option<String>,
+    /// The robot connected as the page selects it: its config and speed,
+    /// or its port and baud.
+    selection: Option<ConnectRequest>,
 }
 
 async fn robots(State(app): State<Shared>) -> Json<Robots> {
@@ -239,17 +247,24 @@ async fn robots(State(app): State<Shared>) -> Json<Robots> {
     let ports = tokio_serial::available_ports()
         .map(|v| v.into_iter().map(|p| p.port_name).collect())
         .unwrap_or_default();
-    let connected = app.conn.lock().await.as_ref().map(|c| c.label.clone());
+    let (connected, selection) = app
+        .conn
+        .lock()
+        .await
+        .as_ref()
+        .map(|c| (c.label.clone(), c.selection.clone()))
+        .unzip();
     Json(Robots {
         emulated,
         ports,
         default_port: app.options.port.clone(),
         baud: app.options.baud,
         connected,
+        selection,
     })
 }
 
-#[derive(Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 enum ConnectRequest {
     Emulated { config: String, speed: f64 },
@@ -271,6 +286,7 @@ async fn connect(
 ) -> Result<Json<serde_json::Value>, UiError> {
     // One robot at a time: the previous link and emulator go first.
     *app.conn.lock().await = None;
+    let selection = req.clone();
     let (key, label, path, baud, emulator) = match req {
         ConnectRequest::Emulated { config, speed } => {
             // Only the configs offered: the page names no files.
@@ -350,9 +366,21 @@ async fn connect(
     });
     *app.session.lock().await = Some((file, sess));
     let link = Arc::new(Mutex::new(link));
-    let poller = tokio::spawn(poll(app.clone(), link.clone(), emulator.clone(), setpoints));
+    // A device on a port is taken at real time (a robot's own clock).
+    let pace = match selection {
+        ConnectRequest::Emulated { speed, .. } => speed,
+        ConnectRequest::Serial { .. } => 1.0,
+    };
+    let poller = tokio::spawn(poll::poll(
+        app.clone(),
+        link.clone(),
+        emulator.clone(),
+        setpoints,
+        pace,
+    ));
     *app.conn.lock().await = Some(Connection {
         label,
+        selection,
         link,
         emulator,
         poller,
@@ -363,97 +391,6 @@ async fn connect(
 async fn disconnect(State(app): State<Shared>) -> Json<serde_json::Value> {
     *app.conn.lock().await = None;
     Json(json!({ "ok": true }))
-}
-
-/// Telemetry to the page until the link fails.
-async fn poll(
-    app: Shared,
-    link: Arc<Mutex<Link>>,
-    emulator: Option<Arc<EmulatedRobot>>,
-    setpoints: (f32, f32),
-) {
-    loop {
-        tokio::time::sleep(POLL).await;
-        let got = {
-            let mut l = link.lock().await;
-            match (l.telemetry().await, l.state().await) {
-                (Ok(t), Ok(s)) => Ok((t, s, l.take_notices())),
-                (Err(e), _) | (_, Err(e)) => Err(e),
-            }
-        };
-        let (t, s, notices) = match got {
-            Ok(v) => v,
-            Err(e) => {
-                let _ = app
-                    .events
-                    .send(json!({ "kind": "error", "message": e.to_string() }).to_string());
-                if matches!(e, LinkError::PortGone { .. }) {
-                    return;
-                }
-                continue;
-            }
-        };
-        let view = emulator.as_ref().map(|e| e.view());
-        let started = app.start.lock().ok().and_then(|s| *s);
-        let run = started
-            .zip(view.as_ref())
-            .map(|(s, v)| run_pose(&s, v.x_mm, v.y_mm, v.theta_rad));
-        let _ = app.events.send(
-            json!({
-                "kind": "telemetry",
-                "speed_left": t.speed_left,
-                "speed_right": t.speed_right,
-                "setpoint_left": setpoints.0,
-                "setpoint_right": setpoints.1,
-                "duty_left": t.duty_left,
-                "duty_right": t.duty_right,
-                "count_left": t.left_count,
-                "count_right": t.right_count,
-                "state": s.state,
-                "phase": s.phase,
-                "test": s.test,
-                "segment": s.segment,
-                "fault": s.fault,
-                "tests_done": s.tests_done,
-                "time_s": f64::from(t.ticks) * TICK_S,
-                "pose": view,
-                "run": run,
-            })
-            .to_string(),
-        );
-        for n in notices {
-            let start = match (n, &view) {
-                (Notice::TestDone { .. }, Some(_)) => {
-                    app.start.lock().ok().and_then(|mut s| s.take())
-                }
-                _ => None,
-            };
-            let end = start
-                .zip(view.as_ref())
-                .map(|(s, v)| end_error(&s, v.x_mm, v.y_mm));
-            let run_end = start.zip(view.as_ref()).map(|(s, v)| {
-                let (x, y) = in_start_frame(&s, v.x_mm, v.y_mm);
-                json!({ "id": s.run, "x_cm": x / 10.0, "y_cm": y / 10.0 })
-            });
-            let _ = app.events.send(
-                json!({
-                    "kind": "notice",
-                    "notice": n,
-                    "end_error_cm": end,
-                    "run_end": run_end,
-                    "leg_mm": start.map(|s| s.leg_mm),
-                })
-                .to_string(),
-            );
-        }
-        if let Some(e) = view.and_then(|v| v.error) {
-            let _ = app.events.send(
-                json!({ "kind": "error", "message": format!("the emulated robot stopped: {e}") })
-                    .to_string(),
-            );
-            return;
-        }
-    }
 }
 
 async fn link_of(app: &App) -> Result<(Arc<Mutex<Link>>, Option<Arc<EmulatedRobot>>), UiError> {

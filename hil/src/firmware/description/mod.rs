@@ -160,6 +160,12 @@ impl Description {
         }
     }
 
+    /// The firmware's name in reports: the file's `firmware.name`, else the
+    /// ELF's.
+    pub fn firmware_name(&self, firmware: &Firmware) -> String {
+        self.name.clone().unwrap_or_else(|| firmware.name())
+    }
+
     /// The named variables in `firmware` (each must exist, with its size).
     pub fn resolve(&self, firmware: &Firmware) -> Result<Resolved, DescriptionError> {
         let var = |field: &str, name: &str, size: u64| {

@@ -1,7 +1,7 @@
 //! The waveform generation modes of the ATmega2560's timers and what the
 //! compare output mode bits do in each: table 17-2 (16-bit timers 1, 3, 4,
-//! 5), table 20-8 (8-bit timer 2, laid out as timer 0's table 16-8), and
-//! the COM tables 17-3..17-5 and 20-2..20-7.
+//! 5), tables 16-8 and 20-8 (8-bit timers 0 and 2, alike), and the COM
+//! tables 16-2..16-7, 17-3..17-5 and 20-2..20-7.
 
 /// How the counter counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -37,7 +37,7 @@ pub enum Update {
 /// One waveform generation mode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Mode {
-    /// WGM bits (0-15 on 16-bit timers, 0-7 on timer 2).
+    /// WGM bits (0-15 on 16-bit timers, 0-7 on the 8-bit ones).
     pub wgm: u8,
     pub kind: Kind,
     pub top: Top,
@@ -46,8 +46,8 @@ pub struct Mode {
 }
 
 impl Mode {
-    /// Mode `wgm` of an 8-bit (timer 2) or 16-bit timer; None for the
-    /// reserved ones (timer 2: 4 and 6; 16-bit: 13).
+    /// Mode `wgm` of an 8-bit (timer 0, 2) or 16-bit timer; None for the
+    /// reserved ones (8-bit: 4 and 6; 16-bit: 13).
     pub fn decode(wgm: u8, sixteen_bit: bool) -> Option<Mode> {
         use Kind::*;
         let (kind, top) = if sixteen_bit {
@@ -134,8 +134,8 @@ impl Mode {
     }
 
     /// The action COM bits `com` take on channel `channel` (0 = A) in this
-    /// mode. `sixteen_bit` tells the COM tables apart: timer 2's OC2A
-    /// toggles in the PWM modes with WGM22 set (TOP = OCR2A); the 16-bit
+    /// mode. The 8-bit timers' OCnA (timer 0's, 2's) toggles in the PWM
+    /// modes with WGMn2 set (TOP = OCRnA, tables 16-3/16-4, 20-3/20-4); the 16-bit
     /// timers' OCnA in fast PWM modes 14 and 15 and in the dual slope modes
     /// 8 to 11 (tables 17-4 and 17-5); every other channel is disconnected
     /// by COM = 1 in PWM modes.
@@ -182,15 +182,26 @@ pub enum Action {
     Inverting,
 }
 
+/// A timer's clock select table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Prescalers {
+    /// The prescaler timers 0, 1, 3, 4 and 5 share (tables 16-9 and 17-6:
+    /// 1, 8, 64, 256, 1024; 6 and 7 the external clock on pin Tn).
+    Shared,
+    /// Timer 2's own, which the asynchronous oscillator can clock (table
+    /// 20-9: 1, 8, 32, 64, 128, 256, 1024).
+    Asynchronous,
+}
+
 /// The prescaler N of clock select `cs`: Some(None) when stopped, None for
-/// an external clock (16-bit timers' 6 and 7). Timer 2 has its own table
-/// (20-9: 1, 8, 32, 64, 128, 256, 1024); the 16-bit timers share table
-/// 17-6 (1, 8, 64, 256, 1024).
-pub fn prescaler(cs: u8, sixteen_bit: bool) -> Option<Option<u32>> {
-    match (cs, sixteen_bit) {
+/// an external clock.
+pub fn prescaler(cs: u8, table: Prescalers) -> Option<Option<u32>> {
+    match (cs, table) {
         (0, _) => Some(None),
-        (1..=7, false) => Some(Some([0, 1, 8, 32, 64, 128, 256, 1024][cs as usize])),
-        (1..=5, true) => Some(Some([0, 1, 8, 64, 256, 1024][cs as usize])),
+        (1..=7, Prescalers::Asynchronous) => {
+            Some(Some([0, 1, 8, 32, 64, 128, 256, 1024][cs as usize]))
+        }
+        (1..=5, Prescalers::Shared) => Some(Some([0, 1, 8, 64, 256, 1024][cs as usize])),
         _ => None,
     }
 }

@@ -39,7 +39,7 @@ impl PwmTimer {
         if addr == l.tccra || addr == l.tccrb || l.assr == Some(addr) {
             if addr == l.tccrb && !l.sixteen_bit && value & 0xC0 != 0 && self.connected() {
                 return refuse(
-                    format!("forced an output compare (TCCR2B = 0x{value:02X})"),
+                    format!("forced an output compare (TCCR{n}B = 0x{value:02X})"),
                     self.config(),
                 );
             }
@@ -67,11 +67,11 @@ impl PwmTimer {
                 );
             }
         } else if addr == l.timsk {
-            if value != 0 {
-                return refuse(
-                    format!("enabled its interrupts (TIMSK{n} = 0x{value:02X})"),
-                    self.config(),
-                );
+            if value != 0 && !self.mirrored {
+                return Err(PwmError::FirmwareClock {
+                    config: self.config(),
+                    timsk: value,
+                });
             }
         } else if l.is_high_byte(addr) {
             self.temp = value;

@@ -14,7 +14,8 @@ const F_CPU: u32 = 16_000_000;
 /// data-space address.
 #[test]
 fn owns_write_is_the_list_of_write_addresses() {
-    for timer in (2..=5).filter_map(PwmTimer::number) {
+    let emulated = (0..=5).filter_map(PwmTimer::number);
+    for timer in emulated.chain(PwmTimer::mirror(0)) {
         let list = timer.write_addresses();
         for addr in 0..0x2200u16 {
             assert_eq!(
@@ -120,6 +121,12 @@ struct Regs16 {
     timsk: u16,
 }
 
+const REGS1: Regs16 = Regs16 {
+    tccra: 0x80,
+    tccrb: 0x81,
+    ocrb: 0x8A,
+    timsk: 0x6F,
+};
 const REGS3: Regs16 = Regs16 {
     tccra: 0x90,
     tccrb: 0x91,
@@ -150,6 +157,7 @@ fn started(n: u8, r: &Regs16, cycle: u64) -> PwmTimer {
 /// out: TCCRnA/B/C, TCNTn, ICRn, OCRnA/B/C (low, high), TIMSKn; the
 /// counter and TIFRn (0x38-0x3A) read.
 #[rstest]
+#[case::timer1(1, 0x80, 0x6F, 0x36)]
 #[case::timer3(3, 0x90, 0x71, 0x38)]
 #[case::timer4(4, 0xA0, 0x72, 0x39)]
 #[case::timer5(5, 0x120, 0x73, 0x3A)]
@@ -172,7 +180,52 @@ fn sixteen_bit_register_blocks(
     assert_eq!(t.id().number(), n);
 }
 
+/// Timer 0's register block (register summary: TCCR0A 0x44, TCCR0B 0x45,
+/// TCNT0 0x46, OCR0A 0x47, OCR0B 0x48, TIMSK0 0x6E, TIFR0 0x35); mirrored,
+/// TIMSK0 and the reads are simavr's.
+#[test]
+fn timer_0_register_block() {
+    let t = PwmTimer::number(0).unwrap();
+    let mut list = t.write_addresses();
+    list.sort_unstable();
+    assert_eq!(list, [0x44, 0x45, 0x46, 0x47, 0x48, 0x6E]);
+    assert_eq!(t.read_addresses(), [0x46, 0x35]);
+    let m = PwmTimer::mirror(0).unwrap();
+    let mut list = m.write_addresses();
+    list.sort_unstable();
+    assert_eq!(list, [0x44, 0x45, 0x46, 0x47, 0x48]);
+    assert!(m.read_addresses().is_empty());
+    assert!(m.is_mirrored() && !t.is_mirrored());
+}
+
+/// An emulated timer's interrupts: the firmware's clock, refused naming
+/// it; a mirrored timer's are simavr's, not the model's.
+#[test]
+fn interrupts_on_an_emulated_timer_are_the_firmwares_clock() {
+    let l = Layout::TIMER1;
+    let mut t = PwmTimer::number(1).unwrap();
+    t.write(l.timsk, 0, 0).unwrap();
+    let err = t.write(l.timsk, 0x02, 0).unwrap_err();
+    assert_eq!(
+        err,
+        PwmError::FirmwareClock {
+            config: t.config(),
+            timsk: 0x02
+        }
+    );
+    let text = err.to_string();
+    assert!(text.contains("TIMSK1 = 0x02"), "{text}");
+    assert!(text.contains("the firmware's clock"), "{text}");
+    let mut m = PwmTimer::mirror(0).unwrap();
+    assert!(!m.owns_write(Layout::TIMER0.timsk));
+    assert_eq!(
+        m.write(Layout::TIMER0.timsk, 1, 0),
+        Ok(WriteEffect::default())
+    );
+}
+
 #[rstest]
+#[case::timer1(1, REGS1)]
 #[case::timer3(3, REGS3)]
 #[case::timer4(4, REGS4)]
 #[case::timer5(5, REGS5)]
@@ -199,18 +252,16 @@ fn ocr_write_takes_effect_at_top_through_temp(#[case] n: u8, #[case] r: Regs16) 
     assert!(t.write(r.timsk, 1, 300).is_err(), "interrupts refused");
 }
 
-/// Table 17-6: clock selects 1-5 divide by 1, 8, 64, 256, 1024 (the
-/// frequency f_clk / (2 N TOP)); 6 and 7 are the external clock on Tn,
+/// Tables 16-9 and 17-6 (timers 0, 1, 3, 4, 5): clock selects 1-5 divide
+/// by 1, 8, 64, 256, 1024 (the frequency f_clk / (2 N TOP) in mode 1);
+/// 6 and 7 are the external clock on Tn,
 /// unverified (judged when it can matter, `bench/timers.rs`).
 #[rstest]
 fn sixteen_bit_prescalers(
-    #[values(3, 4, 5)] n: u8,
+    #[values(0, 1, 3, 4, 5)] n: u8,
     #[values((1, 1), (2, 8), (3, 64), (4, 256), (5, 1024))] cs: (u8, u32),
 ) {
-    let r = [REGS3, REGS4, REGS5]
-        .into_iter()
-        .nth(n as usize - 3)
-        .unwrap();
+    let r = Layout::of(n).unwrap();
     let mut t = PwmTimer::number(n).unwrap();
     t.write(r.tccra, 0b1000_0001, 0).unwrap(); // COMnA1 + WGMn0
     t.write(r.tccrb, cs.0, 0).unwrap();
@@ -231,6 +282,8 @@ fn sixteen_bit_prescalers(
 /// Mode 13 of the 16-bit timers and timer 2's 4 and 6 are reserved:
 /// unverified once clocked, not while stopped.
 #[rstest]
+#[case::timer0(0, 0b00, 0b1000)]
+#[case::timer1(1, 0b01, 0b1_1000)]
 #[case::timer2(2, 0b00, 0b1000)]
 #[case::timer3(3, 0b01, 0b1_1000)]
 #[case::timer5(5, 0b01, 0b1_1000)]

@@ -40,6 +40,10 @@ pub struct PwmTimer {
     pub(super) icr: u32,
     pub(super) channels: [Channel; 3],
     pub(super) count: Count,
+    /// simavr runs the timer (its counter, interrupts and flags); this
+    /// model follows the writes only to compute the outputs (see
+    /// [`PwmTimer::mirror`]).
+    pub(super) mirrored: bool,
 }
 
 /// The effect of a register write on the outputs.
@@ -66,25 +70,38 @@ impl PwmTimer {
         Self::new(Layout::TIMER2)
     }
 
-    pub fn timer3() -> Self {
-        Self::new(Layout::TIMER3)
-    }
-
     pub fn timer4() -> Self {
         Self::new(Layout::TIMER4)
     }
 
-    pub fn timer5() -> Self {
-        Self::new(Layout::TIMER5)
-    }
-
-    /// Timer `n`, if the bench emulates it (2-5).
+    /// The ATmega2560's timer `n` (0-5), emulated: the model is the whole
+    /// timer, its registers are the bench's and simavr never clocks it.
     pub fn number(n: u8) -> Option<Self> {
         Layout::of(n).map(Self::new)
     }
 
+    /// The ATmega2560's timer `n` (0-5), mirrored: simavr runs it (its
+    /// counter, interrupts, flags: what firmware that times itself with
+    /// the timer needs) and the model follows the firmware's writes to its
+    /// mode, clock and compare registers to compute the outputs, which
+    /// simavr gets wrong. Its interrupt mask, counter reads and flags are
+    /// simavr's: [`PwmTimer::write_addresses`] leaves TIMSKn out and
+    /// [`PwmTimer::read_addresses`] is empty. The model's counter starts
+    /// with simavr's, at the write that clocks the timer.
+    pub fn mirror(n: u8) -> Option<Self> {
+        Layout::of(n).map(|l| Self {
+            mirrored: true,
+            ..Self::new(l)
+        })
+    }
+
+    pub fn is_mirrored(&self) -> bool {
+        self.mirrored
+    }
+
     fn new(layout: Layout) -> Self {
         Self {
+            mirrored: false,
             layout,
             tccra: 0,
             tccrb: 0,
@@ -102,19 +119,27 @@ impl PwmTimer {
 
     /// Every data-space address whose writes this timer handles.
     pub fn write_addresses(&self) -> Vec<u16> {
-        self.layout.write_addresses()
+        let mut v = self.layout.write_addresses();
+        if self.mirrored {
+            v.retain(|&a| a != self.layout.timsk);
+        }
+        v
     }
 
     /// Whether `addr` is one of [`PwmTimer::write_addresses`] (without
     /// building the list: this runs at each write).
     pub fn owns_write(&self, addr: u16) -> bool {
-        self.layout.owns_write(addr)
+        self.layout.owns_write(addr) && !(self.mirrored && addr == self.layout.timsk)
     }
 
     /// Addresses whose reads the timer answers: the counter, and the
-    /// interrupt flags (refused: not emulated).
+    /// interrupt flags (refused: not emulated); none when mirrored.
     pub fn read_addresses(&self) -> Vec<u16> {
-        self.layout.read_addresses()
+        if self.mirrored {
+            Vec::new()
+        } else {
+            self.layout.read_addresses()
+        }
     }
 
     pub(super) fn sixteen_bit(&self) -> bool {
@@ -142,6 +167,7 @@ impl PwmTimer {
             wgm: self.wgm(),
             cs: self.cs(),
             mode: self.mode(),
+            max: if self.sixteen_bit() { 0xFFFF } else { 0xFF },
         }
     }
 
@@ -164,7 +190,7 @@ impl PwmTimer {
     pub fn unverified(&self, cycle: u64) -> Option<PwmError> {
         let config = self.config();
         let cs = self.cs();
-        match mode::prescaler(cs, self.sixteen_bit()) {
+        match mode::prescaler(cs, self.layout.prescalers) {
             Some(None) => None,
             None => Some(PwmError::ExternalClock { config }),
             Some(Some(_)) if self.asynchronous() => Some(PwmError::Asynchronous { config }),
@@ -175,7 +201,7 @@ impl PwmTimer {
                 let tcnt = c.tcnt(cycle);
                 let met = (0..self.layout.ocr.len()).any(|i| {
                     let ocr = self.channels[i].ocr;
-                    self.action(i) != Action::Disconnected && ocr > tcnt && ocr <= config.max()
+                    self.action(i) != Action::Disconnected && ocr > tcnt && ocr <= config.max
                 });
                 met.then_some(PwmError::MatchAboveTop {
                     config,
@@ -184,6 +210,12 @@ impl PwmTimer {
                 })
             }
         }
+    }
+
+    /// Channel `ch`'s ('A', 'B', 'C') compare output drives its pin.
+    pub fn channel_connected(&self, ch: char) -> bool {
+        let i = self.layout.ocr.iter().position(|&(c, _)| c == ch);
+        i.is_some_and(|i| self.action(i) != Action::Disconnected)
     }
 
     /// A compare output drives its pin.
@@ -277,7 +309,7 @@ impl PwmTimer {
             ),
             Count::Held { tcnt, up } => (tcnt, up, 0, None),
         };
-        let prescaler = match mode::prescaler(self.cs(), self.sixteen_bit()) {
+        let prescaler = match mode::prescaler(self.cs(), self.layout.prescalers) {
             Some(Some(n)) if !self.asynchronous() => Some(n),
             _ => None,
         };

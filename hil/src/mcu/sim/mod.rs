@@ -16,6 +16,10 @@
 //!   firmware to 1x real time and makes runs depend on the host;
 //! - the UARTs' "poll sleep" and stdio flags are cleared: the first usleeps on
 //!   status polls, the second prints the firmware's bytes on our stdout;
+//! - a pin the bench drives keeps its level when the firmware writes its
+//!   port: simavr re-applies an input's pull-up on every PORT or DDR write,
+//!   over the level an outside driver holds, unless the pin is declared
+//!   external (`pins.rs`);
 //! - the firmware image is loaded from the ELF by the bench ([`crate::firmware::elf`]),
 //!   since a Rust ELF has no `.mmcu` section and simavr's loader prints to
 //!   stdout.
@@ -49,6 +53,7 @@
 //!   bounds-checked first;
 //! - `view.rs`: [`Core`]'s field accesses and its raise and schedule calls;
 //! - `irq.rs`: IRQ lookups and `avr_raise_irq`;
+//! - `pins.rs`: the external-pin ioctl and its raise;
 //! - `shared.rs`: the handler state's allocation and free;
 //! - `response.rs`: the sleep callback and the running-interrupt notify,
 //!   which add the response's cycles, and their installation;
@@ -66,6 +71,7 @@ mod irq;
 mod mcu;
 mod memory;
 mod owner;
+mod pins;
 mod response;
 mod shared;
 pub(crate) mod sys;
@@ -75,6 +81,7 @@ mod trampolines;
 mod view;
 
 pub use irq::Irq;
+pub use pins::DrivenPin;
 pub use response::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
 pub use view::Core;
 

@@ -21,6 +21,7 @@ use std::ptr::NonNull;
 use simavr_ffi as ffi;
 
 use super::owner::Owner;
+use super::pins::ExternalPins;
 use super::response::Response;
 
 /// A panic caught at the C boundary, to be resumed in Rust.
@@ -67,6 +68,9 @@ pub(super) struct Shared<H> {
     /// The interrupt response's bookkeeping; simavr's sleep callback and
     /// the notify on its running-interrupt line point here (`response.rs`).
     pub(super) response: Response,
+    /// The pins the bench drives and their levels, as simavr was told
+    /// them (`pins.rs`): `Cell`s, reached through `&` only.
+    pub(super) external: ExternalPins,
     pub(super) handler: H,
 }
 
@@ -83,6 +87,7 @@ impl<H> Shared<H> {
             writes: vec![None; ffi::MAX_IOs as usize],
             reads: vec![None; ffi::MAX_IOs as usize],
             response: Response::new(avr),
+            external: ExternalPins::new(),
             handler,
         }
     }

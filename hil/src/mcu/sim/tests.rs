@@ -1,5 +1,6 @@
-//! The burst loop's bounds, and the guards that keep the safe API sound:
-//! each test runs a hand-assembled program on a real simavr MCU.
+//! The burst loop's bounds, the guards that keep the safe API sound, and
+//! driven pins: each test runs a hand-assembled program on a real simavr
+//! MCU.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -227,4 +228,45 @@ fn a_callback_that_arrives_while_the_handler_runs_is_refused() {
     // From outside callbacks the same raise is delivered.
     avr.raise(pin, 1);
     assert_eq!(avr.handler().irqs, [(7, 1)]);
+}
+
+/// PINE, DDRE and PORTE in data space.
+const PINE: u16 = 0x2C;
+
+/// An input pin the bench drives keeps its level whatever the firmware
+/// writes to its port, pull-up on; a pin nobody drives reads its pull-up.
+/// The program switches on the pull-ups of PE4 and PE5, makes PE3 an
+/// output, then writes PORTE and DDRE forever.
+#[test]
+fn a_driven_pin_keeps_its_level_through_port_writes() {
+    let words: [u16; 7] = [
+        0xE300, // ldi r16, 0x30: pull-ups on PE4 and PE5
+        0xB90E, // out PORTE, r16
+        0xE018, // ldi r17, 0x08: PE3 an output
+        0xB91D, // out DDRE, r17
+        0xB90E, // out PORTE, r16
+        0xB91D, // out DDRE, r17
+        0xCFFD, // rjmp back to the out PORTE
+    ];
+    let mut avr = counting_program(0, OnWrite::Nothing);
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    avr.load_flash(0, &bytes).unwrap();
+    let pe4 = avr.driven_pin('E', 4, false).unwrap();
+    let mut sleeping = false;
+    let mut run = |avr: &mut Avr<Writes>| {
+        let until = avr.cycle() + 40;
+        avr.run_burst(until, &mut sleeping);
+        avr.data(PINE) & 0x30
+    };
+    // PE4 driven low, PE5 pulled up.
+    assert_eq!(run(&mut avr), 0x20);
+    avr.drive(pe4, true);
+    assert_eq!(run(&mut avr), 0x30);
+    avr.drive(pe4, false);
+    assert_eq!(run(&mut avr), 0x20);
+    // Driven from inside a callback too.
+    avr.with_core(|_, core| core.drive(pe4, true));
+    assert_eq!(run(&mut avr), 0x30);
+    avr.with_core(|_, core| core.drive(pe4, false));
+    assert_eq!(run(&mut avr), 0x20);
 }

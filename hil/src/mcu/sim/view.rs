@@ -7,6 +7,7 @@ use simavr_ffi as ffi;
 use super::irq::{self, Irq};
 use super::mcu::{data_read, data_write};
 use super::owner::Owner;
+use super::pins::{self, DrivenPin, ExternalPins};
 use super::shared::Shared;
 use super::Handler;
 
@@ -19,6 +20,9 @@ pub struct Core {
     owner: Owner,
     /// The handler's state, type-erased: `Core` does not know `H`.
     shared: NonNull<()>,
+    /// The state's driven pins (a field of `shared`, reached through `&`
+    /// only).
+    external: NonNull<ExternalPins>,
     /// The trampolines' scheduler for that `H`, given by the caller of
     /// [`Core::new`] (the view does not know the trampolines).
     schedule: unsafe fn(NonNull<()>, u64),
@@ -44,6 +48,8 @@ impl Core {
             avr: unsafe { (*p).avr },
             // SAFETY: as above.
             owner: unsafe { (*p).owner },
+            // SAFETY: the address of a field of the live state, no reference made.
+            external: unsafe { NonNull::new_unchecked(std::ptr::addr_of_mut!((*p).external)) },
             shared: shared.cast(),
             schedule,
         }
@@ -87,6 +93,19 @@ impl Core {
         // handler that holds `&mut self` is marked busy, so the hooks the
         // raise runs do not borrow it again.
         unsafe { irq::raise(raw, value) }
+    }
+
+    /// Drive `pin` at `high` (see [`DrivenPin`]); a watched IRQ it reaches
+    /// is refused as in [`Core::raise`].
+    ///
+    /// # Panics
+    /// When `pin` belongs to another `Avr`.
+    pub fn drive(&mut self, pin: DrivenPin, high: bool) {
+        let raw = pin.irq().raw_for(self.owner);
+        // SAFETY: `raw` is an IRQ of this live MCU (checked above) and
+        // `external` its state's driven pins, live as long as `self`; the
+        // handler is marked busy, as in `raise`.
+        unsafe { pins::drive(self.avr.as_ptr(), self.external.as_ref(), raw, pin, high) }
     }
 
     /// Set the supply the analog parts see (VCC, AVCC and AREF are one rail

@@ -4,7 +4,7 @@
 
 use plant_model::Side;
 
-use super::{FinalPose, Leg, Test, TestOptions, TestRun, Turn};
+use super::{FinalPose, Fragments, Leg, Test, TestOptions, TestRun, Turn};
 use crate::bench::{Bench, Motion, MotionEvent, Snapshot};
 use crate::firmware::params::Believed;
 
@@ -14,8 +14,8 @@ pub(crate) fn analyse(
     firmware: String,
     opts: &TestOptions,
     start_cycle: u64,
-    completed: bool,
-    finding: Option<String>,
+    mut completed: bool,
+    mut finding: Option<String>,
 ) -> TestRun {
     let core = bench.core();
     let motions: Vec<MotionEvent> = core
@@ -35,6 +35,12 @@ pub(crate) fn analyse(
     for (k, seg) in segments.iter().enumerate() {
         let start = motions[seg.start].at;
         let stop = motions.get(seg.stop).map(|e| e.at).unwrap_or(end);
+        tracing::debug!(
+            motion = ?motions[seg.start].motion,
+            from_s = clock.seconds(start.cycle).0,
+            to_s = clock.seconds(stop.cycle).0,
+            "segment: the bridge inputs drove the motors"
+        );
         // At rest: when the next segment starts (after braking and waits),
         // or at the end of the run.
         let rest = segments
@@ -88,6 +94,25 @@ pub(crate) fn analyse(
             _ => {}
         }
     }
+    // Only a run that finished can be judged by its shape: a hung one has
+    // its own finding.
+    let fragments = completed
+        .then(|| Fragments::of(test, legs.len(), turns.len(), &motions))
+        .flatten();
+    let mut warnings = never_fired(bench, opts);
+    if let Some(f) = &fragments {
+        if opts.faults.is_empty() && opts.description.is_none() {
+            completed = false;
+            finding = Some(f.describe(test));
+        } else {
+            // An injected fault may cut a leg by design: its case judges the
+            // run. A described firmware's test only borrows the thesis'
+            // test name, not its shape (a sketch's "line" may end in a
+            // spin). Either way the fragments are named, not made the run's
+            // end.
+            warnings.push(f.describe(test));
+        }
+    }
     let (ix, iy) = test.ideal_end(opts.leg_mm);
     TestRun {
         test,
@@ -98,6 +123,7 @@ pub(crate) fn analyse(
         hang: None,
         legs,
         turns,
+        fragments,
         final_pose: FinalPose {
             x_mm: end.x_mm,
             y_mm: end.y_mm,
@@ -116,6 +142,7 @@ pub(crate) fn analyse(
             .ok()
             .map(|a| bench.read_u8(a)),
         bluetooth_out: bench.uart_output(bench.board().command_uart.usart).to_vec(),
+        uarts: super::uarts::outputs(bench),
         edges: core.recording().unwrap_or_default().to_vec(),
         drive: core.drive_log().to_vec(),
         uart: core.uart_log().to_vec(),
@@ -130,10 +157,7 @@ pub(crate) fn analyse(
             })
             .collect(),
         believed: Believed::factory(),
-        warnings: never_fired(bench, opts)
-            .into_iter()
-            .chain(core.record_notices())
-            .collect(),
+        warnings: warnings.into_iter().chain(core.record_notices()).collect(),
         faults_never_fired: bench.faults_never_fired(),
     }
 }
@@ -244,4 +268,4 @@ fn bench_now(bench: &Bench) -> Snapshot {
 }
 
 #[cfg(test)]
-mod tests;
+pub(super) mod tests;

@@ -61,20 +61,33 @@ pub(crate) fn run_described(
     d: &Description,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
+    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    let run = run_described_on(&mut bench, test, opts, d, observer)?;
+    Ok((run, bench.take_observer()))
+}
+
+/// [`run_described`]'s run on a bench fresh from reset (one a debugger may
+/// drive: the same run, step for step); the observer stays on the bench.
+pub(crate) fn run_described_on(
+    bench: &mut Bench,
+    test: Test,
+    opts: &TestOptions,
+    d: &Description,
+    observer: Option<Box<dyn Observer>>,
+) -> Result<TestRun, BenchError> {
     let start = d.start(test)?.clone();
-    let resolved = d.resolve(&firmware)?;
+    let resolved = d.resolve(bench.firmware())?;
     if !opts.params.is_empty() {
         return Err(BenchError::Description(format!(
             "{}: the firmware it describes has no protocol to set parameters with; drop --param",
             d.path
         )));
     }
-    let name = d.name.clone().unwrap_or_else(|| firmware.name());
-    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    let name = d.firmware_name(bench.firmware());
     if let Some(c) = resolved.counts {
         bench.set_count_variables(c);
     }
-    crate::runs::start::wait_ready(&mut bench, Some(d))?;
+    crate::runs::start::wait_ready(bench, Some(d))?;
     if let Some(addr) = resolved.leg {
         bench.write_f32(addr, opts.leg_mm as f32);
     }
@@ -87,7 +100,7 @@ pub(crate) fn run_described(
         bench.start_recording();
     }
     let start_cycle = bench.cycle();
-    let mark = Mark::now(&bench);
+    let mark = Mark::now(bench);
     match &start {
         Start::Uart { usart, bytes } => bench.send(*usart, bytes),
         Start::Pin { pin, high } => bench.drive_pin(*pin, *high)?,
@@ -115,6 +128,11 @@ pub(crate) fn run_described(
         };
         bench.run_until(5.0, |b| ended(b, &after_text, half, mark))?;
     }
+    if completed {
+        // Let the UARTs drain, as for the bench's own builds: the end
+        // text's line end is still on the wire when the text ends the test.
+        bench.run_for(0.1)?;
+    }
     let finding = match &hang {
         Some(h) => Some(format!(
             "hung: no wheel motion and no change of the motor drive for {:.1} s of robot time, {h}",
@@ -128,10 +146,9 @@ pub(crate) fn run_described(
             )
         }),
     };
-    let observer = bench.take_observer();
-    let mut run = analyse(&bench, test, name, opts, start_cycle, completed, finding);
+    let mut run = analyse(bench, test, name, opts, start_cycle, completed, finding);
     run.hang = hang;
-    Ok((run, observer))
+    Ok(run)
 }
 
 /// The end rule in words, for findings.

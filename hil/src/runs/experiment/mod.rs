@@ -12,6 +12,8 @@
 //! | `mod.rs` | a run: options, results, the bench interface's start and end, the debugger's run |
 //! | `analyse.rs` | legs, turns and the end pose from the bridge and the plant (debounced) |
 //! | `described.rs` | a run of a firmware without the interface, as its test description says |
+//! | `fragments.rs` | a run with more legs or turns than its shape, and the likely cause |
+//! | `uarts.rs` | what the firmware sent on each USART, named by the board ([`UartOutput`]) |
 
 use plant_model::RobotConfig;
 
@@ -25,9 +27,13 @@ use crate::firmware::params::{Believed, Tell};
 
 mod analyse;
 mod described;
+mod fragments;
+pub mod uarts;
 
 use analyse::analyse;
 pub(crate) use described::{ended, Mark};
+pub use fragments::Fragments;
+pub use uarts::UartOutput;
 
 /// The tests the firmware's selector knows: the protocol's own, shared with
 /// the firmware (their names, selector bytes and shapes are defined there).
@@ -141,6 +147,11 @@ pub struct TestRun {
     pub hang: Option<crate::bench::hang::HangReport>,
     pub legs: Vec<Leg>,
     pub turns: Vec<Turn>,
+    /// More legs or turns than the test's shape (see [`Fragments`]): then
+    /// the run did not complete the test (`completed` false, `finding` says
+    /// so) unless faults were injected (then a warning).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fragments: Option<Fragments>,
     pub final_pose: FinalPose,
     /// End position error (end minus ideal end) in cm, start frame: x along
     /// the first leg, y to the left.
@@ -158,8 +169,13 @@ pub struct TestRun {
     pub applied: Vec<(u64, Action)>,
     /// The firmware's fault code at the end (`HT_FAULT`), when it has one.
     pub fault_code: Option<u8>,
-    /// The bytes the firmware sent on the Bluetooth UART.
+    /// The bytes the firmware sent on the command link (the board's
+    /// `command_uart`; in the JSON as its entry of `uarts`).
+    #[serde(skip)]
     pub bluetooth_out: Vec<u8>,
+    /// What the firmware sent on each USART from reset to the end, named by
+    /// the board (see [`uarts::outputs`]).
+    pub uarts: Vec<UartOutput>,
     /// Pin-level detail, when recorded (see [`TestOptions::record`]).
     #[serde(skip)]
     pub edges: Vec<PinEvent>,
@@ -219,6 +235,7 @@ pub fn run_test_observed(
     opts: &TestOptions,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
+    let _run = tracing::debug_span!("run", test = test.name(), seed = opts.bench.seed).entered();
     if let Some(d) = &opts.description {
         return described::run_described(firmware, robot, test, opts, d, observer);
     }
@@ -237,12 +254,16 @@ fn run_on(
     observer: Option<Box<dyn Observer>>,
 ) -> Result<TestRun, BenchError> {
     let name = bench.firmware().name();
+    let ready = tracing::debug_span!("ready").entered();
     let (done_before, mut start_cycle) = crate::runs::line::make_ready(bench, opts.leg_mm)?;
     if opts.start_delay_s > 0.0 {
         bench.run_for(opts.start_delay_s)?;
         start_cycle = bench.cycle();
     }
     let vars = *bench.vars()?;
+    tracing::debug!(t_s = bench.robot_time_s(), "firmware ready");
+    drop(ready);
+    let _drive = tracing::debug_span!("drive").entered();
     bench.set_observer(observer);
     let told = start(bench, robot, test, opts);
     let limit = limit_s(test, opts);
@@ -272,6 +293,9 @@ fn run_on(
     // Let the last coast and the UART drain.
     if completed {
         bench.run_for(0.1)?;
+    }
+    if let Some(f) = &finding {
+        tracing::debug!(t_s = bench.robot_time_s(), finding = %f, "the run did not complete");
     }
     let mut run = analyse(bench, test, name, opts, start_cycle, completed, finding);
     run.hang = hang;
@@ -337,7 +361,8 @@ pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
 
 /// Run `test` under a debugger: the MCU paused at its reset vector until
 /// the debugger continues, then [`run_test`]'s run, step for step (the
-/// debugger only pauses it), the debugger told of the end.
+/// debugger only pauses it; a described firmware's as its description
+/// says), the debugger told of the end.
 /// [`GdbError::Ended`](crate::bench::gdb::GdbError::Ended) when the
 /// debugger killed the run or left it without a detach.
 pub fn run_test_debugged(
@@ -349,7 +374,11 @@ pub fn run_test_debugged(
 ) -> Result<TestRun, crate::bench::gdb::GdbError> {
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
     server.attach(&mut bench)?;
-    let run = match run_on(&mut bench, robot, test, opts, None) {
+    let run = match &opts.description {
+        Some(d) => described::run_described_on(&mut bench, test, opts, d, None),
+        None => run_on(&mut bench, robot, test, opts, None),
+    };
+    let run = match run {
         Ok(run) => run,
         Err(BenchError::Debugger(why)) => return Err(crate::bench::gdb::GdbError::Ended(why)),
         Err(e) => {

@@ -218,6 +218,8 @@ pub struct Observed {
     /// firmware that resumed or restarted something on its own.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub driven_again_after_s: Option<f64>,
+    /// What the firmware sent on each USART, named by the board.
+    pub uarts: Vec<crate::runs::experiment::UartOutput>,
     /// Counts per second of a wheel at the firmware's set-point (mean of the
     /// two wheels), from what the firmware believed about the robot.
     #[serde(skip)]
@@ -305,6 +307,7 @@ impl Observed {
             warnings: run.warnings.clone(),
             faults_never_fired: run.faults_never_fired.iter().map(|i| i + 1).collect(),
             driven_again_after_s,
+            uarts: run.uarts.clone(),
             setpoint_counts_per_s: (run.believed.setpoint_counts_per_s(0)
                 + run.believed.setpoint_counts_per_s(1))
                 / 2.0,
@@ -365,7 +368,14 @@ pub fn leg_overrun(o: &Observed) -> Option<f64> {
 pub struct FaultRow {
     pub fault: String,
     pub what: String,
+    /// The firmware under test by its name (a described firmware's
+    /// `firmware.name`, else its ELF's): what `robust` and
+    /// `robust_observed` are of, and the text report's label for them.
+    pub firmware: String,
+    /// The robust build's expected reaction, which the firmware under test
+    /// is judged by.
     pub expected: String,
+    /// What the firmware under test did.
     pub robust: String,
     pub thesis: String,
     /// The verdict is [`Verdict::Pass`].
@@ -425,14 +435,23 @@ pub fn run_fault(
         },
         None => None,
     };
+    let firmware = match &options.description {
+        Some(d) => d.firmware_name(robust),
+        None => robust.name(),
+    };
     Ok(FaultRow {
         fault: case.name.into(),
         what: case.what.into(),
+        firmware,
         expected: case.expected.into(),
         robust: r.describe(),
         thesis: match &t {
             Some(Ok(o)) => o.describe(),
             Some(Err(e)) => format!("the bench stopped it: {e}"),
+            None if options.description.is_some() => {
+                "not run (compared with the robust build only, not with a described firmware)"
+                    .into()
+            }
             None => "not run (no thesis build)".into(),
         },
         pass: verdict == Verdict::Pass,
@@ -479,7 +498,7 @@ pub fn render(rows: &[FaultRow]) -> String {
         let _ = writeln!(s, "{} [{}]", r.fault, r.verdict.tag());
         let _ = writeln!(s, "  fault     {}", r.what);
         let _ = writeln!(s, "  expected  {}", r.expected);
-        let _ = writeln!(s, "  robust    {}", r.robust);
+        let _ = writeln!(s, "  {:<9} {}", r.firmware, r.robust);
         let _ = writeln!(s, "  judged    {}", r.why);
         let _ = writeln!(s, "  thesis    {}", r.thesis);
         let thesis = r.thesis_observed.iter().flat_map(|o| &o.warnings);
@@ -487,7 +506,7 @@ pub fn render(rows: &[FaultRow]) -> String {
             .robust_observed
             .warnings
             .iter()
-            .map(|w| ("robust", w))
+            .map(|w| (r.firmware.as_str(), w))
             .chain(thesis.map(|w| ("thesis", w)))
         {
             let _ = writeln!(s, "  warning   {}: {}", w.0, w.1);

@@ -86,6 +86,8 @@ pub struct BenchModel {
     nominal: RobotConfig,
     bench: BenchOptions,
     jobs: usize,
+    /// Parameters sent after each experiment's own (`--param`: theirs win).
+    params: Vec<(Param, f32)>,
 }
 
 /// One run to make: the robot with its effects, the test, the firmware's parameters and
@@ -115,7 +117,21 @@ impl BenchModel {
             nominal,
             bench: BenchOptions::default(),
             jobs: jobs.max(1),
+            params: Vec::new(),
         }
+    }
+
+    /// The same model on the robot wired by `board` (default Henrytwo's).
+    pub fn on_board(mut self, board: crate::board::Board) -> Self {
+        self.bench.board = board;
+        self
+    }
+
+    /// The same model with `params` sent before every run, after the robot
+    /// config's settings and each experiment's parameters (a later value wins).
+    pub fn with_params(mut self, params: Vec<(Param, f32)>) -> Self {
+        self.params = params;
+        self
     }
 
     /// The nominal robot.
@@ -239,7 +255,8 @@ impl BenchModel {
                 }
             }
             answers.push(Ok((Vec::new(), Vec::new())));
-            let fw_params = Self::firmware_params(exp);
+            let mut fw_params = Self::firmware_params(exp);
+            fw_params.extend_from_slice(&self.params);
             let legs = exp.test.legs() as f64;
             let heading_rad =
                 (legs * exp.test.turn_sign() * exp.test.turn_deg(&exp.firmware)).to_radians();

@@ -55,7 +55,11 @@ impl Measured {
 
 /// What `hil bench` runs.
 pub struct BenchPlan<'a> {
+    /// The firmware timed first: the robust build, or the user's.
     pub robust: &'a Firmware,
+    /// Its test description when it is run black-box (a firmware without
+    /// the bench interface); None: its bench interface.
+    pub described: Option<&'a Description>,
     /// The thesis build, when it is to be timed too.
     pub thesis: Option<&'a Firmware>,
     pub robot: &'a RobotConfig,
@@ -220,14 +224,13 @@ fn measure_build(
 /// Run the plan: the robust build (bench, raw simavr with and without its
 /// PWM timers), then the thesis build (bench, raw without PWM timers).
 pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
-    let robust = measure_build(
-        plan.robust,
-        plan,
-        How::Interface {
+    let how = match plan.described {
+        Some(d) => How::Described(d),
+        None => How::Interface {
             leg_mm: plan.leg_mm,
         },
-        plan.raw_with_pwm_timers,
-    )?;
+    };
+    let robust = measure_build(plan.robust, plan, how, plan.raw_with_pwm_timers)?;
     // The thesis build is slow (busy loops): its square is smaller, so that
     // its runs too can be timed more than once (a busy loop's speed does not
     // depend on the leg).
@@ -249,6 +252,10 @@ pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
     };
     Ok(BenchReport {
         test: plan.test.name().into(),
+        firmware: match plan.described {
+            Some(d) => d.firmware_name(plan.robust),
+            None => plan.robust.name(),
+        },
         rtf_robust_umbmark: robust.bench.rtf,
         rtf_thesis: thesis.as_ref().map(|t| t.bench.rtf),
         rtf_raw_simavr: robust.raw.as_ref().map(|r| r.rtf),
@@ -274,6 +281,10 @@ pub const THESIS_LEG_MM: f64 = 500.0;
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchReport {
     pub test: String,
+    /// The firmware timed first (`robust`, `rtf_robust_umbmark`,
+    /// `overhead_ratio`): the robust build's name, or a described
+    /// firmware's.
+    pub firmware: String,
     pub rtf_robust_umbmark: f64,
     pub rtf_thesis: Option<f64>,
     /// Raw simavr with its own PWM timers (when timed).
@@ -318,7 +329,8 @@ impl BenchReport {
             let _ = writeln!(s, "  {:<46} {:>10.3} {:>8.1}", name, m.wall_s, m.rtf);
         };
         let r = &self.robust;
-        row(&mut s, "bench, robust firmware + plant", &r.bench);
+        let name = &self.firmware;
+        row(&mut s, &format!("bench, {name} firmware + plant"), &r.bench);
         if let Some(raw) = &r.raw {
             row(&mut s, "raw simavr, same ELF and inputs", raw);
         }
@@ -345,7 +357,7 @@ impl BenchReport {
         }
         let _ = writeln!(
             s,
-            "  bench overhead over raw simavr (no PWM timers): {:.2}x robust{}{}",
+            "  bench overhead over raw simavr (no PWM timers): {:.2}x {name}{}{}",
             self.overhead_ratio,
             self.thesis_overhead_ratio
                 .map(|t| format!(", {t:.2}x thesis"))
@@ -361,7 +373,7 @@ impl BenchReport {
             };
             let _ = writeln!(
                 s,
-                "  round by round (bench over the replay timed next to it): {} robust{}{}",
+                "  round by round (bench over the replay timed next to it): {} {name}{}{}",
                 spread(r),
                 self.thesis
                     .as_ref()
@@ -376,7 +388,7 @@ impl BenchReport {
         }
         let _ = writeln!(
             s,
-            "  robust: CPU awake {:.2} %; {:.0} bench callbacks per robot s, {:.0} % of them \
+            "  {name}: CPU awake {:.2} %; {:.0} bench callbacks per robot s, {:.0} % of them \
              edges raised from the plan alone; {:.0} % of the B reads answered from the \
              last A edge",
             self.awake_fraction * 100.0,

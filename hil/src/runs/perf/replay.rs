@@ -9,7 +9,7 @@ use crate::bench::{AnalogEvent, AnalogInput, BenchError, BenchOptions, PinEvent}
 use crate::board::HENRYTWO;
 use crate::firmware::elf::Firmware;
 use crate::mcu::pwm::PwmTimer;
-use crate::mcu::sim::{Avr, Core, Handler, IoClaim, Irq};
+use crate::mcu::sim::{Avr, Core, DrivenPin, Handler, IoClaim, Irq};
 
 /// A replay, with whether it ended where the bench run did.
 pub struct Replayed {
@@ -26,7 +26,7 @@ struct Replay {
     next: usize,
     analog: Vec<AnalogEvent>,
     next_analog: usize,
-    pins: [Option<Irq>; 4],
+    pins: [Option<DrivenPin>; 4],
     adc0: Option<Irq>,
     uart: Option<Irq>,
     command: Option<(u64, u8)>,
@@ -89,8 +89,8 @@ impl Handler for Replay {
         }
         while self.next < self.edges.len() && self.edges[self.next].cycle <= when {
             let e = self.edges[self.next];
-            if let Some(irq) = self.pins[e.line as usize] {
-                core.raise(irq, e.level as u32);
+            if let Some(pin) = self.pins[e.line as usize] {
+                core.drive(pin, e.level);
             }
             self.next += 1;
         }
@@ -136,11 +136,12 @@ pub fn raw_replay(
         }
     }
     let w = HENRYTWO;
+    // Driven from outside, as the bench drives them (see `DrivenPin`).
     let pins = [
-        avr.port_pin(w.left_encoder.a.port, w.left_encoder.a.bit)?,
-        avr.port_pin(w.left_encoder.b.port, w.left_encoder.b.bit)?,
-        avr.port_pin(w.right_encoder.a.port, w.right_encoder.a.bit)?,
-        avr.port_pin(w.right_encoder.b.port, w.right_encoder.b.bit)?,
+        avr.driven_pin(w.left_encoder.a.port, w.left_encoder.a.bit, false)?,
+        avr.driven_pin(w.left_encoder.b.port, w.left_encoder.b.bit, false)?,
+        avr.driven_pin(w.right_encoder.a.port, w.right_encoder.a.bit, false)?,
+        avr.driven_pin(w.right_encoder.b.port, w.right_encoder.b.bit, false)?,
     ];
     let (uart_in, _) = avr.uart(rec.command_usart)?;
     for n in [w.command_uart.usart, w.debug_uart.usart] {
@@ -163,8 +164,8 @@ pub fn raw_replay(
     let analog = rec.analog.clone();
     avr.with_core(|h, core| {
         for e in initial {
-            if let Some(irq) = h.pins[e.line as usize] {
-                core.raise(irq, e.level as u32);
+            if let Some(pin) = h.pins[e.line as usize] {
+                core.drive(pin, e.level);
             }
         }
         h.edges = rest;

@@ -21,6 +21,7 @@ fn speed(overhead_ratio: f64, round_ratios: Vec<f64>) -> BuildSpeed {
 fn report(robust: BuildSpeed, thesis: Option<BuildSpeed>, repeats: usize) -> BenchReport {
     BenchReport {
         test: "umbmark-cw".into(),
+        firmware: "robust".into(),
         rtf_robust_umbmark: 250.0,
         rtf_thesis: thesis.as_ref().map(|_| 5.6),
         rtf_raw_simavr: None,

@@ -26,6 +26,7 @@ use plant_model::RobotConfig;
 use thiserror::Error;
 
 use crate::bench::{Bench, BenchError, BenchOptions};
+use crate::firmware::description::Description;
 use crate::firmware::elf::Firmware;
 use crate::runs::start::wait_ready;
 
@@ -164,6 +165,19 @@ impl EmulatedRobot {
         robot: &RobotConfig,
         options: ServeOptions,
     ) -> Result<Self, EmulatorError> {
+        Self::spawn_described(firmware, robot, options, None)
+    }
+
+    /// [`EmulatedRobot::spawn`] for a firmware that knows nothing of the
+    /// bench, when `description` is given: ready as the description says,
+    /// told nothing (it has no protocol for it), its command USART's boot
+    /// bytes kept for the host (they are its own, not answers to the bench).
+    pub fn spawn_described(
+        firmware: Firmware,
+        robot: &RobotConfig,
+        options: ServeOptions,
+        description: Option<Arc<Description>>,
+    ) -> Result<Self, EmulatorError> {
         check_speed(options.speed)?;
         let board = options.bench.board;
         let command = PtyPort::open("pty")?;
@@ -185,16 +199,26 @@ impl EmulatedRobot {
             std::thread::Builder::new()
                 .name("emulated-robot".into())
                 .spawn(move || {
-                    let bench = Bench::new(firmware, &robot, options.bench)
-                        .and_then(|mut b| wait_ready(&mut b, None).map(|_| b))
-                        .and_then(|mut b| {
-                            // Told its robot before the host comes: as a real
-                            // robot keeps what it was told in its EEPROM.
-                            if let Some(w) = crate::runs::start::tell(&mut b, &robot)? {
-                                eprintln!("warning: {w}");
+                    let told = description.is_none();
+                    let bench = Bench::new(firmware, &robot, options.bench).and_then(|mut b| {
+                        match &description {
+                            Some(d) => {
+                                if let Some(c) = d.resolve(b.firmware())?.counts {
+                                    b.set_count_variables(c);
+                                }
+                                wait_ready(&mut b, Some(d))?;
                             }
-                            Ok(b)
-                        });
+                            None => {
+                                wait_ready(&mut b, None)?;
+                                // Told its robot before the host comes: as a real
+                                // robot keeps what it was told in its EEPROM.
+                                if let Some(w) = crate::runs::start::tell(&mut b, &robot)? {
+                                    eprintln!("warning: {w}");
+                                }
+                            }
+                        }
+                        Ok(b)
+                    });
                     let bench = match bench {
                         Ok(b) => {
                             let _ = ready_tx.send(Ok(()));
@@ -205,7 +229,7 @@ impl EmulatedRobot {
                             return;
                         }
                     };
-                    let result = serve_loop(bench, ports, options, &view, &stop);
+                    let result = serve_loop(bench, ports, options, told, &view, &stop);
                     if let Err(e) = result {
                         if let Ok(mut v) = view.lock() {
                             v.error = Some(e.to_string());
@@ -272,6 +296,7 @@ fn serve_loop(
     mut bench: Bench,
     mut ports: Vec<(u8, PtyPort)>,
     options: ServeOptions,
+    told: bool,
     view: &Mutex<EmulatorView>,
     stop: &AtomicBool,
 ) -> Result<(), BenchError> {
@@ -280,13 +305,17 @@ fn serve_loop(
     // (no trace, no logs), and the firmware's bytes are taken as they come.
     bench.keep_latest_records();
     // The command USART's bytes at boot answered the bench telling the
-    // robot its parameters: not the host's. The USB serial's (a greeting,
-    // a menu) are what a terminal user opens it for: kept.
-    let usb = (ports.len() > 1).then_some(bench.board().debug_uart.usart);
+    // robot its parameters: not the host's (unless nothing was told). The
+    // USB serial's (a greeting, a menu) are what a terminal user opens it
+    // for: kept.
+    let command = bench.board().command_uart.usart;
     for n in 0..4 {
         let bytes = bench.take_uart_output(n);
-        if Some(n) == usb {
-            ports[1].1.queue(&bytes);
+        if n == command && told {
+            continue;
+        }
+        if let Some((_, port)) = ports.iter_mut().find(|(u, _)| *u == n) {
+            port.queue(&bytes);
         }
     }
     let mut host = Vec::new();

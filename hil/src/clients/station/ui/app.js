@@ -7,7 +7,9 @@ const $ = (id) => document.getElementById(id);
 let session = null;      // the session as the server saved it (plus local edits)
 let evaluation = null;   // the server's evaluation of it
 let saving = false, dirty = false;
-const speeds = [];       // recent telemetry for the chart; null: the robot stood still
+const speeds = [];       // recent telemetry samples for the chart; null: the robot stood still
+// The chart's samples: 60 s of robot time at the server's 4 samples per robot second.
+const SPEED_SAMPLES = 240;
 const runs = [];         // the emulated robot's recent runs, each in its start frame (cm)
 let heading = 0;         // the emulated robot's heading in its last run's frame (rad)
 
@@ -54,6 +56,17 @@ async function loadRobots() {
   if (r.default_port) sel.value = "serial:" + r.default_port;
   else if (r.emulated.length) sel.value = "emulated:" + r.emulated[0];
   $("baud").value = r.baud;
+  // A tab opened while a robot is connected shows that robot as selected.
+  const c = r.selection;
+  if (c && c.kind === "emulated") {
+    sel.value = "emulated:" + c.config;
+    $("speed").value = c.speed;
+  } else if (c && c.kind === "serial") {
+    const known = [...sel.options].some((o) => o.value === "serial:" + c.port);
+    sel.value = known ? "serial:" + c.port : "serial:";
+    if (!known) $("port-input").value = c.port;
+    $("baud").value = c.baud;
+  }
   if (r.connected) status("connected: " + r.connected);
 }
 
@@ -61,6 +74,10 @@ async function connect() {
   const choice = $("robot-select").value;
   let req;
   if (choice.startsWith("emulated:")) {
+    const sp = $("speed");
+    if (!sp.value || !sp.checkValidity()) {
+      return status(`speed ${sp.value || "(empty)"}: give a factor from ${sp.min} to ${sp.max}`, true);
+    }
     req = { kind: "emulated", config: choice.slice(9), speed: Number($("speed").value) };
   } else {
     const port = choice.slice(7) || $("port-input").value.trim();
@@ -79,6 +96,9 @@ async function connect() {
     speeds.length = 0;
     showSpeeds();
     showFloor();
+    robotTime = null;
+    if (r.emulated) showPose();
+    else $("pose").textContent = NO_POSE;
     setSession(r.session, r.evaluation);
   } catch (e) {
     status(e.message, true);
@@ -337,27 +357,33 @@ function onEvent(ev) {
     $("state").textContent = `${STATES[ev.state] || ev.state} / ${PHASES[ev.phase] || ev.phase}` +
       (ev.test ? `, ${TESTS[ev.test] || ev.test} segment ${ev.segment}` : "") + (ev.fault ? `, FAULT ${ev.fault}` : "");
     $("tests-done").textContent = ev.tests_done;
-    // The chart changes only while the robot moves: at rest it ends its
-    // lines once (a gap before the next run) and stays as it is.
-    if (ev.state === IDLE) {
-      clearLive();
-      if (speeds.length && speeds[speeds.length - 1]) {
-        speeds.push(null);
-        showSpeeds();
+    // The samples of robot time since the last event. The chart changes
+    // only while the robot moves: at rest it ends its lines once (a gap
+    // before the next run) and stays as it is.
+    let drawn = false;
+    for (const sample of ev.samples) {
+      if (sample.state === IDLE) {
+        if (speeds.length && speeds[speeds.length - 1]) {
+          speeds.push(null);
+          drawn = true;
+        }
+      } else {
+        speeds.push(sample);
+        drawn = true;
       }
-    } else {
+      if (sample.run) onRunPose(sample.run);
+    }
+    while (speeds.length > SPEED_SAMPLES || (speeds.length && !speeds[0])) speeds.shift();
+    if (drawn) showSpeeds();
+    if (ev.samples.some((x) => x.run)) showFloor();
+    if (ev.state === IDLE) clearLive();
+    else {
       $("pwm-left").textContent = ev.duty_left;
       $("pwm-right").textContent = ev.duty_right;
       $("speed-left").textContent = fmt(ev.speed_left, 2);
       $("speed-right").textContent = fmt(ev.speed_right, 2);
-      speeds.push(ev);
-      while (speeds.length > 120 || !speeds[0]) speeds.shift();
-      showSpeeds();
     }
-    if (ev.run) onRunPose(ev.run);
-    if (ev.pose) {
-      $("pose").textContent = `x ${fmt(ev.pose.x_mm, 0)} mm, y ${fmt(ev.pose.y_mm, 0)} mm, heading ${fmt(wrapDeg(ev.pose.theta_rad * 180 / Math.PI), 1)}°, robot time ${fmt(ev.pose.robot_time_s, 1)} s`;
-    }
+    if (ev.pose) showPose(ev.pose.robot_time_s);
   } else if (ev.kind === "notice") {
     const n = ev.notice;
     if (n.kind === "test_done") {
@@ -382,15 +408,39 @@ function onEvent(ev) {
 function onRunPose(p) {
   let run = runs.find((r) => r.id === p.id);
   if (!run) {
-    run = { id: p.id, test: p.test, leg_mm: p.leg_mm, ideal_cm: p.ideal_cm, points_cm: [[0, 0]], end_cm: null };
+    run = { id: p.id, test: p.test, leg_mm: p.leg_mm, ideal_cm: p.ideal_cm, points_cm: [[0, 0]], at_cm: [0, 0], end_cm: null };
     runs.push(run);
     if (runs.length > 10) runs.shift();
   }
   const last = run.points_cm[run.points_cm.length - 1];
   if (Math.hypot(last[0] - p.x_cm, last[1] - p.y_cm) > 0.2) run.points_cm.push([p.x_cm, p.y_cm]);
   if (run.points_cm.length > 5000) run.points_cm.splice(1, 1);
+  run.at_cm = [p.x_cm, p.y_cm];
   heading = p.theta_rad;
-  showFloor();
+}
+
+// The emulated robot's pose in the frame the floor draws: the last run's
+// start frame (x along its first leg, y to the left), not the pose since
+// Connect, so the numbers read are the ones plotted.
+let robotTime = null;
+const NO_POSE = "a real robot has no pose here: measure its end point on the floor";
+function showPose(t) {
+  if (t !== undefined) robotTime = t;
+  const el = $("pose");
+  const time = robotTime === null ? "" : `; robot time ${fmt(robotTime, 1)} s`;
+  const run = runs[runs.length - 1];
+  if (!run) {
+    el.textContent = `no run yet (the floor draws each run from where it started)${time}`;
+    return;
+  }
+  const [x, y] = run.end_cm || run.at_cm;
+  // Constant markup and numbers only.
+  el.innerHTML = `${run.end_cm ? "last run ended at" : "this run, now at"} ` +
+    `x <span id="pose-x" class="val"></span> cm, y <span id="pose-y" class="val"></span> cm, ` +
+    `heading <span id="pose-heading" class="val"></span>° in its start frame (as on the floor)${time}`;
+  setVal("pose-x", x, 1);
+  setVal("pose-y", y, 1);
+  setVal("pose-heading", wrapDeg(heading * 180 / Math.PI), 1);
 }
 
 function onRunEnd(e) {
@@ -400,6 +450,7 @@ function onRunEnd(e) {
   const last = run.points_cm[run.points_cm.length - 1];
   if (last[0] !== e.x_cm || last[1] !== e.y_cm) run.points_cm.push(run.end_cm);
   showFloor();
+  showPose();
 }
 
 // The emulated robot's end point goes into the next empty row of its

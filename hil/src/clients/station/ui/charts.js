@@ -94,17 +94,23 @@ function axes(svg, { x, y, xLabel, yLabel, equal }) {
 }
 
 // A legend in the frame's top right corner: each item a short line (dashed
-// with `dash`) or a `marker` ("circle", "cross", "dot"), then its label.
+// with `dash`) or a `marker` ("circle", "cross", "dot"), then its label. The
+// box is as wide as the widest label measured in the font it is drawn in
+// (a count of characters misjudges "UMBmark CCW" against "ideal path").
 function legend(svg, frame, items) {
   const g = svgEl("g", { class: "legend", "font-size": 11 }, svg);
-  const width = 24 + 7 * Math.max(...items.map((i) => i.label.length));
+  const box = svgEl("rect", { fill: "#fff", "fill-opacity": 0.85, stroke: "#ccc" }, g);
+  const texts = items.map((item, i) =>
+    svgEl("text", { class: "legend-item", y: frame.top + 16 + 16 * i, fill: "#333" }, g, item.label));
+  const width = 24 + Math.ceil(Math.max(...texts.map((t) => t.getComputedTextLength())));
   const x = frame.left + frame.w - width - 6;
-  svgEl("rect", { x: x - 4, y: frame.top + 4, width: width + 4, height: 16 * items.length + 6, fill: "#fff", "fill-opacity": 0.85, stroke: "#ccc" }, g);
+  Object.entries({ x: x - 4, y: frame.top + 4, width: width + 8, height: 16 * items.length + 6 })
+    .forEach(([k, v]) => box.setAttribute(k, v));
   items.forEach((item, i) => {
     const cy = frame.top + 16 + 16 * i;
     if (item.marker) marker(g, item.marker, x + 9, cy - 4, item.color);
     else svgEl("line", { x1: x, x2: x + 18, y1: cy - 4, y2: cy - 4, stroke: item.color, "stroke-width": 2, "stroke-dasharray": item.dash || "none" }, g);
-    svgEl("text", { class: "legend-item", x: x + 24, y: cy, fill: "#333" }, g, item.label);
+    texts[i].setAttribute("x", x + 24);
   });
 }
 
@@ -138,7 +144,7 @@ function rangeOf(values, always, pad) {
 const LEFT = "#1f6feb", RIGHT = "#d9480f";
 
 // Wheel speeds and set-points against robot time. `samples`: {time_s,
-// speed_left, speed_right, setpoint_left, setpoint_right}, or null where the
+// speed_left, speed_right, setpoint_left, setpoint_right, phase, segment}, or null where the
 // robot stood still (a gap in the lines).
 function drawSpeeds(svg, samples, unit) {
   const live = samples.filter((s) => s);
@@ -155,6 +161,8 @@ function drawSpeeds(svg, samples, unit) {
     class: `series ${key}`, d: pathD(samples.map((s) => (s ? [s.time_s, s[key]] : null)), a.X, a.Y),
     stroke: color, "stroke-width": 1.5, "stroke-dasharray": dash,
   }, a.plot);
+  // Which moment of a run each drawn sample is: [robot time (s), phase, segment].
+  svg.dataset.samples = JSON.stringify(live.map((s) => [s.time_s, s.phase, s.segment]));
   line("setpoint_left", LEFT, "5 4");
   line("setpoint_right", RIGHT, "5 4");
   line("speed_left", LEFT, "none");

@@ -31,7 +31,7 @@ fn emulated_robots_are_served_on_the_board_asked_for() {
 }
 
 #[test]
-fn a_config_given_on_the_command_line_leads_the_list() {
+fn a_config_given_on_the_command_line_else_the_reference_robot_leads_the_list() {
     let dir = std::env::temp_dir().join(format!("station-robots-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for f in ["b.toml", "a.toml", "notes.txt"] {
@@ -42,6 +42,20 @@ fn a_config_given_on_the_command_line_leads_the_list() {
     assert_eq!(
         names(robot_configs(&dir, Some(dir.join("b.toml")))),
         ["b", "a"]
+    );
+    // The reference robot leads when no config was given.
+    std::fs::write(
+        dir.join(format!("{}.toml", crate::paths::REFERENCE_ROBOT)),
+        "",
+    )
+    .unwrap();
+    assert_eq!(
+        names(robot_configs(&dir, None)),
+        [crate::paths::REFERENCE_ROBOT, "a", "b"]
+    );
+    assert_eq!(
+        names(robot_configs(&dir, Some(dir.join("b.toml")))),
+        ["b", "a", crate::paths::REFERENCE_ROBOT]
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,6 +1,7 @@
-//! Every mode of timer 2 (table 20-8) and of the 16-bit timers 3, 4, 5
-//! (table 17-2), at every prescaler of their tables, against the
-//! datasheet's formulas, written here independently of the model:
+//! Every mode of the 8-bit timers 0 and 2 (tables 16-8, 20-8) and of the
+//! 16-bit timers 1, 3, 4, 5 (table 17-2), at every prescaler of their
+//! tables, against the datasheet's formulas, written here independently of
+//! the model:
 //!
 //! - fast PWM: f = f_clk / (N (1 + TOP)), non-inverting duty (OCR + 1) /
 //!   (TOP + 1), a one-step spike at OCR = BOTTOM, constant at OCR = TOP;
@@ -50,8 +51,9 @@ const SIXTEEN_BIT: [(u8, Shape, TopOf); 15] = [
     (15, Shape::Fast, TopOf::Ocra),
 ];
 
-/// Table 20-8, without the reserved modes 4 and 6.
-const TIMER2: [(u8, Shape, TopOf); 6] = [
+/// Tables 16-8 (timer 0) and 20-8 (timer 2), alike, without the reserved
+/// modes 4 and 6.
+const EIGHT_BIT: [(u8, Shape, TopOf); 6] = [
     (0, Shape::Normal, TopOf::Fixed(0xFF)),
     (1, Shape::PhaseCorrect, TopOf::Fixed(0xFF)),
     (2, Shape::Ctc, TopOf::Ocra),
@@ -60,8 +62,9 @@ const TIMER2: [(u8, Shape, TopOf); 6] = [
     (7, Shape::Fast, TopOf::Ocra),
 ];
 
-/// Tables 17-6 and 20-9: (clock select, N).
-const PRESCALERS_16: [(u8, u32); 5] = [(1, 1), (2, 8), (3, 64), (4, 256), (5, 1024)];
+/// Tables 16-9 and 17-6 (timers 0, 1, 3, 4, 5) and 20-9 (timer 2): (clock
+/// select, N).
+const PRESCALERS_SHARED: [(u8, u32); 5] = [(1, 1), (2, 8), (3, 64), (4, 256), (5, 1024)];
 const PRESCALERS_2: [(u8, u32); 7] = [
     (1, 1),
     (2, 8),
@@ -74,7 +77,7 @@ const PRESCALERS_2: [(u8, u32); 7] = [
 
 /// A variable TOP (OCRnA or ICRn) for the table.
 fn variable_top(n: u8) -> u32 {
-    if n == 2 {
+    if matches!(n, 0 | 2) {
         199
     } else {
         999
@@ -144,7 +147,12 @@ fn datasheet(shape: Shape, top: u32, n: u32, com: u8, ocr: u32) -> (f64, f64) {
 /// `periods` of the counter, from a cycle inside a period (so that the
 /// level there counts as much as the edges).
 fn measured(t: &PwmTimer, periods: u64) -> (f64, f64) {
-    let w = t.waveform('B').expect("running");
+    measured_channel(t, 'B', periods)
+}
+
+/// [`measured`], of channel `ch`.
+fn measured_channel(t: &PwmTimer, ch: char, periods: u64) -> (f64, f64) {
+    let w = t.waveform(ch).expect("running");
     let from = w.counter.period_cycles() * 5 / 7 + 3;
     let to = from + periods * w.counter.period_cycles();
     let edges = w.edges(from, to);
@@ -179,11 +187,11 @@ fn close(a: f64, b: f64) -> bool {
 /// Every (timer, mode, prescaler) of the tables.
 fn every_case() -> Vec<(u8, u8, Shape, TopOf, u8, u32)> {
     let mut v = Vec::new();
-    for n in 2..=5u8 {
-        let (modes, prescalers): (&[_], &[_]) = if n == 2 {
-            (&TIMER2, &PRESCALERS_2)
-        } else {
-            (&SIXTEEN_BIT, &PRESCALERS_16)
+    for n in 0..=5u8 {
+        let (modes, prescalers): (&[_], &[_]) = match n {
+            0 => (&EIGHT_BIT, &PRESCALERS_SHARED),
+            2 => (&EIGHT_BIT, &PRESCALERS_2),
+            _ => (&SIXTEEN_BIT, &PRESCALERS_SHARED),
         };
         for &(wgm, shape, top) in modes {
             for &(cs, div) in prescalers {
@@ -312,7 +320,7 @@ fn ocr_buffering_point_per_mode() {
 }
 
 /// COM = 1 in the PWM modes: OCnA toggles where the datasheet says
-/// (16-bit: modes 8-11, 14, 15; timer 2: WGM22 set), every other
+/// (16-bit: modes 8-11, 14, 15; timers 0 and 2: WGMn2 set), every other
 /// channel is disconnected.
 #[test]
 fn com_1_in_pwm_modes() {
@@ -320,8 +328,9 @@ fn com_1_in_pwm_modes() {
         if matches!(shape, Shape::Normal | Shape::Ctc) {
             continue;
         }
-        let mode = Mode::decode(wgm, n != 2).unwrap();
-        let toggles = if n == 2 {
+        let eight_bit = matches!(n, 0 | 2);
+        let mode = Mode::decode(wgm, !eight_bit).unwrap();
+        let toggles = if eight_bit {
             wgm & 0b100 != 0
         } else {
             matches!(wgm, 8..=11 | 14 | 15)
@@ -377,4 +386,94 @@ fn top_below_the_counter_runs_to_max() {
     write16(&mut t, &l, 0xA6, 639, 320);
     assert_eq!(t.tcnt(320 + 319), 639);
     assert_eq!(t.tcnt(320 + 320), 0, "TOP 639 from now on");
+}
+
+/// Pololu's motor PWM (its Romi/Zumo 32U4 motor libraries, as written):
+/// TCCR1A = 0xA0 (COM1A1, COM1B1), TCCR1B = 0x11 (WGM13, CS10): mode 8,
+/// phase and frequency correct with TOP = ICR1, no prescaler; then ICR1 =
+/// 400 with the timer running. f = 16 MHz / (2 * 1 * 400) = 20 kHz; duty
+/// OCR1A / 400, a new OCR1A taking effect at BOTTOM.
+#[test]
+fn pololu_20_khz_on_timer_1() {
+    let l = Layout::TIMER1;
+    let mut t = PwmTimer::number(1).unwrap();
+    t.write(l.tccra, 0xA0, 100).unwrap();
+    t.write(l.tccrb, 0x11, 101).unwrap();
+    let config = t.config();
+    assert_eq!((config.wgm, config.cs), (8, 1));
+    assert_eq!(
+        config.mode.map(|m| m.name()).as_deref(),
+        Some("phase- and frequency-correct PWM, TOP ICRn")
+    );
+    write16(&mut t, &l, 0x86, 400, 102); // ICR1
+    write16(&mut t, &l, 0x88, 0, 104); // OCR1A
+    write16(&mut t, &l, 0x8A, 0, 106); // OCR1B
+    let set_at = 5_000;
+    for (ocr, at) in [(300u32, set_at), (57, set_at + 100_000)] {
+        write16(&mut t, &l, 0x88, ocr, at);
+        let bottom = t.pending_update_at(at + 1).expect("buffered to BOTTOM");
+        // BOTTOM: the counter (from 0 at cycle 102, when ICR1's low byte
+        // set TOP; TOP 0 held it at 0 before) at a multiple of 800 steps.
+        assert_eq!((bottom - 102) % 800, 0, "OCR1A {ocr}: update at {bottom}");
+        assert!(bottom > at && bottom <= at + 800);
+        assert_eq!(t.tcnt(bottom), 0);
+        t.apply_update(bottom).unwrap();
+        match t.drive('A', F_CPU, bottom) {
+            PinDrive::Pwm { duty, hz } => {
+                assert_eq!(hz, 20_000.0, "OCR1A {ocr}");
+                assert_eq!(duty, ocr as f64 / 400.0, "OCR1A {ocr}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let (hz, duty) = measured_channel(&t, 'A', 10);
+        assert!(close(hz, 20_000.0), "edges: {hz} Hz");
+        assert!(close(duty, ocr as f64 / 400.0), "edges: duty {duty}");
+    }
+    assert_eq!(
+        t.drive('B', F_CPU, set_at),
+        PinDrive::Pwm {
+            duty: 0.0,
+            hz: 20_000.0
+        }
+    );
+}
+
+/// The Arduino core on timer 0, the `millis()` timer: `init()` sets WGM01,
+/// WGM00 in TCCR0A (mode 3, fast PWM, 8-bit) and CS01, CS00 in TCCR0B
+/// (clock/64), one bit at a time; `analogWrite(pin, v)` sets COM0x1 and
+/// OCR0x = v. f = 16 MHz / (64 * 256) = 976.5625 Hz, duty (v + 1) / 256, on
+/// the mirrored timer as the bench runs it.
+#[test]
+fn arduino_analog_write_on_timer_0() {
+    let l = Layout::TIMER0;
+    for (ch, com1, ocr) in [('A', 0x80u8, 0x47u16), ('B', 0x20, 0x48)] {
+        for v in [1u8, 64, 128, 191, 254] {
+            let mut t = PwmTimer::mirror(0).unwrap();
+            let mut tccra = 0;
+            for bit in [0x02, 0x01] {
+                tccra |= bit;
+                t.write(l.tccra, tccra, 10).unwrap();
+            }
+            t.write(l.tccrb, 0x02, 12).unwrap();
+            t.write(l.tccrb, 0x03, 14).unwrap();
+            assert_eq!(t.config().wgm, 3);
+            t.write(l.tccra, tccra | com1, 5_000).unwrap();
+            t.write(ocr, v, 5_002).unwrap();
+            let bottom = t.pending_update_at(5_002).unwrap();
+            assert_eq!((bottom - 14) % (64 * 256), 0, "at BOTTOM");
+            t.apply_update(bottom).unwrap();
+            let ctx = format!("OC0{ch} = {v}");
+            let want = (v as f64 + 1.0) / 256.0;
+            match t.drive(ch, F_CPU, bottom) {
+                PinDrive::Pwm { duty, hz } => {
+                    assert_eq!(hz, 976.5625, "{ctx}");
+                    assert_eq!(duty, want, "{ctx}");
+                }
+                other => panic!("{ctx}: {other:?}"),
+            }
+            let (hz, duty) = measured_channel(&t, ch, 6);
+            assert!(close(hz, 976.5625), "{ctx}: edges {hz} Hz");
+            assert!(close(duty, want), "{ctx}: edges duty {duty}");
+        }
+    }
 }

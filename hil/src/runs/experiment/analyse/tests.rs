@@ -2,7 +2,9 @@
 
 use super::*;
 
-fn at(motion: Motion, cycle: u64) -> MotionEvent {
+/// A motion event at `cycle`, the robot at the origin (the rules read
+/// only the motion and the cycle).
+pub(in crate::runs::experiment) fn at(motion: Motion, cycle: u64) -> MotionEvent {
     MotionEvent {
         motion,
         at: Snapshot {
