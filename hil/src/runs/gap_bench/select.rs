@@ -474,6 +474,26 @@ pub fn diagnose_bench(
     Ok(d)
 }
 
+/// One joint fit of `effects` on the bench, from the best of `starts` on the training data,
+/// as the forward selection makes it (with the folds [`FitPlan::new`] gives `train`): the
+/// joint fit alone, for data whose effects are known, without the whole diagnosis' single
+/// fits around it.
+pub fn fit_effects_jointly(
+    bench: &BenchModel,
+    train: &TrainSet,
+    held: &HeldOutSet,
+    opts: &SelectOptions,
+    effects: &[&str],
+    starts: &[Vec<f64>],
+) -> Result<JointFit, GapError> {
+    let batched = Batched::with_series(bench, scores_series(train, opts));
+    let plan = FitPlan::new(bench, &[], train, opts);
+    let effects: Vec<String> = effects.iter().map(|e| (*e).to_owned()).collect();
+    joint::fit_joint(
+        &batched, &plan, train, held, opts, &effects, starts, "given",
+    )
+}
+
 /// The training score of the bench under `params` as the searches count it (every
 /// training centroid's χ², plus the series' deviance when telemetry is scored), with no
 /// fit: what the self-test measures the hidden truth itself by.

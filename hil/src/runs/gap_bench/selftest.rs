@@ -365,6 +365,17 @@ pub(super) fn split_rule() -> SplitRule {
     ])
 }
 
+/// The self-test's data of `hidden` (with its floor noise, [`RUNS_PER_GROUP`] runs per
+/// group), split as the self-test splits them: for checks of one step of the diagnosis.
+pub fn self_test_split(
+    bench: &BenchModel,
+    hidden: &EffectParams,
+    leg_mm: f64,
+    seed: u64,
+) -> Result<(gap::data::TrainSet, gap::data::HeldOutSet), GapError> {
+    make_data(bench, hidden, leg_mm, seed, RUNS_PER_GROUP)?.split(&split_rule())
+}
+
 /// Runs one case per `(effect, value)` of `cases`.
 pub fn bench_self_test(
     bench: &BenchModel,

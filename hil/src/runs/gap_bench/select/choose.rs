@@ -313,7 +313,7 @@ pub fn choose(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     fn candidate(effect: &str, train_chi2: f64) -> BenchCandidate {
@@ -380,7 +380,10 @@ mod tests {
 
     /// [`choose_among`] against a nominal robot of training χ² `nominal_chi2` (over 6
     /// residuals).
-    fn choose_against(nominal_chi2: f64, fitted: &[(&str, f64, f64, f64, f64)]) -> BenchDiagnosis {
+    pub(in crate::runs::gap_bench::select) fn choose_against(
+        nominal_chi2: f64,
+        fitted: &[(&str, f64, f64, f64, f64)],
+    ) -> BenchDiagnosis {
         let plan = FitPlan {
             model: "test".to_owned(),
             rule: "test".to_owned(),

@@ -1,7 +1,7 @@
 //! Forward selection over the bench's candidates (see `joint.rs`): pairs from the kinematic
-//! surrogate and from the best single fits, the best pair taken when it earns its place over
-//! the single choice, then a third effect on top of it; the chosen model's numbers replace
-//! the single choice's in the report.
+//! surrogate, Borenstein's Ed + Eb, and from the best single fits, the best pair taken when
+//! it earns its place over the single choice, then a third effect on top of it; the chosen
+//! model's numbers replace the single choice's in the report.
 
 use gap::data::{HeldOutSet, TrainSet};
 use gap::GapError;
@@ -23,23 +23,65 @@ fn same_robot(a: &str, b: &str) -> bool {
         || equivalent(a, 1.05).is_some_and(|(o, _)| o == b)
 }
 
-/// The starts of the pairs: the surrogate's (effects, values) first, then the best single
-/// fits two at a time; each set of effects once, at most `opts.joint_pairs`.
+/// Borenstein's two systematic errors of a differential drive (Ed, the wheels' diameter
+/// ratio, and Eb, the wheelbase): the pair the kinematic surrogate suggests for UMBmark
+/// data, tried whether or not it ranked it, since each of the two compensates the other in
+/// a single fit and neither may rank high alone.
+pub(super) const BORENSTEIN_PAIR: [&str; 2] = [
+    gap::effects::WHEEL_DIAMETER_RATIO,
+    gap::effects::WHEELBASE_RATIO,
+];
+
+/// One pair to fit: its effects, the starts its fit chooses from (the best on the training
+/// data is where Levenberg-Marquardt begins) and where they came from.
+pub(super) type PairStart = (Vec<String>, Vec<Vec<f64>>, &'static str);
+
+/// The starts of a pair's fit from the single fits `a` and `b` (None: not fitted alone,
+/// taken at neutral): both at their single values, and each at its single value with the
+/// other at neutral. A single fit of a robot with two errors compensates the one it lacks,
+/// so both at their single values can start far from the truth while one of them alone
+/// starts near it.
+fn single_starts(a: (f64, Option<f64>), b: (f64, Option<f64>)) -> Vec<Vec<f64>> {
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    for v in [
+        vec![a.1.unwrap_or(a.0), b.1.unwrap_or(b.0)],
+        vec![a.1.unwrap_or(a.0), b.0],
+        vec![a.0, b.1.unwrap_or(b.0)],
+    ] {
+        if v != [a.0, b.0] && !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    if out.is_empty() {
+        out.push(vec![a.0, b.0]);
+    }
+    out
+}
+
+/// The pairs to fit: the surrogate's (effects, values) first, then Borenstein's pair
+/// ([`BORENSTEIN_PAIR`]), then the best single fits two at a time; each set of effects
+/// once, at most `opts.joint_pairs`.
 fn pair_starts(
     d: &BenchDiagnosis,
     surrogate: &[(Vec<String>, Vec<f64>)],
     opts: &SelectOptions,
-) -> Vec<(Vec<String>, Vec<f64>, &'static str)> {
+) -> Vec<PairStart> {
     // The surrogate's pairs may hold effects the bench's shortlist left out: it ranks
     // single effects, and a pair's effects can rank low alone (each compensates the other).
     let specs = crate::runs::gap_bench::bench_parameters();
-    let known = |e: &String| {
+    let spec = |e: &str| {
         specs
             .iter()
-            .any(|s| s.name == *e && s.kind == gap::effects::ParamKind::Systematic)
+            .find(|s| s.name == e && s.kind == gap::effects::ParamKind::Systematic)
     };
-    let mut out: Vec<(Vec<String>, Vec<f64>, &'static str)> = Vec::new();
-    let mut push = |effects: Vec<String>, values: Vec<f64>, from: &'static str| {
+    // An effect's neutral value and its single fit's value (None: not fitted alone).
+    let single = |e: &str| -> Option<(f64, Option<f64>)> {
+        let neutral = spec(e)?.neutral;
+        let fitted = d.candidates.iter().find(|c| c.effect == e).map(|c| c.value);
+        Some((neutral, fitted))
+    };
+    let mut out: Vec<PairStart> = Vec::new();
+    let mut push = |effects: Vec<String>, starts: Vec<Vec<f64>>, from: &'static str| {
         let mut key = effects.clone();
         key.sort();
         let fresh = !out.iter().any(|(e, _, _)| {
@@ -48,21 +90,36 @@ fn pair_starts(
             k == key
         });
         if fresh && !same_robot(&effects[0], &effects[1]) && out.len() < opts.joint_pairs {
-            out.push((effects, values, from));
+            out.push((effects, starts, from));
         }
     };
     for (effects, values) in surrogate {
-        if effects.len() == 2 && effects.iter().all(known) {
-            push(effects.clone(), values.clone(), "kinematic surrogate");
+        if effects.len() == 2 && effects.iter().all(|e| spec(e).is_some()) {
+            let (Some(a), Some(b)) = (single(&effects[0]), single(&effects[1])) else {
+                continue;
+            };
+            let mut starts = vec![values.clone()];
+            starts.extend(single_starts(a, b).into_iter().filter(|v| v != values));
+            push(effects.clone(), starts, "kinematic surrogate");
         }
+    }
+    if let (Some(a), Some(b)) = (single(BORENSTEIN_PAIR[0]), single(BORENSTEIN_PAIR[1])) {
+        push(
+            BORENSTEIN_PAIR.iter().map(|e| (*e).to_owned()).collect(),
+            single_starts(a, b),
+            "Borenstein's pair",
+        );
     }
     let best = d.ranked_singles();
     for i in 0..best.len().min(SINGLES_FOR_PAIRS) {
         for j in i + 1..best.len().min(SINGLES_FOR_PAIRS) {
             let (a, b) = (best[i], best[j]);
+            let (Some(sa), Some(sb)) = (single(&a.effect), single(&b.effect)) else {
+                continue;
+            };
             push(
                 vec![a.effect.clone(), b.effect.clone()],
-                vec![a.value, b.value],
+                single_starts(sa, sb),
                 "single fits",
             );
         }
@@ -130,8 +187,16 @@ pub(super) fn forward(
                 .collect();
             let mut best_triple: Option<JointFit> = None;
             for (e, v) in thirds {
-                let effects: Vec<String> = p.effects.iter().cloned().chain([e]).collect();
-                let values: Vec<f64> = p.values.iter().copied().chain([v]).collect();
+                let effects: Vec<String> = p.effects.iter().cloned().chain([e.clone()]).collect();
+                // The pair at its values with the third at its single value, and at neutral.
+                let neutral = crate::runs::gap_bench::bench_parameters()
+                    .into_iter()
+                    .find(|s| s.name == e)
+                    .map_or(v, |s| s.neutral);
+                let values: Vec<Vec<f64>> = [v, neutral]
+                    .iter()
+                    .map(|&x| p.values.iter().copied().chain([x]).collect())
+                    .collect();
                 let f = fit_joint(
                     batched,
                     plan,
@@ -222,4 +287,66 @@ fn adopt(d: &mut BenchDiagnosis, j: &JointFit) {
         d.heldout_before.systematic_cm,
         d.heldout_after.systematic_cm,
     ));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::choose::tests::choose_against;
+    use super::*;
+    use gap::effects::{CASTOR_DRAG, WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO};
+
+    fn names(p: &PairStart) -> Vec<&str> {
+        p.0.iter().map(String::as_str).collect()
+    }
+
+    /// Borenstein's pair is fitted though neither of its effects ranks first alone, from
+    /// both single values and from each with the other at neutral; the single fits' pairs
+    /// follow it, and the surrogate's own Ed + Eb pair (with its values as the first start)
+    /// takes its place rather than a second copy.
+    #[test]
+    fn borenstein_pair_is_always_tried_from_single_and_neutral_starts() {
+        let d = choose_against(
+            100.0,
+            &[
+                (CASTOR_DRAG, 2.0, 10.0, 1.0, 0.5),
+                (WHEELBASE_RATIO, 1.03, 20.0, 1.0, 0.5),
+                (WHEEL_DIAMETER_RATIO, 0.99, 30.0, 1.0, 0.5),
+            ],
+        );
+        let opts = SelectOptions::default();
+        let pairs = pair_starts(&d, &[], &opts);
+        assert_eq!(names(&pairs[0]), BORENSTEIN_PAIR, "{pairs:?}");
+        assert_eq!(
+            pairs[0].1,
+            vec![vec![0.99, 1.03], vec![0.99, 1.0], vec![1.0, 1.03]]
+        );
+        assert_eq!(
+            names(&pairs[1]),
+            [CASTOR_DRAG, WHEELBASE_RATIO],
+            "{pairs:?}"
+        );
+        assert_eq!(
+            pairs[1].1,
+            vec![vec![2.0, 1.03], vec![2.0, 1.0], vec![0.0, 1.03]]
+        );
+        assert_eq!(pairs.len(), 3, "each set of effects once: {pairs:?}");
+
+        let surrogate = vec![(
+            vec![WHEELBASE_RATIO.to_owned(), WHEEL_DIAMETER_RATIO.to_owned()],
+            vec![1.05, 0.97],
+        )];
+        let pairs = pair_starts(&d, &surrogate, &opts);
+        assert_eq!(names(&pairs[0]), [WHEELBASE_RATIO, WHEEL_DIAMETER_RATIO]);
+        assert_eq!(pairs[0].1[0], vec![1.05, 0.97], "{pairs:?}");
+        assert_eq!(pairs[0].2, "kinematic surrogate");
+        assert_eq!(
+            pairs
+                .iter()
+                .filter(|p| p.0.contains(&WHEEL_DIAMETER_RATIO.to_owned())
+                    && p.0.contains(&WHEELBASE_RATIO.to_owned()))
+                .count(),
+            1,
+            "{pairs:?}"
+        );
+    }
 }

@@ -2,9 +2,10 @@
 //! errors at once (Borenstein's Ed and Eb) is fitted by no single effect, and a single fit
 //! then compensates with a wrong value or a wrong effect.
 //!
-//! Pairs come from the kinematic surrogate's best pairs (with its fitted values as the
-//! start) and from the bench's best single effects taken two at a time (from their single
-//! fits). Each is fitted jointly by Levenberg-Marquardt on the weighted centroid residuals:
+//! Pairs come from the kinematic surrogate's best pairs (with its fitted values as a
+//! start), Borenstein's Ed + Eb, and the bench's best single effects taken two at a time;
+//! each fit begins at the best of its starts (single fits' values, each with the other
+//! effect at neutral; see `forward.rs`). Each is fitted jointly by Levenberg-Marquardt on the weighted centroid residuals:
 //! the Jacobian by forward differences of [`STEP`] scales, and three damping factors tried
 //! in one batch per iteration, so an iteration is k + 3 predictions of the training groups,
 //! run in parallel. Values are kept inside their effects' ranges. A pair is taken when it
@@ -360,8 +361,9 @@ fn inverse(m: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     )
 }
 
-/// Fits `effects` jointly from `start` (see the module docs): the whole fit, its folds, its
-/// uncertainty, and its training and held-out gaps.
+/// Fits `effects` jointly from the best of `starts` on the training data (see the module
+/// docs; all of them evaluated in one batch): the whole fit, its folds, its uncertainty, and
+/// its training and held-out gaps.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn fit_joint(
     batched: &Batched,
@@ -370,7 +372,7 @@ pub(super) fn fit_joint(
     held: &HeldOutSet,
     opts: &SelectOptions,
     effects: &[String],
-    start: &[f64],
+    starts: &[Vec<f64>],
     from: &str,
 ) -> Result<JointFit, GapError> {
     let before = batched.runs();
@@ -391,8 +393,15 @@ pub(super) fn fit_joint(
         specs,
         seen: HashMap::new(),
     };
-    let p = j.fit(start, &|_| true, opts.joint_iterations)?;
     let groups = j.groups(&|_| true);
+    let starts: Vec<Vec<f64>> = starts.iter().map(|v| j.clamp(v)).collect();
+    j.eval(&starts, &groups)?;
+    let start = starts
+        .iter()
+        .min_by(|a, b| j.parts(a, &groups).0.total_cmp(&j.parts(b, &groups).0))
+        .ok_or_else(|| GapError::Fit(format!("no start for {}", effects.join(" + "))))?
+        .clone();
+    let p = j.fit(&start, &|_| true, opts.joint_iterations)?;
     let (train_chi2, series) = j.parts(&p, &groups);
     let scored_series = super::telemetry::scores_series(train, opts);
     let cv_chi2 = if plan.cv() {
