@@ -73,6 +73,9 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
         "2",
         "--shortlist",
         "1",
+        // Shards fit single effects only: the single-machine report to compare with too.
+        "--max-effects",
+        "1",
     ];
 
     let json = hil(&[&common[..], &["--json"]].concat());
@@ -183,5 +186,6 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
     assert_eq!(speed.two_jobs_wall_s, Some(speed.timed[1].wall_s));
     assert!(speed.within_budget.is_some());
     assert!(text.contains("speed-up with 2 jobs"), "{text}");
-    assert!(text.contains("budget 600 s on 2 cores"), "{text}");
+    assert!(text.contains("joint fits: "), "{text}");
+    assert!(text.contains("budget 900 s on 2 cores"), "{text}");
 }

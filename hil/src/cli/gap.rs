@@ -51,6 +51,11 @@ pub struct Gap {
     #[arg(long, requires = "bench", default_value_t = 7,
           value_parser = clap::value_parser!(u8).range(0..=7))]
     shortlist: u8,
+    /// With --bench: most effects the chosen model may hold (1 to 3): 1 fits
+    /// single effects only, 2 adds joint fits of pairs, 3 a third effect.
+    #[arg(long, requires = "bench", default_value_t = 3,
+          value_parser = clap::value_parser!(u8).range(1..=3))]
+    max_effects: u8,
     /// With --bench --self-test: how many hidden effects to try, in a fixed
     /// order (1 to 14: every effect of the library but the floor noise).
     #[arg(long, requires = "bench", default_value_t = 2,
@@ -238,6 +243,7 @@ impl Gap {
         SelectOptions {
             shortlist: self.shortlist.into(),
             series: !self.no_series,
+            max_effects: self.max_effects.into(),
             ..SelectOptions::default()
         }
     }
@@ -323,7 +329,7 @@ impl Gap {
             let _shared = hil::output::share(dir)?;
             let partial = hil::runs::gap_bench::run_shard(
                 &bench,
-                &shortlist,
+                &shortlist.shortlist,
                 &train,
                 &held,
                 &self.select_options(),
@@ -376,27 +382,41 @@ impl Gap {
 
     fn bench_self_test(&self) -> Result<()> {
         let bench = self.bench_model(RobotConfig::default())?;
-        let mut hidden: Vec<(String, f64)> = Vec::new();
+        // Each --hidden value is one case; effects joined by '+' are hidden together.
+        let mut hidden: Vec<Vec<(String, f64)>> = Vec::new();
         for h in &self.hidden {
-            let parsed = h
-                .split_once('=')
-                .and_then(|(n, v)| Some((n.trim().to_owned(), v.trim().parse::<f64>().ok()?)));
-            match parsed {
-                Some((n, v)) if v.is_finite() => hidden.push((n, v)),
-                _ => {
-                    return Err(super::bad_input(anyhow::anyhow!(
-                        "--hidden {h}: expected NAME=VALUE with a finite number, e.g. \
-                         battery_sag=0.5"
-                    )))
+            let mut set = Vec::new();
+            for one in h.split('+') {
+                let parsed = one
+                    .split_once('=')
+                    .and_then(|(n, v)| Some((n.trim().to_owned(), v.trim().parse::<f64>().ok()?)));
+                match parsed {
+                    Some((n, v)) if v.is_finite() && !set.iter().any(|(m, _)| *m == n) => {
+                        set.push((n, v))
+                    }
+                    _ => {
+                        return Err(super::bad_input(anyhow::anyhow!(
+                            "--hidden {h}: expected NAME=VALUE with a finite number, effects \
+                             hidden together joined by '+' each once, e.g. battery_sag=0.5 or \
+                             wheel_diameter_ratio=0.97+wheelbase_ratio=1.05"
+                        )))
+                    }
                 }
             }
+            hidden.push(set);
         }
-        let cases: Vec<(&str, f64)> = if hidden.is_empty() {
-            DEFAULT_CASES[..usize::from(self.cases)].to_vec()
+        let cases: Vec<Vec<(&str, f64)>> = if hidden.is_empty() {
+            DEFAULT_CASES[..usize::from(self.cases)]
+                .iter()
+                .map(|&c| vec![c])
+                .collect()
         } else {
-            hidden.iter().map(|(n, v)| (n.as_str(), *v)).collect()
+            hidden
+                .iter()
+                .map(|set| set.iter().map(|(n, v)| (n.as_str(), *v)).collect())
+                .collect()
         };
-        let t = hil::runs::gap_bench::bench_self_test(
+        let t = hil::runs::gap_bench::bench_self_test_of(
             &bench,
             &cases,
             f64::from(self.leg_mm),

@@ -8,6 +8,7 @@
 //! |---|---|
 //! | `mod.rs` | the model: runs of an experiment on the bench, in parallel, by seed |
 //! | `params.rs` | one number per library effect, and its `[effects.<name>]` table |
+//! | `reading.rs` | a value as a person reads it: its size, side in words, unit, bound |
 //! | `batch.rs` | many predictions asked for at once, run in one parallel batch |
 //! | `select.rs` | the bench-backed diagnosis: 1-D fits, cross-validation, held-out gap |
 //! | `shard.rs` | the diagnosis' candidates split over machines, and the merge of the shards |
@@ -34,6 +35,7 @@ use crate::runs::odometry::run_seed;
 
 mod batch;
 mod params;
+pub mod reading;
 mod select;
 mod selftest;
 mod series;
@@ -43,10 +45,14 @@ mod speed;
 pub use batch::Batched;
 pub use params::{apply, bench_parameters};
 pub use select::{
-    choose, diagnose_bench, fit_candidates, fit_nominal, kinematic_shortlist, BenchCandidate,
-    BenchDiagnosis, FitPlan, FittedCandidate, NominalFit, SelectOptions,
+    choose, diagnose_bench, fit_candidates, fit_effects_jointly, fit_nominal, kinematic_shortlist,
+    BenchCandidate, BenchDiagnosis, ChosenValue, FitPlan, FittedCandidate, JointFit, NominalFit,
+    SelectOptions, Surrogate,
 };
-pub use selftest::{bench_self_test, BenchCase, BenchSelfTest, DEFAULT_CASES, RUNS_PER_GROUP};
+pub use selftest::{
+    bench_self_test, bench_self_test_of, self_test_split, BenchCase, BenchSelfTest, DEFAULT_CASES,
+    HELDOUT_CUT_PCT, RUNS_PER_GROUP, TWO_EFFECT_CASES, VALUE_WITHIN_PCT,
+};
 pub use series::{
     series_chi2, series_chi2_of_runs, series_noise, SegmentFit, SeriesNoise, SeriesRun,
     SeriesScore, CONTROL_PERIOD_S,

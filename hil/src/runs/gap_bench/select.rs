@@ -51,10 +51,13 @@ mod choose;
 #[cfg(test)]
 pub(super) use choose::heldout_worse_note;
 pub(super) use choose::{HELDOUT_WORSE, MARKED_CHI2};
+mod forward;
+mod joint;
 mod render;
 mod search;
 mod telemetry;
 pub use choose::choose;
+pub use joint::JointFit;
 use search::{grid, Search};
 use telemetry::{scores_series, series_total};
 
@@ -83,6 +86,32 @@ pub struct SelectOptions {
     pub fit: FitOptions,
     /// Score the training groups' telemetry too, when they have it (see the module docs).
     pub series: bool,
+    /// Most effects the chosen model may hold: 1 fits single effects only; 2 adds the
+    /// joint fits of pairs, 3 a third effect on the best pair (see `select/joint.rs`).
+    #[serde(default = "three")]
+    pub max_effects: usize,
+    /// Pairs fitted jointly at most.
+    #[serde(default = "four")]
+    pub joint_pairs: usize,
+    /// Levenberg-Marquardt iterations of a joint fit on all training groups, and of each
+    /// cross-validation fold's refit from it.
+    #[serde(default = "six")]
+    pub joint_iterations: usize,
+    #[serde(default = "two")]
+    pub joint_fold_iterations: usize,
+}
+
+fn two() -> usize {
+    2
+}
+fn three() -> usize {
+    3
+}
+fn four() -> usize {
+    4
+}
+fn six() -> usize {
+    6
 }
 
 impl Default for SelectOptions {
@@ -97,6 +126,10 @@ impl Default for SelectOptions {
                 ..FitOptions::default()
             },
             series: true,
+            max_effects: three(),
+            joint_pairs: four(),
+            joint_iterations: six(),
+            joint_fold_iterations: two(),
         }
     }
 }
@@ -119,6 +152,10 @@ pub struct BenchCandidate {
     pub cv_chi2: Option<f64>,
     /// Held-out systematic gap with it, cm.
     pub heldout_systematic_cm: f64,
+    /// Standard error of the value, from the training residuals' slope at it (None: the
+    /// residuals do not move with it there).
+    #[serde(default)]
+    pub std_err: Option<f64>,
     /// Training series χ² at that value, and the RMS of real − bench speed over every
     /// telemetry sample, thesis RPM (None: no telemetry scored).
     pub series_chi2: Option<f64>,
@@ -142,8 +179,19 @@ pub struct BenchDiagnosis {
     /// What one fold leaves out ("experiment" or "group"), and the folds.
     pub fold_by: &'static str,
     pub folds: Vec<String>,
-    /// The chosen effect and its value (None: none taken).
+    /// Groups never left out ([`FitPlan::kept_out`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub folds_kept_out: Vec<String>,
+    /// The best single effect taken, and its value (None: none taken).
     pub winner: Option<(String, f64)>,
+    /// The chosen model: the single winner, or a joint fit that earned its place over it
+    /// (empty: the nominal robot).
+    pub chosen: Vec<ChosenValue>,
+    /// The joint fits tried (see `select/joint.rs`), and the bench runs they took.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub joint: Vec<JointFit>,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub joint_runs: usize,
     /// The winner's other name in the plant's library, with its value, when the plant makes
     /// the same robot under both ([`super::params::equivalent`]): no data can prefer one.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -176,6 +224,16 @@ pub struct BenchDiagnosis {
     pub series: Vec<SeriesScore>,
 }
 
+/// One value of the chosen model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChosenValue {
+    pub effect: String,
+    pub value: f64,
+    /// Its standard error (None: not determined from the data).
+    pub std_err: Option<f64>,
+    pub unit: String,
+}
+
 fn is_zero(n: &usize) -> bool {
     *n == 0
 }
@@ -193,20 +251,49 @@ fn fold_of(g: &Group, by_experiment: bool) -> String {
     }
 }
 
-/// The kinematic diagnosis' ranking of single effects, best first: the
-/// shortlist [`diagnose_bench`] fits on the bench.
+/// What the kinematic diagnosis, the fast surrogate, gives the bench: its ranking of
+/// single effects, best first (the shortlist the bench fits), and its fitted sets of
+/// several effects, best first, with their values (the starts of the joint fits).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Surrogate {
+    pub shortlist: Vec<String>,
+    pub fits: Vec<(Vec<String>, Vec<f64>)>,
+}
+
+/// The kinematic diagnosis of `train` as the bench's [`Surrogate`].
 pub fn kinematic_shortlist(
     train: &TrainSet,
     held: &HeldOutSet,
     opts: &gap::DiagnoseOptions,
-) -> Result<Vec<String>, GapError> {
+) -> Result<Surrogate, GapError> {
     let kin = gap::diagnose(&gap::KinematicModel, train, held, opts)?;
-    Ok(kin
-        .which
-        .singles
-        .iter()
-        .flat_map(|r| r.fit.effects.clone())
-        .collect())
+    let values = |f: &gap::CandidateFit| -> (Vec<String>, Vec<f64>) {
+        (
+            f.effects.clone(),
+            f.estimates.iter().map(|e| e.value).collect(),
+        )
+    };
+    let mut fits: Vec<(Vec<String>, Vec<f64>)> = Vec::new();
+    for f in kin
+        .winner_fit()
+        .into_iter()
+        .chain(kin.which.pairs.iter().map(|r| &r.fit))
+    {
+        // Two starts from the surrogate (its winner and best pair, or its two best pairs):
+        // the bench's own best singles make the others.
+        if f.effects.len() == 2 && fits.len() < 2 && !fits.iter().any(|(e, _)| *e == f.effects) {
+            fits.push(values(f));
+        }
+    }
+    Ok(Surrogate {
+        shortlist: kin
+            .which
+            .singles
+            .iter()
+            .flat_map(|r| r.fit.effects.clone())
+            .collect(),
+        fits,
+    })
 }
 
 /// What [`diagnose_bench`] fits and how it cross-validates: it follows from the data, the
@@ -222,6 +309,38 @@ pub struct FitPlan {
     /// Whether a fold leaves out an experiment (else a group), and the folds.
     pub by_experiment: bool,
     pub folds: Vec<String>,
+    /// Groups never left out: leaving them out would leave a training set without a turn
+    /// (a line alone), on which no effect of the turns is fitted.
+    #[serde(default)]
+    pub kept_out: Vec<String>,
+}
+
+/// Whether a group's test turns the robot (every test but the line).
+fn turns(g: &Group) -> bool {
+    g.id.test != gap::model::TestKind::Line
+}
+
+/// The cross-validation's folds of `groups`: leave one experiment out when there are
+/// several and each such fold still trains on a turn, else leave one group out; a group
+/// whose leaving out would leave no turn to train on is never left out (the folds that
+/// remain each keep turns and straights: every turning test has straight legs). Returns
+/// (by experiment, folds, the groups never left out).
+pub(super) fn folds_of(groups: &[Group]) -> (bool, Vec<String>, Vec<String>) {
+    let trains_on_a_turn =
+        |f: &str, by: bool| groups.iter().any(|g| fold_of(g, by) != f && turns(g));
+    let unique = |by: bool| {
+        let mut v: Vec<String> = groups.iter().map(|g| fold_of(g, by)).collect();
+        v.dedup();
+        v
+    };
+    let experiments = unique(true);
+    if experiments.len() >= 2 && experiments.iter().all(|f| trains_on_a_turn(f, true)) {
+        return (true, experiments, Vec::new());
+    }
+    let (kept, out): (Vec<String>, Vec<String>) = unique(false)
+        .into_iter()
+        .partition(|f| trains_on_a_turn(f, false));
+    (false, kept, out)
 }
 
 impl FitPlan {
@@ -267,30 +386,19 @@ impl FitPlan {
                 ));
             }
         }
-        let mut experiments: Vec<&str> = train
-            .groups()
-            .iter()
-            .map(|g| g.id.experiment.as_str())
-            .collect();
-        experiments.dedup();
-        let by_experiment = experiments.len() >= 2;
-        let mut folds: Vec<String> = train
-            .groups()
-            .iter()
-            .map(|g| fold_of(g, by_experiment))
-            .collect();
-        folds.dedup();
+        let (by_experiment, folds, kept_out) = folds_of(train.groups());
         FitPlan {
             model: bench.name(),
             rule: train.rule().to_owned(),
             candidates: names,
             by_experiment,
             folds,
+            kept_out,
         }
     }
 
     /// Whether there is more than one fold to cross-validate with.
-    fn cv(&self) -> bool {
+    pub(super) fn cv(&self) -> bool {
         self.folds.len() >= 2
     }
 }
@@ -341,18 +449,49 @@ pub struct FittedCandidate {
 /// diagnosis' ranking of single effects, best first; `progress` gets a line per step.
 pub fn diagnose_bench(
     bench: &BenchModel,
-    shortlist: &[String],
+    surrogate: &Surrogate,
     train: &TrainSet,
     held: &HeldOutSet,
     opts: &SelectOptions,
     progress: &dyn Fn(&str),
 ) -> Result<BenchDiagnosis, GapError> {
     let batched = Batched::with_series(bench, scores_series(train, opts));
-    let plan = FitPlan::new(bench, shortlist, train, opts);
+    let plan = FitPlan::new(bench, &surrogate.shortlist, train, opts);
     let nominal = fit_nominal(&batched, &plan, train, held, opts, progress)?;
     let all: Vec<usize> = (0..plan.candidates.len()).collect();
     let fitted = fit_candidates(&batched, &plan, &all, train, held, opts, progress)?;
-    Ok(choose(&plan, &nominal, fitted, batched.runs()))
+    let mut d = choose(&plan, &nominal, fitted, batched.runs());
+    forward::forward(
+        &batched,
+        &plan,
+        train,
+        held,
+        opts,
+        &surrogate.fits,
+        &mut d,
+        progress,
+    )?;
+    Ok(d)
+}
+
+/// One joint fit of `effects` on the bench, from the best of `starts` on the training data,
+/// as the forward selection makes it (with the folds [`FitPlan::new`] gives `train`): the
+/// joint fit alone, for data whose effects are known, without the whole diagnosis' single
+/// fits around it.
+pub fn fit_effects_jointly(
+    bench: &BenchModel,
+    train: &TrainSet,
+    held: &HeldOutSet,
+    opts: &SelectOptions,
+    effects: &[&str],
+    starts: &[Vec<f64>],
+) -> Result<JointFit, GapError> {
+    let batched = Batched::with_series(bench, scores_series(train, opts));
+    let plan = FitPlan::new(bench, &[], train, opts);
+    let effects: Vec<String> = effects.iter().map(|e| (*e).to_owned()).collect();
+    joint::fit_joint(
+        &batched, &plan, train, held, opts, &effects, starts, "given",
+    )
 }
 
 /// The training score of the bench under `params` as the searches count it (every
@@ -496,6 +635,7 @@ pub fn fit_candidates(
             train_chi2,
             cv_chi2,
             heldout_systematic_cm: f64::NAN,
+            std_err: joint::std_err_of(batched, train, opts, name, value)?,
             series_chi2,
             series_rms_rpm: series.as_ref().map(|t| t.rms_rpm),
         });
@@ -549,5 +689,62 @@ impl BenchCandidate {
     pub fn train_score(&self) -> f64 {
         self.series_chi2
             .map_or(self.train_chi2, |s| self.train_chi2 + s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gap::data::ObservedRun;
+    use gap::model::{Experiment, Firmware, TestKind};
+
+    fn groups(of: &[(&str, TestKind)]) -> Vec<Group> {
+        let reference = gap::manifest::reference_from_config(&plant_model::RobotConfig::default());
+        of.iter()
+            .map(|&(name, test)| {
+                let exp = Experiment {
+                    test,
+                    firmware: Firmware::nominal(&reference, 300.0),
+                    reference,
+                    runs: 1,
+                    seed: 1,
+                };
+                let run = ObservedRun {
+                    x_cm: 0.0,
+                    y_cm: Some(0.0),
+                    theta_rad: None,
+                };
+                Group::new(name, exp, vec![run]).expect("a group")
+            })
+            .collect()
+    }
+
+    /// No fold trains on a line alone: with a square in one experiment and the line in
+    /// another, leaving the square's experiment out would, so the folds are by group and
+    /// the square is never left out; experiments that each keep a turn are folds as they
+    /// are; three groups of one experiment are three folds.
+    #[test]
+    fn no_fold_trains_on_a_line_alone() {
+        use TestKind as T;
+        let (by, folds, out) = folds_of(&groups(&[("a", T::UmbmarkCw), ("b", T::Line)]));
+        assert!(!by);
+        assert_eq!(folds.len(), 1, "{folds:?}");
+        assert!(folds[0].starts_with("b/"), "{folds:?}");
+        assert_eq!(out.len(), 1);
+        assert!(out[0].starts_with("a/"), "{out:?}");
+        let (by, folds, out) = folds_of(&groups(&[
+            ("a", T::UmbmarkCw),
+            ("a", T::Line),
+            ("b", T::UmbmarkCcw),
+        ]));
+        assert!(by && out.is_empty());
+        assert_eq!(folds, vec!["a".to_owned(), "b".to_owned()]);
+        let (by, folds, out) = folds_of(&groups(&[
+            ("a", T::UmbmarkCw),
+            ("a", T::UmbmarkCcw),
+            ("a", T::Line),
+        ]));
+        assert!(!by && out.is_empty());
+        assert_eq!(folds.len(), 3);
     }
 }

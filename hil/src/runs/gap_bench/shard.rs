@@ -269,7 +269,15 @@ pub fn merge(parts: Vec<(String, Partial)>) -> Result<BenchDiagnosis, MergeError
         .iter()
         .flat_map(|p| p.candidates.iter().cloned())
         .collect();
-    Ok(choose(&first.plan.fit, &first.nominal, fitted, runs))
+    let mut d = choose(&first.plan.fit, &first.nominal, fitted, runs);
+    if first.plan.options.max_effects >= 2 {
+        d.notes.push(
+            "no joint fits: shards fit single effects only, and the joint fits start from all \
+             of them; run without --shard for pairs and triples"
+                .to_owned(),
+        );
+    }
+    Ok(d)
 }
 
 /// A value as it travels (its JSON): the one form both sides of a merge have.

@@ -17,7 +17,7 @@ use super::selftest::{make_data, split_rule};
 use super::{diagnose_bench, kinematic_shortlist, BenchDiagnosis, BenchModel, SelectOptions};
 
 /// The budget of one diagnosis on 2 cores, s.
-pub const BUDGET_S: f64 = 600.0;
+pub const BUDGET_S: f64 = 900.0;
 
 /// What to time.
 pub struct SpeedPlan<'a> {
@@ -54,6 +54,11 @@ pub struct DiagnosisSpeed {
     pub hidden: String,
     pub winner: Option<String>,
     pub candidates: usize,
+    /// The chosen model's effects, the joint fits tried and the bench runs they took (of
+    /// each timing's total).
+    pub chosen: Vec<String>,
+    pub joint_fits: usize,
+    pub joint_runs: usize,
     /// Bench runs of the data, and the wall time they took (with the job count timed last).
     pub data_runs: usize,
     pub data_wall_s: f64,
@@ -132,8 +137,11 @@ pub fn measure_diagnosis(plan: &SpeedPlan) -> Result<DiagnosisSpeed, GapError> {
         leg_mm: plan.leg_mm,
         runs_per_group: plan.runs_per_group,
         hidden: format!("{effect} = {value}"),
-        winner: d.winner.map(|(w, _)| w),
+        winner: d.winner.clone().map(|(w, _)| w),
         candidates: d.candidates.len(),
+        chosen: d.chosen.iter().map(|c| c.effect.clone()).collect(),
+        joint_fits: d.joint.len(),
+        joint_runs: d.joint_runs,
         data_runs,
         data_wall_s,
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -169,6 +177,19 @@ impl DiagnosisSpeed {
             self.candidates,
             self.winner.as_deref().unwrap_or("none"),
             self.cores
+        );
+        let total = self.timed.first().map_or(0, |t| t.bench_runs);
+        let _ = writeln!(
+            s,
+            "  joint fits: {} tried, {} bench runs of the {total} ({:.0} %); chosen model: {}",
+            self.joint_fits,
+            self.joint_runs,
+            100.0 * self.joint_runs as f64 / total.max(1) as f64,
+            if self.chosen.is_empty() {
+                "none".to_owned()
+            } else {
+                self.chosen.join(" + ")
+            }
         );
         let _ = writeln!(
             s,

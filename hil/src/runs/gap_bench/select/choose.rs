@@ -2,7 +2,9 @@
 //! nominal robot, the candidates the data cannot tell from the winner, and the report's
 //! notes (see the parent's docs).
 
-use super::{chi2, BenchCandidate, BenchDiagnosis, FitPlan, FittedCandidate, NominalFit};
+use super::{
+    chi2, BenchCandidate, BenchDiagnosis, ChosenValue, FitPlan, FittedCandidate, NominalFit,
+};
 #[cfg(doc)]
 use gap::Scorer;
 
@@ -19,7 +21,7 @@ const MARKED_FRACTION: f64 = 0.75;
 
 /// Whether a candidate's training χ² `score` improves markedly on the nominal robot's
 /// `nominal`.
-fn marked(nominal: f64, score: f64) -> bool {
+pub(super) fn marked(nominal: f64, score: f64) -> bool {
     nominal - score >= MARKED_CHI2 && score <= MARKED_FRACTION * nominal
 }
 
@@ -40,7 +42,10 @@ fn alike(
 }
 
 /// A residual is at noise level when its χ² p-value is at least this.
-const NOISE_P: f64 = 0.01;
+pub(super) const NOISE_P: f64 = 0.01;
+
+/// How the report's note that the chosen model leaves a residual beyond noise begins.
+pub(super) const NO_EXPLANATION: &str = "no candidate explains the gap";
 
 /// How the report's note that the choice worsens the held-out prediction begins.
 pub(crate) const HELDOUT_WORSE: &str = "the chosen effect makes the held-out prediction worse";
@@ -56,6 +61,43 @@ fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
 }
 
+/// Candidates the plant makes one robot of (turn slip and wheelbase, see
+/// [`crate::runs::gap_bench::params::equivalent`]) are scored alike: their searches differ
+/// only in their grids, so the better one's fit, read under the other's name, is the other's
+/// too when it lies in the other's range. Their cross-validations scattered 2.4 to 5.8 times
+/// apart before.
+fn align_equivalents(fitted: &mut [FittedCandidate]) {
+    let score = |c: &BenchCandidate| c.cv_chi2.unwrap_or(c.train_score());
+    for i in 0..fitted.len() {
+        for j in 0..fitted.len() {
+            let (a, b) = (&fitted[i].candidate, &fitted[j].candidate);
+            if i == j || score(a) >= score(b) {
+                continue;
+            }
+            let Some((other, v)) = crate::runs::gap_bench::params::equivalent(&a.effect, a.value)
+            else {
+                continue;
+            };
+            if other != b.effect {
+                continue;
+            }
+            // d(other)/d(value) at the value, for the standard error.
+            let h = 1e-6;
+            let slope = crate::runs::gap_bench::params::equivalent(&a.effect, a.value + h)
+                .map_or(f64::NAN, |(_, w)| (w - v) / h);
+            let mut copy = fitted[i].clone();
+            copy.index = fitted[j].index;
+            copy.candidate.effect = b.effect.clone();
+            copy.candidate.symbol = b.symbol.clone();
+            copy.candidate.unit = b.unit.clone();
+            copy.candidate.source = b.source.clone();
+            copy.candidate.value = v;
+            copy.candidate.std_err = copy.candidate.std_err.map(|se| (se * slope).abs());
+            fitted[j] = copy;
+        }
+    }
+}
+
 /// The choice over fitted candidates (every candidate of `plan`, in any order): they are
 /// ranked by training χ², chosen by cross-validated χ² against the nominal robot's, and
 /// the report's notes say why. `bench_runs`: the runs the whole diagnosis made.
@@ -67,6 +109,7 @@ pub fn choose(
 ) -> BenchDiagnosis {
     // Plan order first, so that candidates with equal χ² rank as on one machine.
     fitted.sort_by_key(|f| f.index);
+    align_equivalents(&mut fitted);
     let (by_experiment, cv) = (plan.by_experiment, plan.cv());
     let mut notes = Vec::new();
     if !cv {
@@ -211,7 +254,7 @@ pub fn choose(
             )
         });
         notes.push(format!(
-            "no candidate explains the gap: the training residual left is beyond noise (χ² \
+            "{NO_EXPLANATION}: the training residual left is beyond noise (χ² \
              {left_chi2:.1} over {dof} degrees of freedom, p = {p_value:.2e}){place}"
         ));
     }
@@ -223,10 +266,26 @@ pub fn choose(
         Some((i, _)) => fitted[i].series_gaps.clone(),
         None => nominal.series_gaps.clone(),
     };
+    let specs = crate::runs::gap_bench::bench_parameters();
+    let chosen = winner
+        .map(|(_, c)| ChosenValue {
+            effect: c.effect.clone(),
+            value: c.value,
+            std_err: c.std_err,
+            unit: specs
+                .iter()
+                .find(|s| s.name == c.effect)
+                .map_or(c.unit.clone(), |s| s.unit.clone()),
+        })
+        .into_iter()
+        .collect();
     BenchDiagnosis {
         model: plan.model.clone(),
         rule: plan.rule.clone(),
         winner: winner.map(|(_, c)| (c.effect.clone(), c.value)),
+        chosen,
+        joint: Vec::new(),
+        joint_runs: 0,
         winner_equivalent,
         alike: alike_ix
             .iter()
@@ -239,6 +298,7 @@ pub fn choose(
         residuals,
         fold_by: if by_experiment { "experiment" } else { "group" },
         folds: plan.folds.clone(),
+        folds_kept_out: plan.kept_out.clone(),
         heldout_before,
         heldout_after,
         at_noise_level,
@@ -253,7 +313,7 @@ pub fn choose(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     fn candidate(effect: &str, train_chi2: f64) -> BenchCandidate {
@@ -265,6 +325,7 @@ mod tests {
             value: 0.0,
             train_chi2,
             cv_chi2: None,
+            std_err: None,
             heldout_systematic_cm: 0.0,
             series_chi2: None,
             series_rms_rpm: None,
@@ -319,7 +380,10 @@ mod tests {
 
     /// [`choose_among`] against a nominal robot of training χ² `nominal_chi2` (over 6
     /// residuals).
-    fn choose_against(nominal_chi2: f64, fitted: &[(&str, f64, f64, f64, f64)]) -> BenchDiagnosis {
+    pub(in crate::runs::gap_bench::select) fn choose_against(
+        nominal_chi2: f64,
+        fitted: &[(&str, f64, f64, f64, f64)],
+    ) -> BenchDiagnosis {
         let plan = FitPlan {
             model: "test".to_owned(),
             rule: "test".to_owned(),
@@ -329,6 +393,7 @@ mod tests {
                 .collect(),
             by_experiment: false,
             folds: vec!["g".to_owned()],
+            kept_out: vec![],
         };
         let nominal = NominalFit {
             train_chi2: nominal_chi2,
@@ -387,6 +452,31 @@ mod tests {
         );
         assert_eq!(d.winner_equivalent, None);
         assert!(!d.notes.iter().any(|n| n.contains("the same robot")));
+    }
+
+    /// A sided effect reads as its size and side: a castor drag fitted at −2.7 (the right
+    /// side in the search's signed number) is reported as 2.7 N on the right, never as a
+    /// negative force, in the table and the chosen model's line; one at the end of its range
+    /// as that bound. No line says "winner".
+    #[test]
+    fn a_sided_value_is_reported_as_its_size_and_side() {
+        use gap::effects::CASTOR_DRAG;
+        let mut d = choose_among(&[(CASTOR_DRAG, -2.7, 2.0, 0.5, 0.2)]);
+        d.candidates[0].unit = "N".to_owned();
+        let text = d.render();
+        assert!(
+            text.contains("chosen model: castor_drag = 2.7000 N (castor right of centre)"),
+            "{text}"
+        );
+        assert!(!text.contains("-2.7"), "{text}");
+        assert!(!text.contains("winner"), "{text}");
+        let mut d = choose_among(&[(CASTOR_DRAG, -3.0, 2.0, 0.5, 0.2)]);
+        d.candidates[0].unit = "N".to_owned();
+        assert!(
+            d.render().contains("castor_drag = ≥ 3.0000 N"),
+            "{}",
+            d.render()
+        );
     }
 
     /// The held-out cut is that of the gap beyond the centroids' sampling error (3 cm before

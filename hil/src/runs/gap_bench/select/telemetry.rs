@@ -72,6 +72,29 @@ pub(super) fn series_total(
     Ok(Some(t))
 }
 
+/// The series deviance of one training group under `params` (0: the group has no
+/// telemetry, or this batch records none): its runs were made with its centroid.
+pub(super) fn group_series(
+    batched: &Batched,
+    train: &TrainSet,
+    fit: &FitOptions,
+    params: &EffectParams,
+    g: &Group,
+) -> Result<f64, GapError> {
+    let Some(real) = &g.telemetry else {
+        return Ok(0.0);
+    };
+    if !batched.records_series() {
+        return Ok(0.0);
+    }
+    let sc = Scorer::new(batched, train, fit);
+    let sim = batched
+        .series(params, &sc.centroid_experiment(g))
+        .ok_or_else(|| GapError::Fit(format!("{}: the bench recorded no series", g.id)))?;
+    let counted: Vec<_> = sim.into_iter().map(|r| r.counted).collect();
+    Ok(super::super::series_chi2_of_runs(&g.id.to_string(), real, &counted)?.deviance())
+}
+
 impl Search<'_> {
     /// Every training group's series χ² at each of `values` (their runs made by
     /// [`Search::eval`], which recorded the series).
