@@ -40,6 +40,7 @@ impl Tune {
             seed: self.seed,
             keep_firmware_params: false,
             params: Vec::new(),
+            mcu: None,
         };
         let (robot, firmware) = target.load()?;
         if self.write {
