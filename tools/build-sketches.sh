@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the Arduino sketches from source with Debian's Arduino AVR core and
-# arduino-builder, as the Arduino IDE would for an Arduino Mega 2560: the
-# builder's prototypes, the core's flags (-Os, LTO), its core library. Each
+# arduino-builder, as the Arduino IDE would for each sketch's board (a Mega
+# 2560 or an Uno): the builder's prototypes, the core's flags (-Os, LTO), its
+# core library. Each
 # ELF (with its symbols) lands in firmware/target/arduino/NAME.elf, built from
 # source and never committed.
 #
@@ -11,8 +12,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-sketches=(firmware/arduino/henrytwo-thesis fixtures/arduino/square-demo fixtures/arduino/pullup-encoders fixtures/arduino/int-encoders)
-fqbn=arduino:avr:mega:cpu=atmega2560
+# Each sketch with the board it is built for (its fqbn, as arduino-cli names it).
+mega=arduino:avr:mega:cpu=atmega2560
+uno=arduino:avr:uno
+sketches=(
+  "firmware/arduino/henrytwo-thesis $mega"
+  "fixtures/arduino/square-demo $mega"
+  "fixtures/arduino/pullup-encoders $mega"
+  "fixtures/arduino/int-encoders $mega"
+  "fixtures/arduino/uno-l298n $uno"
+)
 out=firmware/target/arduino
 
 packages=(arduino-core-avr arduino-builder)
@@ -38,11 +47,12 @@ prefs=(-prefs=compiler.cpp.extra_flags=-DDECIMAL_DIG=__DECIMAL_DIG__)
 # prototype generation runs.
 builder=(arduino-builder -compile -quiet
   -hardware /usr/share/arduino/hardware -hardware /usr/share/arduino-builder
-  -tools /usr/share/arduino-builder -fqbn "$fqbn" -warnings default)
+  -tools /usr/share/arduino-builder -warnings default)
 
 mkdir -p "$out"
 failed=0
-for dir in "${sketches[@]}"; do
+for entry in "${sketches[@]}"; do
+  read -r dir fqbn <<<"$entry"
   name=$(basename "$dir")
   elf="$out/$name.elf"
   if [ -f "$elf" ] && [ -z "$(find "$dir" tools/build-sketches.sh -newer "$elf" -print -quit)" ]; then
@@ -53,7 +63,7 @@ for dir in "${sketches[@]}"; do
   log="$build/build.log"
   # arduino-builder wants the sketch's absolute path (it derives the build's
   # file names from it); its build path keeps the objects for the next run.
-  if "${builder[@]}" "${prefs[@]}" -build-path "$PWD/$build" "$PWD/$dir/$name.ino" >"$log" 2>&1 \
+  if "${builder[@]}" -fqbn "$fqbn" "${prefs[@]}" -build-path "$PWD/$build" "$PWD/$dir/$name.ino" >"$log" 2>&1 \
     && [ -f "$build/$name.ino.elf" ]; then
     cp "$build/$name.ino.elf" "$elf"
   else
