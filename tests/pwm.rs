@@ -170,7 +170,7 @@ fn timer_1_is_refused_as_the_clock_of_the_firmware_that_uses_it_so() {
             channel: 'A',
         }),
     };
-    board.battery_leds.blue = Pin::arduino(Mcu::Atmega2560, 30).unwrap();
+    board.battery_leds.as_mut().unwrap().blue = Pin::arduino(Mcu::Atmega2560, 30).unwrap();
     let run = |firmware: Firmware| {
         let options = BenchOptions {
             board,

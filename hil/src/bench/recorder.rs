@@ -169,7 +169,7 @@ pub struct MotionEvent {
 
 /// The records of one run, each bounded (see `log.rs`).
 pub(super) struct Recorder {
-    led_wiring: LedWiring,
+    led_wiring: Option<LedWiring>,
     trace: Thinned<Sample>,
     drive_log: Log<DriveEvent>,
     cutoffs: Log<Cutoff>,
@@ -229,7 +229,7 @@ impl Retained {
 }
 
 impl Recorder {
-    pub(super) fn new(led_wiring: LedWiring) -> Self {
+    pub(super) fn new(led_wiring: Option<LedWiring>) -> Self {
         Self {
             led_wiring,
             trace: Thinned::new(TRACE_CAP),
@@ -349,7 +349,9 @@ impl Recorder {
 
     /// The LED port now shows `port`.
     pub(super) fn leds_changed(&mut self, cycle: u64, port: u8) {
-        let l = self.led_wiring;
+        let Some(l) = self.led_wiring else {
+            return;
+        };
         let lit = |p: Pin| port >> p.bit & 1 != 0;
         let e = LedEvent {
             cycle,

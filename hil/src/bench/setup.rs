@@ -60,10 +60,15 @@ pub(super) fn build(
         avr.watch_irq(reg, TAG_PORT_REG + k as u32);
         avr.watch_irq(ddr, TAG_PORT_DDR + k as u32);
     }
-    let leds = avr.port_register(wiring.battery_leds.green.port)?;
-    avr.watch_irq(leds, TAG_LED_PORT);
-    let adc = avr.adc_input(wiring.battery.adc)?;
-    avr.handler_mut().power.connect(adc);
+    if let Some(leds) = wiring.battery_leds {
+        let leds = avr.port_register(leds.green.port)?;
+        avr.watch_irq(leds, TAG_LED_PORT);
+    }
+    // A board with no divider leaves the ADC's inputs unconnected.
+    if let Some(battery) = wiring.battery {
+        let adc = avr.adc_input(battery.adc)?;
+        avr.handler_mut().power.connect(adc);
+    }
     // B lines may be raised lazily, before reads of their PIN registers;
     // the comparator's control register says when AIN1 is watched.
     for side in Side::BOTH {
@@ -81,7 +86,7 @@ pub(super) fn build(
         ])
     };
     let encoders = [encoder_pins(Side::Left)?, encoder_pins(Side::Right)?];
-    for n in [wiring.debug_uart.usart, wiring.command_uart.usart] {
+    for n in wiring.link_usarts() {
         let (input, output) = avr.uart(n)?;
         avr.watch_irq(output, TAG_UART_OUT + n as u32);
         avr.handler_mut().uart.connect(n, input);

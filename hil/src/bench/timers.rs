@@ -116,11 +116,11 @@ pub(super) fn emulated(board: &Board) -> Vec<u8> {
 /// drives from another channel: PB7 is OC0A and OC1C). A compare output
 /// connected there would drive a pin the bench models otherwise.
 pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<u8>; 3] {
-    let mut pins = vec![
-        (board.battery_leds.green, None),
-        (board.battery_leds.blue, None),
-        (board.battery_leds.red, None),
-    ];
+    let mut pins: Vec<_> = board
+        .battery_leds
+        .iter()
+        .flat_map(|l| [(l.green, None), (l.blue, None), (l.red, None)])
+        .collect();
     for side in plant_model::Side::BOTH {
         let e = board.encoder(side);
         pins.extend([(e.a, None), (e.b, None)]);

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use thiserror::Error;
 
-use super::file::{BoardFile, DriverFile, EncoderFile, Sides};
+use super::file::{BatteryFile, BoardFile, DriverFile, EncoderFile, Sides};
 use super::{
     BatteryWiring, Board, BridgeInput, DriverKind, EncoderWiring, LedWiring, MotorWiring, Pin,
     UartLine, UartWiring,
@@ -384,14 +384,48 @@ impl Checker<'_> {
     fn board(&mut self, raw: &BoardFile) -> Option<Board> {
         let motors = self.motors(&raw.motor_driver);
         let encoders = self.encoders(&raw.encoders);
-        let leds = (
-            self.pin("leds.green", &raw.leds.green),
-            self.pin("leds.blue", &raw.leds.blue),
-            self.pin("leds.red", &raw.leds.red),
-        );
-        let command = self.uart("command_uart", &raw.command_uart);
+        let leds = raw.leds.as_ref().map(|leds| {
+            (
+                self.pin("leds.green", &leds.green),
+                self.pin("leds.blue", &leds.blue),
+                self.pin("leds.red", &leds.red),
+            )
+        });
+        let command = raw
+            .command_uart
+            .as_ref()
+            .map(|u| self.uart("command_uart", u));
         let debug = self.uart("debug_uart", &raw.debug_uart);
-        let b = &raw.battery;
+        let battery = raw.battery.as_ref().map(|b| self.battery(b));
+        let (driver, [left_motor, right_motor]) = motors?;
+        let [left_encoder, right_encoder] = encoders?;
+        Some(Board {
+            mcu: self.chip.mcu,
+            driver,
+            left_motor,
+            right_motor,
+            left_encoder,
+            right_encoder,
+            command_uart: command.unwrap_or(debug)?,
+            debug_uart: debug?,
+            battery: match battery {
+                None => None,
+                Some(b) => Some(b?),
+            },
+            battery_leds: match leds {
+                None => None,
+                Some((green, blue, red)) => Some(LedWiring {
+                    green: green?,
+                    blue: blue?,
+                    red: red?,
+                }),
+            },
+        })
+    }
+
+    /// `[battery]`: its ADC channel on the board's MCU, and a divider that
+    /// can be (0 to 1).
+    fn battery(&mut self, b: &BatteryFile) -> Option<BatteryWiring> {
         let adc_pin = u8::try_from(b.adc)
             .ok()
             .and_then(|n| self.chip.adc_pin(n))
@@ -406,32 +440,17 @@ impl Checker<'_> {
                 },
             ),
         }
-        if !(b.divider > 0.0 && b.divider <= 1.0) {
+        let divider_ok = b.divider > 0.0 && b.divider <= 1.0;
+        if !divider_ok {
             self.problem(
                 "battery.divider",
                 ProblemKind::BadDivider { divider: b.divider },
             );
         }
-        let (driver, [left_motor, right_motor]) = motors?;
-        let [left_encoder, right_encoder] = encoders?;
-        Some(Board {
-            mcu: self.chip.mcu,
-            driver,
-            left_motor,
-            right_motor,
-            left_encoder,
-            right_encoder,
-            command_uart: command?,
-            debug_uart: debug?,
-            battery: BatteryWiring {
-                adc: adc_pin.map(|_| b.adc as u8)?,
-                divider: b.divider,
-            },
-            battery_leds: LedWiring {
-                green: leds.0?,
-                blue: leds.1?,
-                red: leds.2?,
-            },
+        Some(BatteryWiring {
+            adc: adc_pin.map(|_| b.adc as u8)?,
+            divider: b.divider,
         })
+        .filter(|_| divider_ok)
     }
 }

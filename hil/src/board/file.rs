@@ -17,10 +17,14 @@ pub(super) struct BoardFile {
     pub mcu: Option<String>,
     pub motor_driver: DriverFile,
     pub encoders: Sides<EncoderFile>,
-    pub command_uart: UartFile,
+    /// Absent on a board with one link (an Uno's one USART): the debug
+    /// UART carries the commands too.
+    pub command_uart: Option<UartFile>,
     pub debug_uart: UartFile,
-    pub battery: BatteryFile,
-    pub leds: LedsFile,
+    /// Absent on a board that does not measure its battery.
+    pub battery: Option<BatteryFile>,
+    /// Absent on a board with no battery LEDs.
+    pub leds: Option<LedsFile>,
 }
 
 /// Something per motor or encoder.

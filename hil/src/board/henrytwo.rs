@@ -79,6 +79,7 @@ fn board_rs_names_the_same_pins() {
     let text = std::fs::read_to_string(path).expect("firmware/src/board.rs");
     let board = board_pins(&text);
     let w = HENRYTWO;
+    let leds = w.battery_leds.expect("Henrytwo has its battery LEDs");
     let pins = [
         ("left_encoder_a", w.left_encoder.a),
         ("left_encoder_b", w.left_encoder.b),
@@ -88,9 +89,9 @@ fn board_rs_names_the_same_pins() {
         ("right_reverse", w.right_motor.pin2.pin),
         ("left_forward", w.left_motor.pin1.pin),
         ("left_reverse", w.left_motor.pin2.pin),
-        ("led_green", w.battery_leds.green),
-        ("led_blue", w.battery_leds.blue),
-        ("led_red", w.battery_leds.red),
+        ("led_green", leds.green),
+        ("led_blue", leds.blue),
+        ("led_red", leds.red),
     ];
     for (name, pin) in pins {
         let b = board

@@ -219,12 +219,15 @@ pub struct Board {
     pub right_motor: MotorWiring,
     pub left_encoder: EncoderWiring,
     pub right_encoder: EncoderWiring,
-    /// USART carrying the command link (Henrytwo: the HC-05 Bluetooth).
+    /// USART carrying the command link (Henrytwo: the HC-05 Bluetooth); the
+    /// debug UART's on a board with one link.
     pub command_uart: UartWiring,
     /// USART carrying the debug/telemetry link (USB serial).
     pub debug_uart: UartWiring,
-    pub battery: BatteryWiring,
-    pub battery_leds: LedWiring,
+    /// The battery's divider into the ADC, on a board that measures it.
+    pub battery: Option<BatteryWiring>,
+    /// The battery LEDs, on a board that has them.
+    pub battery_leds: Option<LedWiring>,
 }
 
 const fn pin(port: char, bit: u8, arduino: u8) -> Pin {
@@ -278,16 +281,16 @@ pub const HENRYTWO: Board = Board {
     },
     // 0.55 puts the thesis' LED thresholds (ADC 942 and 901 of 1023 at
     // 5 V) at a battery of 8.37 V and 8.01 V: a 2S LiPo full, half, low.
-    battery: BatteryWiring {
+    battery: Some(BatteryWiring {
         adc: 0,
         divider: 0.55,
-    },
+    }),
     // D10 green, D11 blue, D12 red (firmware/src/battery.rs).
-    battery_leds: LedWiring {
+    battery_leds: Some(LedWiring {
         green: pin('B', 4, 10),
         blue: pin('B', 5, 11),
         red: pin('B', 6, 12),
-    },
+    }),
 };
 
 impl Default for Board {
@@ -311,11 +314,27 @@ fn encoder_pins(e: [EncoderWiring; 2]) -> String {
 }
 
 impl Board {
-    /// Why the bench's firmware builds cannot read this board's encoders
-    /// (they are not on [`FIRMWARE_ENCODERS`]), naming both sets of pins; None
-    /// when they can. A run would count no edge and end as "did not
-    /// complete": a board check and every run of those builds refuse it first.
+    /// Why the bench's firmware builds cannot serve this board: its
+    /// encoders are not on [`FIRMWARE_ENCODERS`] (naming both sets of pins),
+    /// or it lacks the separate command link, battery divider or LEDs the
+    /// firmware drives; None when they can. A run would count no edge and
+    /// end as "did not complete": a board check and every run of those
+    /// builds refuse it first.
     pub fn firmware_encoder_mismatch(&self) -> Option<String> {
+        let missing: Vec<&str> = [
+            (self.command_uart == self.debug_uart, "[command_uart]"),
+            (self.battery.is_none(), "[battery]"),
+            (self.battery_leds.is_none(), "[leds]"),
+        ]
+        .into_iter()
+        .filter_map(|(absent, what)| absent.then_some(what))
+        .collect();
+        if !missing.is_empty() {
+            return Some(format!(
+                "the robust firmware needs a board with {}; this board has none: add them, or run a firmware of your own (--tests)",
+                missing.join(", ")
+            ));
+        }
         let ours = [self.left_encoder, self.right_encoder];
         (ours != FIRMWARE_ENCODERS).then(|| {
             format!(
@@ -325,6 +344,16 @@ impl Board {
                 encoder_pins(ours)
             )
         })
+    }
+
+    /// The USARTs the board's links are on, each once: the debug UART's,
+    /// then the command link's when that is another.
+    pub fn link_usarts(&self) -> Vec<u8> {
+        let mut v = vec![self.debug_uart.usart];
+        if self.command_uart.usart != self.debug_uart.usart {
+            v.push(self.command_uart.usart);
+        }
+        v
     }
 
     /// The board described by the TOML file at `path`, checked.
@@ -414,7 +443,7 @@ mod tests {
 
     #[test]
     fn battery_leds_share_one_port() {
-        let l = HENRYTWO.battery_leds;
+        let l = HENRYTWO.battery_leds.unwrap();
         assert!([l.blue.port, l.red.port].iter().all(|p| *p == l.green.port));
     }
 

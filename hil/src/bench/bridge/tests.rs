@@ -123,7 +123,7 @@ fn an_output_on_a_pin_the_board_uses_otherwise_is_refused() {
     let mut board = Board::default();
     let pin = |n| crate::board::Pin::arduino(crate::board::Mcu::Atmega2560, n).unwrap();
     let oc = |timer, channel| Some(PwmSource { timer, channel });
-    board.battery_leds.blue = pin(30);
+    board.battery_leds.as_mut().unwrap().blue = pin(30);
     board.right_motor.pin1 = BridgeInput {
         pin: pin(13),
         pwm: oc(0, 'A'),

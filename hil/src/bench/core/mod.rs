@@ -88,7 +88,7 @@ impl BenchCore {
             uart: HostUart::new(wiring.command_uart.usart, clock),
             power: Power::new(
                 options.supply,
-                wiring.battery.divider,
+                wiring.battery.map_or(0.0, |b| b.divider),
                 clock.cycles_in(Seconds(options.supply.startup_s)),
             ),
             faults: FaultSchedule::default(),

@@ -148,7 +148,7 @@ pub fn raw_replay(
         avr.driven_pin(w.right_encoder.b.port, w.right_encoder.b.bit, false)?,
     ];
     let (uart_in, _) = avr.uart(rec.command_usart)?;
-    for n in [w.command_uart.usart, w.debug_uart.usart] {
+    for n in w.link_usarts() {
         if n != rec.command_usart {
             let _ = avr.uart(n)?;
         }
