@@ -10,7 +10,7 @@ use std::sync::Arc;
 use hil::bench::BenchOptions;
 use hil::firmware::description::Description;
 use hil::firmware::elf::Firmware;
-use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
+use hil::runs::experiment::{run_test, Test, TestName, TestOptions, TestRun};
 
 const THESIS_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
 const DEMO_TESTS: &str = "fixtures/arduino/square-demo/tests.toml";
@@ -24,7 +24,7 @@ fn described(file: &str) -> (Arc<Description>, Firmware) {
     (Arc::new(d), fw)
 }
 
-fn run_described(file: &str, test: Test, seed: u64, record: bool) -> TestRun {
+fn run_described(file: &str, test: impl Into<TestName>, seed: u64, record: bool) -> TestRun {
     let (d, fw) = described(file);
     let opts = TestOptions {
         leg_mm: d.leg_mm(None, 2000.0).unwrap(),
@@ -408,3 +408,5 @@ fn the_cli_says_what_a_black_box_run_needs() {
 
 #[path = "blackbox/commands.rs"]
 mod commands;
+#[path = "blackbox/own_tests.rs"]
+mod own_tests;

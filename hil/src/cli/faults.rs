@@ -55,7 +55,8 @@ impl Faults {
             Some(path) => vec![hil::runs::faults::from_scenario(
                 path,
                 &hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?,
-            )],
+            )
+            .map_err(|e| super::bad_input(anyhow::anyhow!(e)))?],
             None => hil::runs::faults::library(),
         };
         if self.list {

@@ -12,7 +12,7 @@ use anyhow::{Context, Result};
 use clap::ValueEnum;
 use hil::bench::{BenchOptions, Observer};
 use hil::firmware::link::Param;
-use hil::runs::experiment::{run_test_observed, Test, TestOptions, TestRun};
+use hil::runs::experiment::{run_test_observed, TestName, TestOptions, TestRun};
 use hil::runs::golden::{Golden, InForce, Quantity, Tolerances, CONTROL_FUNCTION};
 use hil::runs::timing::TimingProbe;
 
@@ -50,7 +50,7 @@ impl GoldenCmd {
 #[derive(clap::Args)]
 struct Record {
     /// umbmark-cw, umbmark-ccw, line or triangle.
-    test: Test,
+    test: TestName,
     #[command(flatten)]
     leg: Leg,
     /// The golden file to write (JSON).
@@ -72,7 +72,7 @@ struct Check {
     /// The test this check is meant to compare (refused, exit 2, when the
     /// golden run is of another) [default: the golden file's].
     #[arg(long)]
-    test: Option<Test>,
+    test: Option<TestName>,
     /// Legs of this length (refused, exit 2, when the golden run's are
     /// not) [default: the golden file's].
     #[arg(long, value_parser = super::args::parse_leg, allow_negative_numbers = true)]
@@ -274,7 +274,7 @@ struct Measured {
 
 /// Run `test` with legs of `leg_mm` under `c`, timing the control function
 /// when the firmware has it.
-fn measure(c: &Conditions, test: Test, leg_mm: f64) -> Result<Measured> {
+fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
     let target = &c.target;
     let (robot, firmware) = target.load()?;
     let robot_path = target.robot_path();
@@ -344,7 +344,7 @@ impl Record {
         let leg_mm = self.leg.leg_mm.unwrap_or(DEFAULT_LEG_MM);
         super::check_output("--out", &self.out)?;
         let c = self.run.resolve(None)?;
-        let m = measure(&c, self.test, leg_mm)?;
+        let m = measure(&c, self.test.clone(), leg_mm)?;
         if !m.run.completed {
             return Err(super::Incomplete(format!(
                 "the {} run did not complete ({}): no golden file written",
@@ -379,13 +379,13 @@ impl Check {
     fn run(self) -> Result<()> {
         let name = self.file.display().to_string();
         let golden = Golden::load(&self.file).map_err(super::bad_input)?;
-        let test = self.test.unwrap_or(golden.test);
+        let test = self.test.clone().unwrap_or(golden.test.clone());
         let leg_mm = self.leg_mm.unwrap_or(golden.leg_mm);
         golden
-            .check_same_test(&name, test, leg_mm)
+            .check_same_test(&name, &test, leg_mm)
             .map_err(super::bad_input)?;
         let c = self.run.resolve(Some(&golden.recorded_with))?;
-        let m = measure(&c, test, leg_mm)?;
+        let m = measure(&c, test.clone(), leg_mm)?;
         let tol = self.tol.over(golden.tolerances);
         let rows = hil::runs::golden::compare(&golden.quantities, &m.quantities, &tol);
         let in_force = hil::runs::golden::differences(&golden.recorded_with, &m.in_force);

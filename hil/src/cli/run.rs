@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use hil::bench::BenchOptions;
 use hil::board::Board;
-use hil::runs::experiment::{run_test, Test, TestRun};
+use hil::runs::experiment::{run_test, Test, TestName, TestRun};
 use hil::runs::line::{run_line, LineOptions};
 use hil::runs::report::{json_with_pace, Pace, PaceFields};
 
@@ -13,8 +13,9 @@ use super::args::{parse_leg, parse_seconds, Common, Leg};
 
 #[derive(clap::Args)]
 pub struct Run {
-    /// umbmark-cw, umbmark-ccw, line or triangle.
-    test: Test,
+    /// umbmark-cw, umbmark-ccw, line or triangle, or with --tests any test
+    /// the description names.
+    test: TestName,
     #[command(flatten)]
     leg: Leg,
     /// Inject the faults of a scenario file (TOML or JSON).
@@ -53,6 +54,18 @@ impl Run {
             }
             None => None,
         };
+        // A test the description lacks, or a test of a firmware's own
+        // without one, is refused before anything runs.
+        match &common.target.description {
+            Some(d) => drop(d.test(test.clone()).map_err(super::bad_input)?),
+            None if test.thesis().is_none() => {
+                return Err(super::bad_input(anyhow::anyhow!(
+                    "test {test}: the bench's own builds run umbmark-cw, umbmark-ccw, line and \
+                     triangle; a test of your firmware's own runs with its description (--tests FILE)"
+                )))
+            }
+            None => {}
+        }
         let (robot, firmware) = common.target.load()?;
         let mut opts = common.test_options(common.leg_mm(leg)?);
         opts.hang_after_s = hang_after;
@@ -71,7 +84,11 @@ impl Run {
                     server.local_addr()?
                 );
                 match hil::runs::experiment::run_test_debugged(
-                    firmware, &robot, test, &opts, server,
+                    firmware,
+                    &robot,
+                    test.clone(),
+                    &opts,
+                    server,
                 ) {
                     Ok(run) => run,
                     // Not a run that passed: exit 3, as for any run that

@@ -172,8 +172,8 @@ fn how_tests_start(
 ) -> String {
     use hil::firmware::description::Start;
     let mut s = String::new();
-    for (test, start) in &d.tests {
-        let line = match start {
+    for (test, described) in &d.tests {
+        let line = match &described.start {
             Start::Uart { usart, bytes } => {
                 let pty = if *usart == board.command_uart.usart {
                     "the pty"

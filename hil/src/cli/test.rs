@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use hil::board::Board;
-use hil::runs::experiment::{run_test_observed, Test, TestOptions, TestRun};
+use hil::runs::experiment::{run_test_observed, Test, TestName, TestOptions, TestRun};
 use hil::runs::scenario::eval::{judge, Context as EvalContext, LastState, Outcome, Watch};
 use hil::runs::scenario::Scenario;
 use plant_model::RobotConfig;
@@ -73,7 +73,7 @@ struct Prepared {
     scenario: Scenario,
     robot: RobotConfig,
     firmware: hil::firmware::elf::Firmware,
-    test: Test,
+    test: TestName,
     opts: TestOptions,
     watch: Watch,
 }
@@ -85,7 +85,7 @@ pub struct CaseReport {
     pub file: PathBuf,
     pub firmware: String,
     pub seed: u64,
-    pub test: Test,
+    pub test: TestName,
     pub pass: bool,
     /// `pass`, `fail`, or `incomplete` (the bench stopped the run).
     pub verdict: &'static str,
@@ -187,13 +187,13 @@ impl TestCmd {
         let watch = Watch::new(&scenario, &firmware, bench.clock).map_err(|e| {
             super::bad_input(anyhow::anyhow!("the scenario {}, {e}", file.display()))
         })?;
-        let test = scenario.test.unwrap_or(Test::Line);
+        let test = scenario.test.clone().unwrap_or(Test::Line.into());
         let asked = self.leg_mm.or(scenario.leg_mm);
         let leg_mm = match &self.description {
             // The test must be one the description starts: said now, not
             // as a bench error in the middle of the cases.
             Some(d) => {
-                d.start(test).map_err(|e| {
+                d.start(test.clone()).map_err(|e| {
                     super::bad_input(anyhow::anyhow!("the scenario {}: {e}", file.display()))
                 })?;
                 d.leg_mm(asked, super::args::DEFAULT_LEG_MM)
@@ -267,7 +267,7 @@ fn run_case(
     let outcome = run_test_observed(
         c.firmware,
         &c.robot,
-        c.test,
+        c.test.clone(),
         &c.opts,
         Some(Box::new(c.watch)),
     );
@@ -323,13 +323,14 @@ fn run_case(
     // A run the bench stopped as hung did not finish what its expectations
     // are about: it is no pass, whatever held before the hang.
     // Nor did a run that fragmented (more legs or turns than its test's
-    // shape, without a fault to cause it): it did not drive the test.
-    let hung = match (&run.hang, &run.fragments) {
+    // shape, without a fault to cause it) or drove other than its described
+    // shape: it did not drive the test.
+    let hung = match (&run.hang, &run.off_shape) {
         (Some(_), _) => Some(format!(
             "the bench stopped the run: {}",
             run.finding.as_deref().unwrap_or("hung")
         )),
-        (None, Some(f)) if !run.completed => Some(f.describe(run.test)),
+        (None, Some(why)) if !run.completed => Some(why.clone()),
         _ => None,
     };
     let pass = failures.is_empty() && hung.is_none();

@@ -8,9 +8,8 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use thiserror::Error;
 
-use super::{Description, End, Ready, Start, Symbols, UartText};
+use super::{DescribedTest, Description, End, Ready, Shape, Start, Symbols, TestName, UartText};
 use crate::board::{pin_named, Mcu};
-use henrytwo_protocol::Test;
 
 #[derive(Debug, Error)]
 pub enum DescriptionError {
@@ -84,6 +83,20 @@ struct StartDoc {
     text: Option<String>,
     pin: Option<String>,
     level: Option<String>,
+    /// This test's own end, in place of the file's `[end]`.
+    end: Option<EndDoc>,
+    /// What the test drives; a run that drives otherwise fails.
+    shape: Option<ShapeDoc>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ShapeDoc {
+    legs: usize,
+    #[serde(default)]
+    turns: usize,
+    turn_deg: Option<f64>,
+    leg_mm: Option<f64>,
 }
 
 /// The bench's default wait after reset when the file gives none: the
@@ -166,6 +179,85 @@ impl Checker<'_> {
                 "give the USART it comes on too (uart = 0-3)",
             )),
         }
+    }
+
+    fn end(&self, section: &str, d: &EndDoc) -> Result<End, DescriptionError> {
+        Ok(End {
+            idle_s: self.seconds(
+                &format!("{section}.idle_s"),
+                d.idle_s.unwrap_or(DEFAULT_IDLE_S),
+                0.05,
+                60.0,
+            )?,
+            limit_s: d
+                .limit_s
+                .map(|s| self.seconds(&format!("{section}.limit_s"), s, 1.0, 3600.0))
+                .transpose()?,
+            text: self.uart_text(section, d.uart, &d.text)?,
+        })
+    }
+
+    fn shape(&self, test: &TestName, d: &ShapeDoc) -> Result<Shape, DescriptionError> {
+        let f = |k: &str| format!("tests.{test}.shape.{k}");
+        if let TestName::Thesis(t) = test {
+            let (legs, turns, deg) = t.shape();
+            return Err(self.field(
+                &format!("tests.{test}.shape"),
+                "...",
+                &format!(
+                    "{test} is the thesis' test: {legs} legs, {turns} turns of {deg:+} deg; \
+                     give the test another name to give it a shape of its own"
+                ),
+            ));
+        }
+        if !(1..=100).contains(&d.legs) {
+            return Err(self.field(&f("legs"), d.legs, "give 1 to 100 legs"));
+        }
+        if d.turns > d.legs {
+            return Err(self.field(
+                &f("turns"),
+                d.turns,
+                &format!("give 0 to {} turns (one after each leg at most)", d.legs),
+            ));
+        }
+        let turn_deg = match (d.turns, d.turn_deg) {
+            (0, None) => 0.0,
+            (0, Some(a)) => {
+                return Err(self.field(
+                    &f("turn_deg"),
+                    number(a),
+                    "a shape without turns has no turn angle",
+                ))
+            }
+            (_, Some(a)) if a.is_finite() && a != 0.0 && a.abs() <= 360.0 => a,
+            (_, a) => {
+                return Err(self.field(
+                    &f("turn_deg"),
+                    a.map_or("(none)".into(), number),
+                    "give each turn's angle, -360 to 360 deg but not 0 (positive: to the left)",
+                ))
+            }
+        };
+        let leg_mm = match d.leg_mm {
+            None => None,
+            Some(mm) => {
+                let r = crate::firmware::link::Param::LegLengthMm.range();
+                if !(mm.is_finite() && mm >= r.min as f64 && mm <= r.max as f64) {
+                    return Err(self.field(
+                        &f("leg_mm"),
+                        number(mm),
+                        &format!("give {} to {} mm", r.min, r.max),
+                    ));
+                }
+                Some(mm)
+            }
+        };
+        Ok(Shape {
+            legs: d.legs,
+            turns: d.turns,
+            turn_deg,
+            leg_mm,
+        })
     }
 
     fn start(&self, name: &str, d: &StartDoc) -> Result<Start, DescriptionError> {
@@ -273,38 +365,30 @@ pub(super) fn parse(text: &str, path: &str, dir: &Path) -> Result<Description, D
             ))
         }
     };
-    let end = End {
-        idle_s: c.seconds(
-            "end.idle_s",
-            doc.end.idle_s.unwrap_or(DEFAULT_IDLE_S),
-            0.05,
-            60.0,
-        )?,
-        limit_s: doc
-            .end
-            .limit_s
-            .map(|s| c.seconds("end.limit_s", s, 1.0, 3600.0))
-            .transpose()?,
-        text: c.uart_text("end", doc.end.uart, &doc.end.text)?,
-    };
+    let end = c.end("end", &doc.end)?;
     if doc.tests.is_empty() {
         return Err(c.field(
             "tests",
             "{}",
-            "describe at least one test ([tests.umbmark-cw], ...)",
+            "describe at least one test ([tests.umbmark-cw], [tests.my-test], ...)",
         ));
     }
     let mut tests = BTreeMap::new();
     for (name, d) in &doc.tests {
-        let test = Test::from_name(name).ok_or_else(|| {
-            let names: Vec<&str> = Test::ALL.iter().map(|t| t.name()).collect();
-            c.field(
-                &format!("tests.{name}"),
-                "...",
-                &format!("no such test; one of {}", names.join(", ")),
-            )
-        })?;
-        tests.insert(test, c.start(name, d)?);
+        let test =
+            TestName::parse(name).map_err(|why| c.field(&format!("tests.{name}"), "...", &why))?;
+        let described = DescribedTest {
+            start: c.start(name, d)?,
+            end: match &d.end {
+                Some(e) => Some(c.end(&format!("tests.{name}.end"), e)?),
+                None => None,
+            },
+            shape: match &d.shape {
+                Some(s) => Some(c.shape(&test, s)?),
+                None => None,
+            },
+        };
+        tests.insert(test, described);
     }
     Ok(Description {
         path: path.to_string(),

@@ -16,6 +16,7 @@
 //! | file | part |
 //! |---|---|
 //! | `file.rs` | the TOML schema and its checks ([`DescriptionError`]) |
+//! | `name.rs` | [`TestName`] (a thesis test or the firmware's own) and [`Shape`] |
 //!
 //! A run from a description is the experiment's (`crate::runs::experiment`,
 //! `described.rs`): this module knows the file, not the bench.
@@ -24,11 +25,12 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::firmware::elf::{ElfError, Firmware};
-use henrytwo_protocol::Test;
 
 mod file;
+mod name;
 
 pub use file::DescriptionError;
+pub use name::{Shape, TestName, MAX_NAME_LEN};
 
 /// A checked test description (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
@@ -41,9 +43,23 @@ pub struct Description {
     pub elf: Option<PathBuf>,
     pub ready: Ready,
     pub leg: Leg,
+    /// What ends a test that has no end of its own.
     pub end: End,
     pub symbols: Symbols,
-    pub tests: BTreeMap<Test, Start>,
+    pub tests: BTreeMap<TestName, DescribedTest>,
+}
+
+/// One test of the firmware's: how it starts, and optionally its own end
+/// and the shape it drives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DescribedTest {
+    pub start: Start,
+    /// In place of the description's [`Description::end`].
+    pub end: Option<End>,
+    /// What it drives; a run that drives otherwise does not pass. None: a
+    /// thesis test's name lends its shape (its fragments only warned), a
+    /// test of the firmware's own is not judged by its shape.
+    pub shape: Option<Shape>,
 }
 
 /// When the firmware is ready for a test after reset.
@@ -129,8 +145,9 @@ impl Description {
         file::parse(text, path, Path::new("."))
     }
 
-    /// How `test` starts, or why it cannot run.
-    pub fn start(&self, test: Test) -> Result<&Start, DescriptionError> {
+    /// `test` as described, or why it cannot run.
+    pub fn test(&self, test: impl Into<TestName>) -> Result<&DescribedTest, DescriptionError> {
+        let test = test.into();
         self.tests.get(&test).ok_or_else(|| {
             let names: Vec<&str> = self.tests.keys().map(|t| t.name()).collect();
             DescriptionError::Field {
@@ -140,6 +157,19 @@ impl Description {
                 allowed: format!("describes no {} test", test.name()),
             }
         })
+    }
+
+    /// How `test` starts, or why it cannot run.
+    pub fn start(&self, test: impl Into<TestName>) -> Result<&Start, DescriptionError> {
+        self.test(test).map(|t| &t.start)
+    }
+
+    /// What ends `test`: its own end, else the description's.
+    pub fn end_of(&self, test: &TestName) -> &End {
+        self.tests
+            .get(test)
+            .and_then(|t| t.end.as_ref())
+            .unwrap_or(&self.end)
     }
 
     /// The leg length a run uses: the firmware's own when fixed (a

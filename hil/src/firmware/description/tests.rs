@@ -2,6 +2,7 @@
 //! refuses.
 
 use super::*;
+use henrytwo_protocol::Test;
 
 const GOOD: &str = r#"
 [firmware]
@@ -39,21 +40,21 @@ fn a_full_description_reads_as_written() {
     assert_eq!(d.leg, Leg::Fixed(400.0));
     assert_eq!(d.end.idle_s, 2.5);
     assert_eq!(
-        d.tests[&Test::UmbmarkCw],
+        d.tests[&Test::UmbmarkCw.into()].start,
         Start::Uart {
             usart: 1,
             bytes: vec![2]
         }
     );
     assert_eq!(
-        d.tests[&Test::Line],
+        d.tests[&Test::Line.into()].start,
         Start::Pin {
             pin: "D30".into(),
             high: false
         }
     );
     assert_eq!(
-        d.tests[&Test::Triangle],
+        d.tests[&Test::Triangle.into()].start,
         Start::Uart {
             usart: 0,
             bytes: b"t".to_vec()
@@ -104,8 +105,28 @@ fn a_full_description_reads_as_written() {
 )]
 #[case(
     "[tests.line]",
-    "[tests.spiral]",
-    "tests.spiral = ...: no such test; one of umbmark-cw"
+    "[tests.Spiral]",
+    "tests.Spiral = ...: a test name is 1 to 40 of a-z"
+)]
+#[case(
+    "[tests.line]",
+    "[tests.line.shape]\nlegs = 1\n[tests.x]",
+    "tests.line.shape = ...: line is the thesis' test: 1 legs, 0 turns"
+)]
+#[case(
+    "[tests.triangle]",
+    "[tests.square.shape]\nlegs = 4\nturns = 4\n[tests.square]",
+    "tests.square.shape.turn_deg = (none): give each turn's angle"
+)]
+#[case(
+    "[tests.triangle]",
+    "[tests.square.shape]\nlegs = 2\nturns = 3\nturn_deg = 90\n[tests.square]",
+    "tests.square.shape.turns = 3: give 0 to 2 turns"
+)]
+#[case(
+    "[tests.triangle]",
+    "[tests.square.end]\nidle_s = 99\n[tests.square]",
+    "tests.square.end.idle_s = 99: give 0.05 to 60 s"
 )]
 #[case("[symbols]", "[symbols]\nleft = \"x\"", "unknown field `left`")]
 fn a_bad_field_is_one_line_naming_it(#[case] from: &str, #[case] to: &str, #[case] says: &str) {
@@ -114,6 +135,44 @@ fn a_bad_field_is_one_line_naming_it(#[case] from: &str, #[case] to: &str, #[cas
     assert!(e.starts_with("d.toml: "), "{e}");
     assert!(e.contains(says), "{e}");
     assert_eq!(e.lines().count(), 1, "{e}");
+}
+
+/// A test of the firmware's own: any name, its own end in place of the
+/// file's, its own shape; the thesis' names keep their shapes.
+#[test]
+fn a_test_of_its_own_has_its_own_end_and_shape() {
+    let own = GOOD.to_string()
+        + "[tests.forward-then-left]\nuart = 0\ntext = \"f\"\n\
+           [tests.forward-then-left.end]\nidle_s = 1.5\n\
+           [tests.forward-then-left.shape]\nlegs = 1\nturns = 1\nturn_deg = 90\n";
+    let d = parse(&own).unwrap();
+    let name = TestName::Own("forward-then-left".into());
+    let t = d.test(name.clone()).unwrap();
+    assert_eq!(
+        t.start,
+        Start::Uart {
+            usart: 0,
+            bytes: b"f".to_vec()
+        }
+    );
+    assert_eq!(d.end_of(&name).idle_s, 1.5);
+    assert_eq!(d.end_of(&name).text, None);
+    assert_eq!(d.end_of(&Test::Line.into()).idle_s, 2.5);
+    assert_eq!(
+        t.shape,
+        Some(Shape {
+            legs: 1,
+            turns: 1,
+            turn_deg: 90.0,
+            leg_mm: None
+        })
+    );
+    assert_eq!(d.test(Test::Line).unwrap().shape, None);
+    let e = d
+        .test(TestName::Own("spiral".into()))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("describes no spiral test"), "{e}");
 }
 
 #[test]

@@ -4,16 +4,32 @@
 
 use plant_model::Side;
 
-use super::{FinalPose, Fragments, Leg, Test, TestOptions, TestRun, Turn};
+use super::{FinalPose, Fragments, Leg, Shape, TestName, TestOptions, TestRun, Turn};
 use crate::bench::{Bench, Motion, MotionEvent, Snapshot};
 use crate::firmware::params::Believed;
 
+/// How a run is judged by its shape.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum ShapeRule {
+    /// More legs or turns than the shape is a fragmented run (the bench's
+    /// own builds, the thesis' tests).
+    Fragments,
+    /// Any other count of legs or turns, or a turn the other way, is a run
+    /// that did not drive the test (a described test's own `shape`).
+    Exact,
+    /// The shape is only lent (a described firmware's test under a thesis
+    /// name): fragments are a warning.
+    Lent,
+}
+
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn analyse(
     bench: &Bench,
-    test: Test,
+    test: TestName,
+    shape: Option<(Shape, ShapeRule)>,
     firmware: String,
     opts: &TestOptions,
-    start_cycle: u64,
+    span: std::ops::Range<u64>,
     mut completed: bool,
     mut finding: Option<String>,
 ) -> TestRun {
@@ -21,7 +37,7 @@ pub(crate) fn analyse(
     let motions: Vec<MotionEvent> = core
         .motions()
         .iter()
-        .filter(|m| m.at.cycle >= start_cycle)
+        .filter(|m| span.contains(&m.at.cycle))
         .copied()
         .collect();
     let end = bench_now(bench);
@@ -96,26 +112,38 @@ pub(crate) fn analyse(
     }
     // Only a run that finished can be judged by its shape: a hung one has
     // its own finding.
-    let fragments = completed
-        .then(|| Fragments::of(test, legs.len(), turns.len(), &motions))
-        .flatten();
+    let fragments = shape
+        .filter(|_| completed)
+        .and_then(|(s, _)| Fragments::of(&s, legs.len(), turns.len(), &motions));
     let mut warnings = never_fired(bench, opts);
-    if let Some(f) = &fragments {
-        if opts.faults.is_empty() && opts.description.is_none() {
+    let angles: Vec<f64> = turns.iter().map(|t| t.plant_angle_deg).collect();
+    let differs = match shape {
+        Some((s, ShapeRule::Exact)) if completed => s.differs(legs.len(), &angles),
+        _ => None,
+    };
+    // An injected fault may cut a leg by design: its case judges the run.
+    // A described firmware's test under a thesis name only borrows the
+    // thesis' name, not its shape (a sketch's "line" may end in a spin).
+    // Either way what differs is named, not made the run's end.
+    let lent = matches!(shape, Some((_, ShapeRule::Lent)));
+    let judged = opts.faults.is_empty() && !lent;
+    let why = differs
+        .map(|d| format!("did not drive the shape of {test}: {d}"))
+        .or_else(|| fragments.as_ref().map(|f| f.describe(test.name())));
+    let mut off_shape = None;
+    if let Some(why) = why {
+        if judged {
             completed = false;
-            finding = Some(f.describe(test));
+            finding = Some(why.clone());
+            off_shape = Some(why);
         } else {
-            // An injected fault may cut a leg by design: its case judges the
-            // run. A described firmware's test only borrows the thesis'
-            // test name, not its shape (a sketch's "line" may end in a
-            // spin). Either way the fragments are named, not made the run's
-            // end.
-            warnings.push(f.describe(test));
+            warnings.push(why);
         }
     }
-    let (ix, iy) = test.ideal_end(opts.leg_mm);
+    let (ix, iy) = shape.map_or((0.0, 0.0), |(s, _)| s.ideal_end(opts.leg_mm));
     TestRun {
         test,
+        shape: shape.map(|(s, _)| s),
         firmware,
         seed: opts.bench.seed,
         completed,
@@ -124,6 +152,7 @@ pub(crate) fn analyse(
         legs,
         turns,
         fragments,
+        off_shape,
         final_pose: FinalPose {
             x_mm: end.x_mm,
             y_mm: end.y_mm,

@@ -4,7 +4,7 @@
 
 use plant_model::{RobotConfig, Seconds};
 
-use super::{analyse, limit_s, Test, TestOptions, TestRun};
+use super::{analyse, limit_s, Shape, ShapeRule, TestName, TestOptions, TestRun};
 use crate::bench::{Bench, BenchError, Motion, Observer};
 use crate::firmware::description::{Description, DescriptionError, End, Start};
 use crate::firmware::elf::Firmware;
@@ -37,6 +37,30 @@ impl Mark {
     }
 }
 
+/// Cycles the end text's bytes take on the wire, at the board's baud for its
+/// USART (9600, the Arduino examples' rate, for a USART the board does not
+/// wire), 10 bits a byte.
+fn wire_cycles(bench: &Bench, text: Option<&crate::firmware::description::UartText>) -> u64 {
+    let Some(t) = text else { return 0 };
+    let baud = bench
+        .board()
+        .uarts()
+        .iter()
+        .find(|(_, u)| u.usart == t.usart)
+        .map_or(9600, |(_, u)| u.baud);
+    let s = t.text.len() as f64 * 10.0 / f64::from(baud);
+    bench.clock().cycles_in(Seconds(s))
+}
+
+/// The cycle of the first change of the motion since `mark` that drives a
+/// wheel.
+fn first_drive(b: &Bench, mark: Mark) -> Option<u64> {
+    b.core().motions()[mark.motions..]
+        .iter()
+        .find(|m| driven(m.motion))
+        .map(|m| m.at.cycle)
+}
+
 /// The test has ended by `end`'s rule (see [`End`]).
 pub(crate) fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool {
     if let Some(t) = &end.text {
@@ -56,7 +80,7 @@ pub(crate) fn ended(b: &Bench, end: &End, idle_cycles: u64, mark: Mark) -> bool 
 pub(crate) fn run_described(
     firmware: Firmware,
     robot: &RobotConfig,
-    test: Test,
+    test: &TestName,
     opts: &TestOptions,
     d: &Description,
     observer: Option<Box<dyn Observer>>,
@@ -70,12 +94,22 @@ pub(crate) fn run_described(
 /// drive: the same run, step for step); the observer stays on the bench.
 pub(crate) fn run_described_on(
     bench: &mut Bench,
-    test: Test,
+    test: &TestName,
     opts: &TestOptions,
     d: &Description,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<TestRun, BenchError> {
-    let start = d.start(test)?.clone();
+    let described = d.test(test.clone())?;
+    let start = described.start.clone();
+    // Its own end, else the description's: one end for every test stopped
+    // a square at a text its other test prints midway.
+    let end = d.end_of(test).clone();
+    // Its own shape is judged exactly; a thesis name lends its shape.
+    let shape = match (described.shape, test.thesis()) {
+        (Some(s), _) => Some((s, ShapeRule::Exact)),
+        (None, Some(t)) => Some((Shape::of(t), ShapeRule::Lent)),
+        (None, None) => None,
+    };
     let resolved = d.resolve(bench.firmware())?;
     if !opts.params.is_empty() {
         return Err(BenchError::Description(format!(
@@ -116,30 +150,53 @@ pub(crate) fn run_described_on(
     }
     let limit = opts
         .limit_s
-        .or(d.end.limit_s)
-        .unwrap_or_else(|| limit_s(test, opts) + d.end.idle_s);
-    let idle_cycles = bench.clock().cycles_in(Seconds(d.end.idle_s));
+        .or(end.limit_s)
+        .unwrap_or_else(|| limit_s(shape.as_ref().map(|(s, _)| s), opts) + end.idle_s);
+    let idle_cycles = bench.clock().cycles_in(Seconds(end.idle_s));
     bench.set_hang_after(opts.hang_after_s);
-    let outcome = bench.run_until(limit, |b| ended(b, &d.end, idle_cycles, mark));
+    let outcome = bench.run_until(limit, |b| ended(b, &end, idle_cycles, mark));
     bench.set_hang_after(None);
     let (completed, hang) = match outcome {
         Ok(done) => (done, None),
         Err(BenchError::Hang(report)) => (false, Some(report)),
         Err(e) => return Err(e),
     };
-    if completed && d.end.text.is_some() {
+    // Where what the firmware does after the test begins: a drive that
+    // starts after the end text belongs to what comes next, not to the test.
+    let mut cut = None;
+    if completed && end.text.is_some() {
         // Ended by a text: let the last coast end (the motors idle for
-        // half a second, at most 5 s more).
+        // half a second, at most 5 s more), and the UARTs drain (the end
+        // text's line end is still on the wire), unless the firmware
+        // drives again first.
         let half = bench.clock().cycles_in(Seconds(0.5));
         let after_text = End {
             text: None,
-            ..d.end.clone()
+            ..end.clone()
         };
-        bench.run_until(5.0, |b| ended(b, &after_text, half, mark))?;
-    }
-    if completed {
-        // Let the UARTs drain, as for the bench's own builds: the end
-        // text's line end is still on the wire when the text ends the test.
+        // The firmware wrote the text before its last byte arrived: a drive
+        // it started once it had written it (the bytes still on the wire)
+        // is after the test too.
+        let since = bench
+            .cycle()
+            .saturating_sub(wire_cycles(bench, end.text.as_ref()));
+        let text_mark = Mark {
+            motions: bench
+                .core()
+                .motions()
+                .partition_point(|m| m.at.cycle < since),
+            ..Mark::now(bench)
+        };
+        let drives = |b: &Bench| first_drive(b, text_mark);
+        bench.run_until(5.0, |b| {
+            ended(b, &after_text, half, mark) || drives(b).is_some()
+        })?;
+        if drives(bench).is_none() {
+            bench.run_until(0.1, |b| drives(b).is_some())?;
+        }
+        cut = drives(bench);
+    } else if completed {
+        // Let the UARTs drain, as for the bench's own builds.
         bench.run_for(0.1)?;
     }
     let finding = match &hang {
@@ -150,12 +207,21 @@ pub(crate) fn run_described_on(
         None => (!completed).then(|| {
             format!(
                 "did not end ({}) within {limit:.0} s of robot time; the firmware is {}",
-                end_rule(&d.end),
+                end_rule(&end),
                 bench.location()
             )
         }),
     };
-    let mut run = analyse(bench, test, name, opts, start_cycle, completed, finding);
+    let mut run = analyse(
+        bench,
+        test.clone(),
+        shape,
+        name,
+        opts,
+        start_cycle..cut.unwrap_or(u64::MAX),
+        completed,
+        finding,
+    );
     run.hang = hang;
     Ok(run)
 }

@@ -10,7 +10,7 @@
 
 use crate::bench::{Motion, MotionEvent};
 
-use super::Test;
+use super::Shape;
 
 /// More segments than the test's shape, and how often the drive fell to 0
 /// and came back inside them.
@@ -29,25 +29,27 @@ pub struct Fragments {
 }
 
 impl Fragments {
-    /// The fragments of a run of `test` with `legs` and `turns`, from its
-    /// debounced `motions`; None when it has no more segments than its shape.
-    pub fn of(test: Test, legs: usize, turns: usize, motions: &[MotionEvent]) -> Option<Self> {
-        if legs <= test.legs() && turns <= test.turns() {
+    /// The fragments of a run of a test of `shape` with `legs` and `turns`,
+    /// from its debounced `motions`; None when it has no more segments than
+    /// its shape.
+    pub fn of(shape: &Shape, legs: usize, turns: usize, motions: &[MotionEvent]) -> Option<Self> {
+        if legs <= shape.legs && turns <= shape.turns {
             return None;
         }
         let (duty_zero_mid_leg, duty_zero_mid_turn) = duty_zero_returns(motions);
         Some(Fragments {
             legs,
             turns,
-            shape_legs: test.legs(),
-            shape_turns: test.turns(),
+            shape_legs: shape.legs,
+            shape_turns: shape.turns,
             duty_zero_mid_leg,
             duty_zero_mid_turn,
         })
     }
 
-    /// One line: what fragmented, and the likely cause.
-    pub fn describe(&self, test: Test) -> String {
+    /// One line: what fragmented (a run of the test named `test`), and the
+    /// likely cause.
+    pub fn describe(&self, test: &str) -> String {
         let cause = if self.duty_zero_mid_leg + self.duty_zero_mid_turn > 0 {
             format!(
                 "likely cause: a wheel's PWM duty fell to 0 and came back {} times mid-leg and \
@@ -61,11 +63,7 @@ impl Fragments {
         };
         format!(
             "fragmented: {} legs and {} turns where {} drives {} and {}; {cause}",
-            self.legs,
-            self.turns,
-            test.name(),
-            self.shape_legs,
-            self.shape_turns
+            self.legs, self.turns, test, self.shape_legs, self.shape_turns
         )
     }
 }
@@ -98,6 +96,7 @@ fn duty_zero_returns(motions: &[MotionEvent]) -> (usize, usize) {
 mod tests {
     use super::*;
     use crate::runs::experiment::analyse::tests::at;
+    use crate::runs::experiment::Test;
 
     /// A leg whose drive falls to 0 twice and a turn whose drive falls to 0
     /// once; the stops between (a coast, then a reverse pulse or the turn)
@@ -118,11 +117,12 @@ mod tests {
 
     #[test]
     fn no_more_segments_than_the_shape_is_no_finding() {
-        assert_eq!(Fragments::of(Test::UmbmarkCw, 4, 4, &[]), None);
-        assert_eq!(Fragments::of(Test::Line, 1, 0, &[]), None);
-        let f = Fragments::of(Test::Line, 2, 0, &[]).expect("two legs on a line");
+        assert_eq!(Fragments::of(&Shape::of(Test::UmbmarkCw), 4, 4, &[]), None);
+        assert_eq!(Fragments::of(&Shape::of(Test::Line), 1, 0, &[]), None);
+        let f = Fragments::of(&Shape::of(Test::Line), 2, 0, &[]).expect("two legs on a line");
         assert_eq!((f.legs, f.shape_legs), (2, 1));
-        let f = Fragments::of(Test::Triangle, 3, 4, &[]).expect("four turns on a triangle");
+        let f =
+            Fragments::of(&Shape::of(Test::Triangle), 3, 4, &[]).expect("four turns on a triangle");
         assert_eq!((f.turns, f.shape_turns), (4, 3));
     }
 }

@@ -30,11 +30,14 @@ mod described;
 mod fragments;
 pub mod uarts;
 
-use analyse::analyse;
+use analyse::{analyse, ShapeRule};
 pub(crate) use described::{ended, Mark};
 pub use fragments::Fragments;
 pub use uarts::UartOutput;
 
+/// A test a run drives: a thesis test, or one a test description names, and
+/// the shape a test drives.
+pub use crate::firmware::description::{Shape, TestName};
 /// The tests the firmware's selector knows: the protocol's own, shared with
 /// the firmware (their names, selector bytes and shapes are defined there).
 pub use henrytwo_protocol::Test;
@@ -136,7 +139,12 @@ pub struct FinalPose {
 /// One run of a test.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct TestRun {
-    pub test: Test,
+    pub test: TestName,
+    /// The shape the run was judged by (None: a described test of the
+    /// firmware's own without one; then `x_cm` and `y_cm` are the end
+    /// position itself).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Shape>,
     pub firmware: String,
     pub seed: u64,
     pub completed: bool,
@@ -152,9 +160,14 @@ pub struct TestRun {
     /// so) unless faults were injected (then a warning).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fragments: Option<Fragments>,
+    /// Why the run did not drive its test's shape (it fragmented, or a
+    /// described test drove other than its own `shape`): then `completed`
+    /// is false and `finding` says the same.
+    #[serde(skip)]
+    pub off_shape: Option<String>,
     pub final_pose: FinalPose,
-    /// End position error (end minus ideal end) in cm, start frame: x along
-    /// the first leg, y to the left.
+    /// End position error (end minus the shape's ideal end) in cm, start
+    /// frame: x along the first leg, y to the left.
     pub x_cm: f64,
     pub y_cm: f64,
     pub robot_time_s: f64,
@@ -216,11 +229,12 @@ impl TestRun {
     }
 }
 
-/// Run `test` from a fresh reset.
+/// Run `test` from a fresh reset (a test of the firmware's own needs its
+/// description, [`TestOptions::description`]).
 pub fn run_test(
     firmware: Firmware,
     robot: &RobotConfig,
-    test: Test,
+    test: impl Into<TestName>,
     opts: &TestOptions,
 ) -> Result<TestRun, BenchError> {
     run_test_observed(firmware, robot, test, opts, None).map(|(run, _)| run)
@@ -231,14 +245,16 @@ pub fn run_test(
 pub fn run_test_observed(
     firmware: Firmware,
     robot: &RobotConfig,
-    test: Test,
+    test: impl Into<TestName>,
     opts: &TestOptions,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
+    let test = test.into();
     let _run = tracing::debug_span!("run", test = test.name(), seed = opts.bench.seed).entered();
     if let Some(d) = &opts.description {
-        return described::run_described(firmware, robot, test, opts, d, observer);
+        return described::run_described(firmware, robot, &test, opts, d, observer);
     }
+    let test = thesis_only(&test)?;
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
     let run = run_on(&mut bench, robot, test, opts, observer)?;
     Ok((run, bench.take_observer()))
@@ -266,7 +282,7 @@ fn run_on(
     let _drive = tracing::debug_span!("drive").entered();
     bench.set_observer(observer);
     let told = start(bench, robot, test, opts);
-    let limit = limit_s(test, opts);
+    let limit = limit_s(Some(&Shape::of(test)), opts);
     bench.set_hang_after(opts.hang_after_s);
     let outcome = bench.run_until(limit, |b| {
         b.read_u16(vars.done_count) != done_before && b.is_idle()
@@ -297,7 +313,17 @@ fn run_on(
     if let Some(f) = &finding {
         tracing::debug!(t_s = bench.robot_time_s(), finding = %f, "the run did not complete");
     }
-    let mut run = analyse(bench, test, name, opts, start_cycle, completed, finding);
+    let shape = Some((Shape::of(test), ShapeRule::Fragments));
+    let mut run = analyse(
+        bench,
+        test.into(),
+        shape,
+        name,
+        opts,
+        start_cycle..u64::MAX,
+        completed,
+        finding,
+    );
     run.hang = hang;
     told.apply(&mut run);
     Ok(run)
@@ -350,13 +376,27 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
     }
 }
 
-/// Robot time allowed from the start command to the end of the test.
-pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
-    let (legs, turns, _) = test.shape();
+/// Robot time allowed from the start command to the end of a test of
+/// `shape` (without one: as for the longest of the thesis' tests, the
+/// UMBmark's 4 legs and 4 turns).
+pub(crate) fn limit_s(shape: Option<&Shape>, opts: &TestOptions) -> f64 {
+    let shape = shape.copied().unwrap_or(Shape::of(Test::UmbmarkCw));
+    let leg_mm = shape.leg_mm.unwrap_or(opts.leg_mm);
     // Each leg at a third of the nominal 145 mm/s, each turn 5 s, 3 s of
     // braking and waits per segment: generous, so a slow robot is not a hang.
     opts.limit_s
-        .unwrap_or(legs as f64 * (opts.leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0)
+        .unwrap_or(shape.legs as f64 * (leg_mm / 50.0 + 3.0) + shape.turns as f64 * 8.0 + 5.0)
+}
+
+/// The thesis test `test` is, for a firmware with the bench interface;
+/// a test of the firmware's own needs its description.
+fn thesis_only(test: &TestName) -> Result<Test, BenchError> {
+    test.thesis().ok_or_else(|| {
+        BenchError::Description(format!(
+            "{test} is no test of the bench's own builds (umbmark-cw, umbmark-ccw, line, \
+             triangle); a test of your firmware's own runs from its test description (--tests FILE)"
+        ))
+    })
 }
 
 /// Run `test` under a debugger: the MCU paused at its reset vector until
@@ -368,15 +408,20 @@ pub(crate) fn limit_s(test: Test, opts: &TestOptions) -> f64 {
 pub fn run_test_debugged(
     firmware: Firmware,
     robot: &RobotConfig,
-    test: Test,
+    test: impl Into<TestName>,
     opts: &TestOptions,
     server: crate::bench::gdb::GdbServer,
 ) -> Result<TestRun, crate::bench::gdb::GdbError> {
+    let test = test.into();
+    // Refused before the debugger attaches.
+    if opts.description.is_none() {
+        thesis_only(&test)?;
+    }
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
     server.attach(&mut bench)?;
     let run = match &opts.description {
-        Some(d) => described::run_described_on(&mut bench, test, opts, d, None),
-        None => run_on(&mut bench, robot, test, opts, None),
+        Some(d) => described::run_described_on(&mut bench, &test, opts, d, None),
+        None => thesis_only(&test).and_then(|t| run_on(&mut bench, robot, t, opts, None)),
     };
     let run = match run {
         Ok(run) => run,

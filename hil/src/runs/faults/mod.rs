@@ -533,15 +533,30 @@ pub fn render(rows: &[FaultRow]) -> String {
 
 /// A scenario file as a fault case: run against both builds and reported,
 /// not judged (a scenario file states no expectation). The case's texts
-/// live as long as the process: a CLI run loads one scenario.
-pub fn from_scenario(path: &std::path::Path, s: &crate::runs::scenario::Scenario) -> FaultCase {
+/// live as long as the process: a CLI run loads one scenario. Err: the
+/// scenario names a test of a firmware's own, which the fault cases' thesis
+/// and robust builds do not have.
+pub fn from_scenario(
+    path: &std::path::Path,
+    s: &crate::runs::scenario::Scenario,
+) -> Result<FaultCase, String> {
+    let test = match &s.test {
+        None => Test::Line,
+        Some(t) => t.thesis().ok_or_else(|| {
+            format!(
+                "the scenario {}: test = {t:?}: hil faults runs the thesis' tests \
+                 (umbmark-cw, umbmark-ccw, line, triangle)",
+                path.display()
+            )
+        })?,
+    };
     let leak = |s: String| -> &'static str { Box::leak(s.into_boxed_str()) };
     let name = s.name.clone().unwrap_or_else(|| {
         path.file_stem()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "scenario".into())
     });
-    FaultCase {
+    Ok(FaultCase {
         name: leak(name),
         what: leak(format!(
             "{} fault(s) from the scenario {}",
@@ -549,11 +564,11 @@ pub fn from_scenario(path: &std::path::Path, s: &crate::runs::scenario::Scenario
             path.display()
         )),
         expected: "not stated (a scenario file has no expectation)",
-        test: s.test.unwrap_or(Test::Line),
+        test,
         leg_mm: s.leg_mm.unwrap_or(2000.0),
         faults: s.scheduled(),
         limit_s: s.limit_s.unwrap_or(60.0),
         framed: s.framed,
         check: None,
-    }
+    })
 }

@@ -20,7 +20,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::runs::experiment::Test;
+use crate::runs::experiment::TestName;
 
 mod compare;
 mod measure;
@@ -38,7 +38,7 @@ pub const FORMAT: &str = "hil-golden/1";
 pub struct Golden {
     /// [`FORMAT`].
     pub format: String,
-    pub test: Test,
+    pub test: TestName,
     pub leg_mm: f64,
     /// What the run was made with.
     pub recorded_with: InForce,
@@ -174,9 +174,9 @@ pub enum GoldenError {
     )]
     OtherTest {
         path: String,
-        golden: Test,
+        golden: TestName,
         golden_leg_mm: f64,
-        now: Test,
+        now: TestName,
         now_leg_mm: f64,
     },
 }
@@ -184,7 +184,7 @@ pub enum GoldenError {
 impl Golden {
     /// A golden run of `test` with legs of `leg_mm`.
     pub fn new(
-        test: Test,
+        test: TestName,
         leg_mm: f64,
         recorded_with: InForce,
         tolerances: Tolerances,
@@ -278,15 +278,20 @@ impl Golden {
 
     /// Refuse a run of another test or leg length than this golden run's
     /// (`path` names the golden file in the error).
-    pub fn check_same_test(&self, path: &str, test: Test, leg_mm: f64) -> Result<(), GoldenError> {
-        if test == self.test && leg_mm == self.leg_mm {
+    pub fn check_same_test(
+        &self,
+        path: &str,
+        test: &TestName,
+        leg_mm: f64,
+    ) -> Result<(), GoldenError> {
+        if *test == self.test && leg_mm == self.leg_mm {
             return Ok(());
         }
         Err(GoldenError::OtherTest {
             path: path.into(),
-            golden: self.test,
+            golden: self.test.clone(),
             golden_leg_mm: self.leg_mm,
-            now: test,
+            now: test.clone(),
             now_leg_mm: leg_mm,
         })
     }

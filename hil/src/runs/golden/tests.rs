@@ -1,6 +1,7 @@
 //! The golden file's checks and the comparison's arithmetic, without a run.
 
 use super::*;
+use crate::runs::experiment::Test;
 
 fn q(name: &str, kind: Kind, value: f64) -> Quantity {
     Quantity {
@@ -27,7 +28,7 @@ fn in_force() -> InForce {
 
 fn golden() -> Golden {
     Golden::new(
-        Test::Line,
+        Test::Line.into(),
         300.0,
         in_force(),
         Tolerances::default(),
@@ -87,12 +88,16 @@ fn another_elf_is_a_difference_in_force() {
 #[test]
 fn another_test_or_leg_is_refused() {
     let g = golden();
-    assert!(g.check_same_test("g.json", Test::Line, 300.0).is_ok());
+    assert!(g
+        .check_same_test("g.json", &Test::Line.into(), 300.0)
+        .is_ok());
     let e = g
-        .check_same_test("g.json", Test::UmbmarkCw, 300.0)
+        .check_same_test("g.json", &Test::UmbmarkCw.into(), 300.0)
         .unwrap_err();
     assert!(matches!(e, GoldenError::OtherTest { .. }));
-    assert!(g.check_same_test("g.json", Test::Line, 301.0).is_err());
+    assert!(g
+        .check_same_test("g.json", &Test::Line.into(), 301.0)
+        .is_err());
 }
 
 #[test]

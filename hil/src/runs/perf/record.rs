@@ -119,10 +119,12 @@ pub fn bench_run_described(
     bench.send(usart, &[byte]);
     let (legs, turns, _) = test.shape();
     let leg_mm = d.leg_mm(None, 2000.0)?;
-    let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0 + d.end.idle_s;
-    let idle = bench.clock().cycles_in(plant_model::Seconds(d.end.idle_s));
+    // The test's own end, as a run of it has.
+    let end = d.end_of(&test.into());
+    let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0 + end.idle_s;
+    let idle = bench.clock().cycles_in(plant_model::Seconds(end.idle_s));
     let completed = bench.run_until(limit, |b| {
-        crate::runs::experiment::ended(b, &d.end, idle, mark)
+        crate::runs::experiment::ended(b, end, idle, mark)
     })?;
     let start = Start {
         cycle: command_cycle,

@@ -78,7 +78,7 @@ use serde::Deserialize;
 use thiserror::Error;
 
 use crate::bench::ScheduledFault;
-use crate::runs::experiment::Test;
+use crate::runs::experiment::TestName;
 
 pub mod eval;
 mod expect;
@@ -132,7 +132,8 @@ pub struct Scenario {
     #[serde(default)]
     pub name: Option<String>,
     #[serde(default)]
-    pub test: Option<Test>,
+    /// A thesis test, or (with a test description) one of the firmware's own.
+    pub test: Option<TestName>,
     #[serde(default)]
     pub leg_mm: Option<f64>,
     #[serde(default)]

@@ -4,6 +4,7 @@ use std::path::Path;
 
 use super::*;
 use crate::bench::{Action, Trigger};
+use crate::runs::experiment::Test;
 use plant_model::Side;
 
 const EXAMPLE: &str = r#"
@@ -28,7 +29,7 @@ duration_s = 0.0005
 #[test]
 fn the_documented_layout_parses_and_durations_get_their_undo() {
     let s = Scenario::parse(Path::new("x.toml"), EXAMPLE).unwrap();
-    assert_eq!(s.test, Some(Test::UmbmarkCw));
+    assert_eq!(s.test, Some(Test::UmbmarkCw.into()));
     let f = s.scheduled();
     assert_eq!(f.len(), 3);
     assert_eq!(f[0].undo, None);
@@ -49,7 +50,7 @@ fn the_documented_layout_parses_and_durations_get_their_undo() {
 fn the_example_fixture_parses() {
     let path = crate::paths::workspace_root().join("fixtures/scenarios/dropout-then-slip.toml");
     let s = Scenario::load(&path).unwrap();
-    assert_eq!(s.test, Some(Test::UmbmarkCw));
+    assert_eq!(s.test, Some(Test::UmbmarkCw.into()));
     assert_eq!(s.scheduled().len(), 3);
 }
 
