@@ -408,5 +408,7 @@ fn the_cli_says_what_a_black_box_run_needs() {
 
 #[path = "blackbox/commands.rs"]
 mod commands;
+#[path = "blackbox/example_robots.rs"]
+mod example_robots;
 #[path = "blackbox/own_tests.rs"]
 mod own_tests;

@@ -1,0 +1,60 @@
+//! The example robots of other MCUs, each from its own sketch, as its owner
+//! would run it: an Uno (ATmega328P) with an L298N
+//! (`fixtures/boards/uno-l298n.toml`, `fixtures/robots/uno-l298n.toml`).
+
+use super::*;
+
+const UNO_TESTS: &str = "fixtures/arduino/uno-l298n/tests.toml";
+
+/// The Uno robot drives its 1 m leg and its quarter spin to the left from
+/// its own sketch: the ATmega328P's timer 0 fast PWM on the L298N's enables
+/// (D5/D6), INPUT_PULLUP encoders on INT0/INT1 on the port the sketch writes
+/// every period, its one USART carrying both the start byte and the counts.
+/// The leg is within 5 % of 1 m, the spin within 15 degrees of 90, and the
+/// counts the sketch prints once at rest are the plant's edges then.
+#[test]
+fn the_uno_robot_drives_its_leg_and_spin_counting_every_edge() {
+    let root = hil::paths::workspace_root();
+    let (d, fw) = described(UNO_TESTS);
+    let board = hil::board::Board::load(root.join("fixtures/boards/uno-l298n.toml"))
+        .expect("the board loads");
+    let robot = plant_model::RobotConfig::load(root.join("fixtures/robots/uno-l298n.toml"))
+        .expect("the robot loads");
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
+        bench: BenchOptions {
+            board,
+            ..Default::default()
+        },
+        description: Some(d),
+        ..Default::default()
+    };
+    let test = TestName::parse("leg-and-spin").unwrap();
+    let r = run_test(fw, &robot, test, &opts).expect("the bench runs the sketch");
+    assert!(r.completed, "{:?}", r.finding);
+    assert_eq!(
+        (r.legs.len(), r.turns.len()),
+        (1, 1),
+        "{:?} {:?}",
+        r.legs,
+        r.turns
+    );
+    let leg = r.legs[0].plant_distance_mm;
+    assert!((leg - 1000.0).abs() <= 50.0, "leg {leg} mm");
+    let spin = r.turns[0].plant_angle_deg;
+    assert!((spin - 90.0).abs() <= 15.0, "spin {spin} deg");
+    // The right encoder is mirrored (its B leads A driving forward): the
+    // plant counts its edges down, the sketch's decoding up.
+    let at = |cycle: u64| {
+        let t = cycle as f64 / 16e6;
+        let s = r.trace.iter().rev().find(|s| s.t_s <= t).unwrap();
+        [s.left_edges, -s.right_edges]
+    };
+    let (after_leg, done) = (printed_counts(&r, "leg"), printed_counts(&r, "spin"));
+    assert!(
+        after_leg[0] >= 2821 && after_leg[1] >= 2821,
+        "{after_leg:?}"
+    );
+    assert_eq!(after_leg, at(r.turns[0].start_cycle), "after the leg");
+    assert_eq!(done, at(u64::MAX), "at the end");
+}
