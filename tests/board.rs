@@ -262,6 +262,18 @@ fn encoders_elsewhere_are_named_for_the_robust_firmware() {
     let rover = Board::load(hil::paths::workspace_root().join("fixtures/boards/rover65.toml"))
         .expect("rover65's board loads");
     assert_eq!(rover.firmware_encoder_mismatch(), None);
+    // A board with one link and no battery divider or LEDs (the Uno's).
+    let uno = Board::load(hil::paths::workspace_root().join("fixtures/boards/uno-l298n.toml"))
+        .expect("the Uno robot's board loads");
+    assert_eq!(uno.command_uart, uno.debug_uart, "one link");
+    assert_eq!(
+        uno.firmware_encoder_mismatch().as_deref(),
+        Some(
+            "the robust firmware drives a command link apart from the debug UART, a battery \
+             divider and battery LEDs; this board has no [command_uart], [battery], [leds]: add \
+             them, or run a firmware of your own (--tests)"
+        )
+    );
 }
 
 /// `hil board check` refuses such a board (exit 2), checks it for a

@@ -331,7 +331,9 @@ impl Board {
         .collect();
         if !missing.is_empty() {
             return Some(format!(
-                "the robust firmware needs a board with {}; this board has none: add them, or run a firmware of your own (--tests)",
+                "the robust firmware drives a command link apart from the debug UART, a battery \
+                 divider and battery LEDs; this board has no {}: add them, or run a firmware of \
+                 your own (--tests)",
                 missing.join(", ")
             ));
         }
