@@ -39,6 +39,29 @@ fn run_described(file: &str, test: impl Into<TestName>, seed: u64, record: bool)
     run_test(fw, &support::robot("henrytwo"), test, &opts).expect("the bench runs the sketch")
 }
 
+/// A described sketch's run on a board of the fixtures (`board`, from the
+/// workspace root), the robot given.
+fn run_on_board(
+    file: &str,
+    board: &str,
+    robot: &plant_model::RobotConfig,
+    test: impl Into<TestName>,
+) -> TestRun {
+    let (d, fw) = described(file);
+    let board =
+        hil::board::Board::load(hil::paths::workspace_root().join(board)).expect("the board loads");
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
+        bench: BenchOptions {
+            board,
+            ..Default::default()
+        },
+        description: Some(d),
+        ..Default::default()
+    };
+    run_test(fw, robot, test, &opts).expect("the bench runs the sketch")
+}
+
 /// The Rust port of the same listing, on the same robot, legs of the
 /// sketch's printed 400 mm.
 fn run_port(test: Test, seed: u64, record: bool) -> TestRun {
@@ -279,21 +302,12 @@ fn printed_counts(r: &TestRun, what: &str) -> [i64; 2] {
 /// sketch then miscounts.)
 #[test]
 fn pulled_up_encoders_on_written_ports_count_every_edge() {
-    let (d, fw) = described(PULLUP_TESTS);
-    let board = hil::board::Board::load(
-        hil::paths::workspace_root().join("fixtures/boards/mega-l298n.toml"),
-    )
-    .expect("the board loads");
-    let opts = TestOptions {
-        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
-        bench: BenchOptions {
-            board,
-            ..Default::default()
-        },
-        description: Some(d),
-        ..Default::default()
-    };
-    let r = run_test(fw, &support::robot("henrytwo"), Test::Line, &opts).unwrap();
+    let r = run_on_board(
+        PULLUP_TESTS,
+        "fixtures/boards/mega-l298n.toml",
+        &support::robot("henrytwo"),
+        Test::Line,
+    );
     assert!(r.completed, "{:?}", r.finding);
     assert_eq!(
         (r.legs.len(), r.turns.len()),

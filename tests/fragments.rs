@@ -6,23 +6,11 @@
 
 mod support;
 
-/// `hil` with `args`, from the workspace root (the paths below are its).
-fn hil(args: &[&str]) -> std::process::Output {
-    let _ = support::firmware_path("robust");
-    std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(args)
-        .current_dir(hil::paths::workspace_root())
-        .output()
-        .expect("hil runs")
-}
+use support::{hil_at_root as hil, json_report as json};
 
 const COARSE: &str = "fixtures/robots/coarse65.toml";
 /// Coarse65 with the factory gains as its config's own: none are derived.
 const FACTORY_PID: &str = "fixtures/robots/coarse65-factory-pid.toml";
-
-fn json(out: &std::process::Output) -> serde_json::Value {
-    serde_json::from_slice(&out.stdout).expect("the report is JSON")
-}
 
 #[test]
 fn a_fragmented_square_exits_3_with_the_finding_and_its_cause() {

@@ -6,21 +6,9 @@
 
 mod support;
 
-/// `hil` with `args`, from the workspace root (the paths below are its).
-fn hil(args: &[&str]) -> std::process::Output {
-    let _ = support::firmware_path("robust");
-    std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
-        .args(args)
-        .current_dir(hil::paths::workspace_root())
-        .output()
-        .expect("hil runs")
-}
+use support::{hil_at_root as hil, json_report as json};
 
 const COARSE: &str = "fixtures/robots/coarse65.toml";
-
-fn json(out: &std::process::Output) -> serde_json::Value {
-    serde_json::from_slice(&out.stdout).expect("the report is JSON")
-}
 
 /// The bar: 4 legs each within 1 % of 2 m, 4 turns within 10 degrees of 90.
 fn assert_square(v: &serde_json::Value, what: &str) {

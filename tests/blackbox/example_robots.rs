@@ -14,23 +14,12 @@ const UNO_TESTS: &str = "fixtures/arduino/uno-l298n/tests.toml";
 /// counts the sketch prints once at rest are the plant's edges then.
 #[test]
 fn the_uno_robot_drives_its_leg_and_spin_counting_every_edge() {
-    let root = hil::paths::workspace_root();
-    let (d, fw) = described(UNO_TESTS);
-    let board = hil::board::Board::load(root.join("fixtures/boards/uno-l298n.toml"))
-        .expect("the board loads");
-    let robot = plant_model::RobotConfig::load(root.join("fixtures/robots/uno-l298n.toml"))
-        .expect("the robot loads");
-    let opts = TestOptions {
-        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
-        bench: BenchOptions {
-            board,
-            ..Default::default()
-        },
-        description: Some(d),
-        ..Default::default()
-    };
-    let test = TestName::parse("leg-and-spin").unwrap();
-    let r = run_test(fw, &robot, test, &opts).expect("the bench runs the sketch");
+    let r = run_on_board(
+        UNO_TESTS,
+        "fixtures/boards/uno-l298n.toml",
+        &support::robot("uno-l298n"),
+        TestName::parse("leg-and-spin").unwrap(),
+    );
     assert!(r.completed, "{:?}", r.finding);
     assert_eq!(
         (r.legs.len(), r.turns.len()),

@@ -54,6 +54,22 @@ pub fn robot(name: &str) -> RobotConfig {
     RobotConfig::load(hil::paths::robot_config(name)).expect("robot config loads")
 }
 
+/// Runs the `hil` binary with `args` from the workspace root (the fixtures' paths are
+/// relative to it), the robust firmware built first.
+pub fn hil_at_root(args: &[&str]) -> std::process::Output {
+    let _ = firmware_path("robust");
+    Command::new(env!("CARGO_BIN_EXE_hil"))
+        .args(args)
+        .current_dir(hil::paths::workspace_root())
+        .output()
+        .expect("hil runs")
+}
+
+/// The JSON report a command printed on stdout.
+pub fn json_report(out: &std::process::Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout).expect("the report is JSON")
+}
+
 /// Runs the `hil` binary with `args`, the robust firmware built first (the CLI looks for it
 /// in `firmware/target`).
 pub fn hil(args: &[&str]) -> std::process::Output {
