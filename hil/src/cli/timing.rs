@@ -53,6 +53,15 @@ impl Timing {
         let clock = BenchOptions::default().clock;
         let period = clock.cycles_in(plant_model::Seconds(budgets.tick_period_us * 1e-6));
         let opts = common.test_options(common.leg_mm(leg)?);
+        // The probe names vectors and unwinds return addresses as the 2560
+        // lays them out (3-byte PCs); another MCU's would be misread.
+        let mcu = opts.bench.board.mcu;
+        if mcu != hil::board::Mcu::Atmega2560 {
+            return Err(super::bad_input(anyhow::anyhow!(
+                "--board: hil timing measures the atmega2560 only (its vectors, its 3-byte return \
+                 addresses); this board's MCU is the {mcu}"
+            )));
+        }
         let probe = TimingProbe::new(&firmware, &function, period, &opts.bench.board)
             .map_err(|e| super::bad_input(anyhow::anyhow!("--function {function:?}: {e}")))?;
         let (run, observer) =
