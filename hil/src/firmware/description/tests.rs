@@ -110,7 +110,7 @@ fn a_full_description_reads_as_written() {
 )]
 #[case(
     "[tests.line]",
-    "[tests.line.shape]\nlegs = 1\n[tests.x]",
+    "[tests.line.shape]\nlegs = 1\n[tests.line]",
     "tests.line.shape = ...: line is the thesis' test: 1 legs, 0 turns"
 )]
 #[case(
