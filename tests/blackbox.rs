@@ -277,6 +277,14 @@ fn a_generic_sketch_is_reported_as_it_drives() {
 }
 
 /// The counts a sketch printed in its line starting `what`: "what L=<l> R=<r>".
+/// The plant's A edges, left and right, in the last trace sample at or
+/// before `cycle`.
+fn plant_edges_at(r: &TestRun, cycle: u64) -> [i64; 2] {
+    let t = cycle as f64 / 16e6;
+    let s = r.trace.iter().rev().find(|s| s.t_s <= t).unwrap();
+    [s.left_edges, s.right_edges]
+}
+
 fn printed_counts(r: &TestRun, what: &str) -> [i64; 2] {
     let text: Vec<u8> = r
         .uart
@@ -317,11 +325,7 @@ fn pulled_up_encoders_on_written_ports_count_every_edge() {
         r.turns
     );
     // At rest after the leg (the spin's start) and at the end.
-    let at = |cycle: u64| {
-        let t = cycle as f64 / 16e6;
-        let s = r.trace.iter().rev().find(|s| s.t_s <= t).unwrap();
-        [s.left_edges, s.right_edges]
-    };
+    let at = |cycle| plant_edges_at(&r, cycle);
     let (leg, done) = (printed_counts(&r, "leg"), printed_counts(&r, "spin"));
     assert!(
         leg[0] >= 3000 && done[0] <= leg[0] - 600,

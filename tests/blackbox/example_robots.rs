@@ -34,10 +34,9 @@ fn the_uno_robot_drives_its_leg_and_spin_counting_every_edge() {
     assert!((spin - 90.0).abs() <= 15.0, "spin {spin} deg");
     // The right encoder is mirrored (its B leads A driving forward): the
     // plant counts its edges down, the sketch's decoding up.
-    let at = |cycle: u64| {
-        let t = cycle as f64 / 16e6;
-        let s = r.trace.iter().rev().find(|s| s.t_s <= t).unwrap();
-        [s.left_edges, -s.right_edges]
+    let at = |cycle| {
+        let [l, r] = plant_edges_at(&r, cycle);
+        [l, -r]
     };
     let (after_leg, done) = (printed_counts(&r, "leg"), printed_counts(&r, "spin"));
     assert!(
