@@ -16,6 +16,7 @@
 //! | `select/choose.rs` | the choice over fitted candidates, the alike set, the notes |
 //! | `select/render.rs` | the diagnosis' report as text |
 //! | `select/telemetry.rs` | its telemetry part: the series score of a candidate's runs, its report |
+//! | `select/tests.rs` | the selection's unit tests: folds and choices on made-up groups |
 //! | `selftest.rs` | "real" data made by the bench with one hidden effect, diagnosed blind |
 //! | `series.rs` | the telemetry of a run, one row per control period, and its residual score |
 
