@@ -281,3 +281,68 @@ fn a_stopping_rule_not_met_is_a_failure_and_one_met_is_not() {
         assert_eq!(code, Some(2), "{bad:?}: {err}");
     }
 }
+
+/// Near what the error model can represent a whole correction overshoots
+/// (on coarse65 the turns' whole counts): today's round 2 of a UMBmark
+/// raised E_max from 4.20 to 4.61 cm. The rounds line-search each
+/// correction: no kept round rises above the one before by more than the
+/// floor noise, the attempt that did is reported as not kept, and a smaller
+/// step of the same correction is what round 2 keeps. Coarse65 has no
+/// floor noise, so one run per direction is each direction's centroid.
+#[test]
+fn no_kept_round_raises_the_error_beyond_the_floor_noise() {
+    let fw = support::firmware("robust");
+    let robot = support::robot("coarse65");
+    let mut plan = plan(&fw, &robot, 7);
+    plan.runs_per_direction = 1;
+    let c = odometry::calibrate(
+        &fw,
+        &robot,
+        &plan,
+        &odometry::RoundOptions {
+            wheelbase_mm: robot.geometry.wheelbase_mm,
+            rounds: 2,
+            until_cm: None,
+            solution: Solution::Exact,
+            bench: Default::default(),
+        },
+        &|_, _, _| {},
+    )
+    .expect("calibration rounds");
+    let kept: Vec<(f64, f64)> = c
+        .rounds
+        .iter()
+        .map(|r| (r.error_cm.unwrap(), r.noise_cm.unwrap()))
+        .collect();
+    let rejected: Vec<(usize, Option<f64>, f64)> = c
+        .rejected
+        .iter()
+        .map(|r| (r.round, r.step, r.error_cm.unwrap()))
+        .collect();
+    println!("kept (E_max, noise) {kept:.2?} cm, not kept (round, step, E_max) {rejected:.2?}");
+    assert_eq!(c.stop, Stop::RoundsDone, "{kept:.2?}");
+    assert_eq!(c.rounds.len(), 3, "round 0 and two corrections kept");
+    for w in kept.windows(2) {
+        let ((a, na), (b, nb)) = (w[0], w[1]);
+        assert!(
+            b - a <= na.hypot(nb),
+            "E_max {a:.2} -> {b:.2} cm: {kept:.2?}"
+        );
+    }
+    // The behaviour is exercised: round 2's whole correction raised E_max
+    // and was not kept; a smaller step of it was.
+    let before = kept[1].0;
+    assert!(
+        c.rejected
+            .iter()
+            .any(|r| r.round == 2 && r.step == Some(1.0) && r.error_cm.unwrap() > before),
+        "{rejected:.2?}"
+    );
+    assert!(c.rounds[2].step < Some(1.0), "{:?}", c.rounds[2].step);
+    // Each round's parameters are the kept round's times its correction
+    // to the power of the step.
+    let (dl, _, _) = c.rounds[1].report.correction();
+    let step = c.rounds[2].step.unwrap();
+    assert!((c.rounds[2].c_left - c.rounds[1].c_left * dl.powf(step)).abs() < 1e-12);
+    assert_eq!(c.best, Some(2), "{kept:.2?}");
+}

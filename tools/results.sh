@@ -61,6 +61,7 @@ blocks=(
   "calibration calibrate-rounds 1 block_calibrate_rounds"
   "calibration calibrate-recovery 0 block_calibrate_recovery"
   "calibration calibrate-corners 0 block_calibrate_corners"
+  "calibration calibrate-line-search 1 block_calibrate_line_search"
   "robots robots 1 block_robots"
   "timing timing 1 block_timing"
   "blackbox blackbox 1 block_blackbox"
@@ -122,6 +123,16 @@ block_calibrate_recovery() {
 }
 block_calibrate_corners() {
   test_cmd hil calibration rounds_converge
+}
+block_calibrate_line_search() {
+  local r m
+  for r in coarse65 heavy100 compact48 rover65; do
+    local args=(--robot "fixtures/robots/$r.toml")
+    [ "$r" = rover65 ] && args+=(--board fixtures/boards/rover65.toml)
+    for m in umbmark triangle; do
+      hil_cmd calibrate --method "$m" --rounds 3 "${args[@]}" --deterministic
+    done
+  done
 }
 block_robots() {
   local r

@@ -415,9 +415,14 @@ impl Calibrate {
                 solution: self.solve.solution_or(calib::Solution::Exact),
                 bench: self.common.target.bench(),
             },
-            &|round, n, _| {
-                bar.set_position((round * total + n) as u64);
-                bar.set_message(format!("round {round}"));
+            &|attempt, n, _| {
+                // A retried round runs more than `rounds + 1` experiments.
+                let at = (attempt * total + n) as u64;
+                if bar.length().is_some_and(|l| at > l) {
+                    bar.set_length(at);
+                }
+                bar.set_position(at);
+                bar.set_message(format!("experiment {}", attempt + 1));
             },
         )?;
         bar.finish_and_clear();
@@ -426,6 +431,7 @@ impl Calibrate {
         if self.common.print.json.json {
             let v = serde_json::json!({
                 "rounds": results,
+                "rejected": calibration.rejected,
                 "table10": table,
                 "stop": calibration.stop,
                 "best": calibration.best,
@@ -433,14 +439,22 @@ impl Calibrate {
             println!("{}", serde_json::to_string_pretty(&v)?);
         } else {
             for r in results {
+                // The attempts at this round that raised the error, first.
+                for t in calibration.rejected.iter().filter(|t| t.round == r.round) {
+                    println!("{}", round_line(t, &results[t.round - 1]));
+                }
                 println!(
-                    "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm -> {}",
-                    r.round,
-                    r.c_left,
-                    r.c_right,
-                    r.wheelbase_mm,
-                    r.report.summary()
+                    "{}",
+                    round_line(r, r.round.checked_sub(1).map(|i| &results[i]))
                 );
+            }
+            // The attempts of the round no step of which was kept.
+            for t in calibration
+                .rejected
+                .iter()
+                .filter(|t| t.round == results.len())
+            {
+                println!("{}", round_line(t, &results[t.round - 1]));
             }
             let rows: Vec<(&str, calib::Round)> =
                 table.iter().map(|(n, r)| (n.as_str(), *r)).collect();
@@ -468,6 +482,36 @@ impl Calibrate {
             _ => Ok(()),
         }
     }
+}
+
+/// A calibration round, one line: its parameters, the share of the last
+/// kept round's correction they apply, its errors, and for an attempt that
+/// raised the error beyond the floor noise, that it was not kept.
+fn round_line<'a>(
+    r: &hil::runs::odometry::CalibrationRound,
+    kept: impl Into<Option<&'a hil::runs::odometry::CalibrationRound>>,
+) -> String {
+    let step = r.step.map_or(String::new(), |s| format!(", step {s}"));
+    let mut line = format!(
+        "round {}: cL {:.5}, cR {:.5}, wheelbase {:.2} mm{step} -> {}",
+        r.round,
+        r.c_left,
+        r.c_right,
+        r.wheelbase_mm,
+        r.report.summary()
+    );
+    // Rounding noise of a robot with none is not printed as 0.00 cm.
+    if let Some(noise) = r.noise_cm.filter(|n| *n >= 0.005) {
+        line += &format!(" (floor noise {noise:.2} cm)");
+    }
+    if let Some(kept) = kept.into().filter(|k| r.rises_above(k)) {
+        line += &format!(
+            "; not kept: above round {}'s {:.2} cm by more than the floor noise",
+            kept.round,
+            kept.error_cm.unwrap_or(f64::NAN)
+        );
+    }
+    line
 }
 
 /// `--side-cm`: the table's square side or line, as a leg of the bench's
