@@ -162,7 +162,7 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
     };
     let speed = measure_diagnosis(&SpeedPlan {
         bench: &bench,
-        hidden: DEFAULT_CASES[0],
+        hidden: &DEFAULT_CASES[..1],
         leg_mm: 100.0,
         runs_per_group: 1,
         seed: 3,
@@ -187,5 +187,22 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
     assert!(speed.within_budget.is_some());
     assert!(text.contains("speed-up with 2 jobs"), "{text}");
     assert!(text.contains("joint fits: "), "{text}");
+    // The cost of each kind of fit: singles, pairs, triples, their runs adding up to the
+    // diagnosis' and their wall times its share of the 2-job timing.
+    let kinds: Vec<&str> = speed.costs.iter().map(|c| c.kind).collect();
+    assert_eq!(kinds, ["single", "pair", "triple"], "{text}");
+    let sum: usize = speed.costs.iter().map(|c| c.bench_runs).sum();
+    assert_eq!(sum, runs, "{text}");
+    assert_eq!(speed.costs[1].fits + speed.costs[2].fits, speed.joint_fits);
+    assert_eq!(
+        speed.costs[1].bench_runs + speed.costs[2].bench_runs,
+        speed.joint_runs
+    );
+    let wall: f64 = speed.costs.iter().map(|c| c.wall_s).sum();
+    assert!(
+        (wall - speed.timed[1].wall_s).abs() <= 1e-6 * wall,
+        "{text}"
+    );
+    assert!(text.contains("runs per fit"), "{text}");
     assert!(text.contains("budget 900 s on 2 cores"), "{text}");
 }

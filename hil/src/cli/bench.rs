@@ -39,8 +39,10 @@ pub struct Bench {
     repeats: u32,
     /// Time the bench-backed diagnosis instead (`hil gap --bench`): a
     /// dataset of 5 runs of each test (UMBmark CW and CCW, line, triangle)
-    /// made by the bench with a hidden dead band, diagnosed with 1 job and
-    /// with --jobs; says whether 10 minutes on 2 cores held. The nominal
+    /// made by the bench with a small right wheel and a wide wheelbase
+    /// hidden together, diagnosed with 1 job and with --jobs; the bench
+    /// runs and wall time of the single, pair and triple fits, and whether
+    /// 15 minutes on 2 cores held. The nominal
     /// robot: --robot, else the ideal one of `hil gap --self-test --bench`.
     #[arg(long, conflicts_with_all = ["test", "without_thesis", "without_sketch",
           "without_simavr_pwm", "repeats"])]
@@ -135,7 +137,7 @@ impl Bench {
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
         let speed = hil::runs::gap_bench::measure_diagnosis(&hil::runs::gap_bench::SpeedPlan {
             bench: &bench,
-            hidden: hil::runs::gap_bench::DEFAULT_CASES[0],
+            hidden: &hil::runs::gap_bench::TWO_EFFECT_CASES[0],
             leg_mm: self.common.leg_mm(self.leg)?,
             runs_per_group: hil::runs::gap_bench::RUNS_PER_GROUP,
             seed: self.common.target.seed,

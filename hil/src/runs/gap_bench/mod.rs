@@ -194,7 +194,16 @@ impl BenchModel {
 
     /// The firmware parameters of `exp`, sent over the protocol as a real run's host does,
     /// after the nominal robot's geometry.
-    fn firmware_params(exp: &Experiment) -> Vec<(Param, f32)> {
+    ///
+    /// The set-points are sent times cL and cR: the data's firmware
+    /// ([`gap::StraightLegs::SpeedSetpoints`], the thesis' own) holds each wheel's count rate
+    /// at its set-point, and its corrections weigh only the stop rules; the bench's firmware
+    /// takes its set-points as ground speeds and holds set-point / c counts. Sent as given, a
+    /// correction would straighten (or bend) the bench's legs where the robot's stayed as
+    /// they were: the thesis' UMBmark 2 and 3, run with cL, cR 1.6 % off 1, would curve
+    /// twice as much on the bench as on the floor. Without set-points in the data, the
+    /// firmware's own (the robot config's, else its factory values) are the base.
+    fn firmware_params(&self, exp: &Experiment) -> Vec<(Param, f32)> {
         let fw = &exp.firmware;
         let mut p = vec![
             (Param::MmPerCountLeft, fw.mm_per_count as f32),
@@ -205,9 +214,24 @@ impl BenchModel {
             (Param::TurnUmbmarkDeg, fw.turn_umbmark_deg as f32),
             (Param::TurnTriangleDeg, fw.turn_triangle_deg as f32),
         ];
-        if let (Some(l), Some(r)) = (fw.setpoint_left, fw.setpoint_right) {
-            p.push((Param::SetpointLeft, l as f32));
-            p.push((Param::SetpointRight, r as f32));
+        let given = match (fw.setpoint_left, fw.setpoint_right) {
+            (Some(l), Some(r)) => Some((l, r)),
+            _ => None,
+        };
+        if given.is_some() || fw.c_left != 1.0 || fw.c_right != 1.0 {
+            let (l, r) = given.unwrap_or_else(|| {
+                let believed = crate::firmware::params::plan(
+                    &self.firmware,
+                    &self.nominal,
+                    &self.bench.board,
+                    Tell::Robot,
+                    &self.params,
+                )
+                .1;
+                (believed.setpoint_rpm[0], believed.setpoint_rpm[1])
+            });
+            p.push((Param::SetpointLeft, (l * fw.c_left) as f32));
+            p.push((Param::SetpointRight, (r * fw.c_right) as f32));
         }
         p
     }
@@ -256,7 +280,7 @@ impl BenchModel {
                 }
             }
             answers.push(Ok((Vec::new(), Vec::new())));
-            let mut fw_params = Self::firmware_params(exp);
+            let mut fw_params = self.firmware_params(exp);
             fw_params.extend_from_slice(&self.params);
             let legs = exp.test.legs() as f64;
             let heading_rad =
