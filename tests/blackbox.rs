@@ -286,10 +286,16 @@ fn plant_edges_at(r: &TestRun, cycle: u64) -> [i64; 2] {
 }
 
 fn printed_counts(r: &TestRun, what: &str) -> [i64; 2] {
+    printed_counts_on(r, 0, what)
+}
+
+/// The counts a sketch printed on USART `usart` in its line starting with
+/// `what`.
+fn printed_counts_on(r: &TestRun, usart: u8, what: &str) -> [i64; 2] {
     let text: Vec<u8> = r
         .uart
         .iter()
-        .filter(|(_, n, _)| *n == 0)
+        .filter(|(_, n, _)| *n == usart)
         .map(|(_, _, b)| *b)
         .collect();
     let text = String::from_utf8_lossy(&text);

@@ -3,7 +3,7 @@
 //! wrong and what is allowed; Henrytwo's fixture and the other driver kinds
 //! load.
 
-use hil::board::{Board, BoardError, DriverKind, Mcu, Problem, ProblemKind, HENRYTWO};
+use hil::board::{Board, BoardError, DriverKind, EncoderKind, Mcu, Problem, ProblemKind, HENRYTWO};
 
 const MEGA: Mcu = Mcu::Atmega2560;
 use rstest::rstest;
@@ -41,16 +41,16 @@ fn henrytwos_fixture_is_the_built_in_board() {
 #[rstest]
 #[case::pin_used_twice(
     r#"green = "D10""#, r#"green = "D9""#, "leds.green",
-    ProblemKind::PinReused { pin: 9, first: "motor_driver.left.forward".into() },
+    ProblemKind::PinReused { pin: "D9".into(), first: "motor_driver.left.forward".into() },
     "each pin carries one signal"
 )]
 #[case::no_timer_channel(
     r#"forward = "D9""#, r#"forward = "D22""#, "motor_driver.left.forward",
-    ProblemKind::NotPwm { pin: 22, mcu: MEGA }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
+    ProblemKind::NotPwm { pin: "D22".into(), mcu: MEGA }, "PWM pins: D4 D13 (timer 0), D11 D12 (timer 1), D9 D10 (timer 2)"
 )]
 #[case::encoder_a_cannot_interrupt(
     r#"a = "D2""#, r#"a = "D22""#, "encoders.left.a",
-    ProblemKind::CannotInterrupt { pin: 22, mcu: MEGA }, "give D2 D3 D18"
+    ProblemKind::CannotInterrupt { pin: "D22".into(), line: "channel A", mcu: MEGA }, "give D2 D3 D18"
 )]
 #[case::uart_out_of_range(
     "usart = 1", "usart = 4", "command_uart.usart",
@@ -58,7 +58,7 @@ fn henrytwos_fixture_is_the_built_in_board() {
 )]
 #[case::uart_pin_reused(
     r#"red = "D12""#, r#"red = "D19""#, "command_uart.usart",
-    ProblemKind::PinReused { pin: 19, first: "leds.red".into() }, "one signal"
+    ProblemKind::PinReused { pin: "D19".into(), first: "leds.red".into() }, "one signal"
 )]
 #[case::same_uart_twice(
     "usart = 0", "usart = 1", "debug_uart.usart",
@@ -161,7 +161,7 @@ fn other_drivers_load(
     assert_eq!(board.driver, kind);
     assert_eq!(board.pwm_timers(), vec![2, 5]);
     assert_eq!(board.left_motor.pin2.pwm, None);
-    assert_eq!(board.right_motor.pin1.pin.arduino, 46);
+    assert_eq!(board.right_motor.pin1.pin.arduino, Some(46));
 }
 
 /// Motor PWM on timer 0's pins (D4 OC0B, D13 OC0A: PB7 also carries OC1C,
@@ -368,4 +368,79 @@ red = "PC3"
         p[0].to_string().contains("no atmega2560 pin \"PI0\""),
         "{p:?}"
     );
+}
+
+/// Pololu's Romi 32U4 board: DRV8838s on timer 1, each encoder's A xor B
+/// on an interrupt pin with B on another, the left B on PE2, which has no
+/// Arduino number and is named by port and bit.
+#[test]
+fn the_romi_board_names_xor_encoders_and_a_pin_without_a_number() {
+    let path = hil::paths::workspace_root().join("fixtures/boards/romi-32u4.toml");
+    let b = Board::load(path).unwrap();
+    assert_eq!(b.driver, DriverKind::Drv8838);
+    assert_eq!(b.pwm_timers(), vec![1]);
+    let (l, r) = (b.left_encoder, b.right_encoder);
+    assert_eq!((l.kind, r.kind), (EncoderKind::Xor, EncoderKind::Xor));
+    assert_eq!((l.a.name(), l.b.name()), ("D8".into(), "PE2".into()));
+    assert_eq!((l.b.port, l.b.bit, l.b.arduino), ('E', 2, None));
+    assert_eq!((r.a.name(), r.b.name()), ("D7".into(), "D23".into()));
+    assert_eq!(l.a.interrupt_vector(), Some(9), "PCINT0");
+    assert_eq!(r.a.interrupt_vector(), Some(7), "INT6");
+    assert_eq!(l.line_names(), ["XOR", "B"]);
+    // A xor B on the interrupt pin, B on its own.
+    assert!(r.interrupt_line(true, false) && !r.interrupt_line(true, true));
+    assert!(b.firmware_encoder_mismatch().unwrap().contains("DRV8838"));
+}
+
+/// What a Romi-like board may not do, one line each: a motor-driver input
+/// without an Arduino number, an encoder with both `a` and `xor` (or
+/// neither), an xor line on a pin that cannot interrupt.
+#[rstest]
+#[case::driver_pin_without_a_number(
+    r#"phase = "D16""#,
+    r#"phase = "PE2""#,
+    "motor_driver.left.phase",
+    "PE2 has no Arduino number; a motor-driver input needs one"
+)]
+#[case::a_and_xor(
+    r#"xor = "D8""#,
+    r#"xor = "D8"
+a = "D8""#,
+    "encoders.left",
+    "both `a` and `xor` given"
+)]
+#[case::neither(r#"xor = "D8""#, "", "encoders.left", "no `a` or `xor`")]
+#[case::xor_cannot_interrupt(
+    r#"xor = "D8""#,
+    r#"xor = "A0""#,
+    "encoders.left.xor",
+    "D18 cannot interrupt (no INTn or PCINTn), so the firmware would miss the A xor B line's edges"
+)]
+#[case::pe2_twice(
+    r#"xor = "D7""#,
+    r#"xor = "PE2""#,
+    "encoders.right.xor",
+    "PE2 is already used by encoders.left.b"
+)]
+fn romi_board_rules(
+    #[case] from: &str,
+    #[case] to: &str,
+    #[case] field: &str,
+    #[case] message: &str,
+) {
+    let text = std::fs::read_to_string(
+        hil::paths::workspace_root().join("fixtures/boards/romi-32u4.toml"),
+    )
+    .unwrap();
+    assert!(text.contains(from), "{from}");
+    let text = text.replacen(from, to, 1);
+    let p = match Board::from_toml_str(&text, "romi.toml") {
+        Err(BoardError::Invalid(p)) => p,
+        other => panic!("{other:?}"),
+    };
+    let fields: Vec<&str> = p.iter().map(|p| p.field.as_str()).collect();
+    assert!(fields.contains(&field), "{p:#?}");
+    let line = p.iter().find(|p| p.field == field).unwrap().to_string();
+    assert!(line.contains(message), "{line}");
+    assert!(!line.contains('\n'), "{line}");
 }

@@ -54,7 +54,7 @@ pub(super) struct Bridge {
     grace: Vec<Grace<PwmError>>,
     /// Each timer's channels whose pin the board uses otherwise (see
     /// `timers::foreign_channels`).
-    foreign: Vec<[Option<u8>; 3]>,
+    foreign: Vec<[Option<String>; 3]>,
     ports: Vec<PortState>,
     /// Each motor's pin 1-3 duties as last seen, by side index.
     seen: [[f64; 3]; 2],
@@ -117,7 +117,7 @@ impl Bridge {
             pins: inputs
                 .iter()
                 .map(|b| PinStats {
-                    pin: b.pin.arduino,
+                    pin: b.number(),
                     ..Default::default()
                 })
                 .collect(),
@@ -282,7 +282,7 @@ impl Bridge {
     fn pin_slot(&self, arduino: u8) -> usize {
         self.inputs
             .iter()
-            .position(|b| b.pin.arduino == arduino)
+            .position(|b| b.number() == arduino)
             .expect("pin is a driver input")
     }
 
@@ -317,12 +317,12 @@ impl Bridge {
                     .filter(|w| w.action != Action::Disconnected);
                 log.drive(DriveEvent {
                     cycle,
-                    pin: input.pin.arduino,
+                    pin: input.number(),
                     duty: new,
                     wave,
                 });
                 if let Some(hz) = self.input_hz(&input, cycle) {
-                    let k = self.pin_slot(input.pin.arduino);
+                    let k = self.pin_slot(input.number());
                     self.pins[k].hz = hz;
                 }
             }
@@ -377,7 +377,7 @@ impl Bridge {
             self.pending_top[which] = self.pending_top[which].min(next);
         }
         let timer = &self.timers[which];
-        let foreign = ['A', 'B', 'C'].into_iter().zip(self.foreign[which]);
+        let foreign = ['A', 'B', 'C'].into_iter().zip(self.foreign[which].clone());
         for (channel, pin) in foreign {
             if let Some(pin) = pin.filter(|_| timer.channel_connected(channel)) {
                 return Err(PwmError::ForeignOutput {

@@ -74,6 +74,16 @@ fn split(kind: DriverKind, [d1, d2, d3]: [f64; 3]) -> Split {
                 brake: 1.0 - pwm,
             }
         }
+        // DRV8838 table 1 (nSLEEP high): EN H with PH L forward (OUT1 H,
+        // OUT2 L), PH H reverse; EN L brakes (both outputs low).
+        DriverKind::Drv8838 => {
+            let (en, ph) = (d1, d2);
+            Split {
+                forward: high_while_low(en, ph),
+                reverse: en.min(ph),
+                brake: 1.0 - en,
+            }
+        }
     }
 }
 
@@ -145,6 +155,10 @@ mod tests {
     #[case::dir_forward(PwmDir, [0.8, 1.0, 0.0], (0.8, 0.0, 0.2))]
     #[case::dir_reverse(PwmDir, [0.8, 0.0, 0.0], (0.0, 0.8, 0.2))]
     #[case::dir_pwm_low_brakes(PwmDir, [0.0, 1.0, 0.0], (0.0, 0.0, 1.0))]
+    // DRV8838: EN, PH (high reverse).
+    #[case::drv8838_forward(Drv8838, [0.75, 0.0, 0.0], (0.75, 0.0, 0.25))]
+    #[case::drv8838_reverse(Drv8838, [0.3, 1.0, 0.0], (0.0, 0.3, 0.7))]
+    #[case::drv8838_en_low_brakes(Drv8838, [0.0, 1.0, 0.0], (0.0, 0.0, 1.0))]
     fn truth_tables(
         #[case] kind: DriverKind,
         #[case] d: [f64; 3],
@@ -174,6 +188,8 @@ mod tests {
     #[case::tb_stop(Tb6612, [0.6, 0.0, 0.0], 0)]
     #[case::dir_reverse(PwmDir, [0.8, 0.0, 0.0], -1)]
     #[case::dir_pwm_low_brakes(PwmDir, [0.0, 1.0, 0.0], 2)]
+    #[case::drv8838_forward(Drv8838, [0.75, 0.0, 0.0], 1)]
+    #[case::drv8838_reverse(Drv8838, [0.75, 1.0, 0.0], -1)]
     #[case::l298_enable_low_coasts(L298n, [0.0, 1.0, 0.0], 0)]
     #[case::l298_forward(L298n, [0.6, 1.0, 0.0], 1)]
     fn motion_signs(#[case] kind: DriverKind, #[case] d: [f64; 3], #[case] sign: i8) {

@@ -19,7 +19,7 @@ use plant_model::{Robot, Seconds, Side};
 use super::recorder::Recorder;
 use super::NEVER;
 use crate::bench::inject::{EncoderFault, Injection};
-use crate::board::{Board, EncoderWiring};
+use crate::board::{Board, EncoderKind, EncoderWiring};
 use crate::mcu::clock::Clock;
 use crate::mcu::sim::{Core, DrivenPin};
 
@@ -49,12 +49,20 @@ pub fn decode_a_edge(a: bool, b: bool) -> i64 {
     }
 }
 
+/// A decoder of all four edges (Pololu's on an xor wiring): the count
+/// change from channel levels `(a, b)` to `(na, nb)`: +1 for a step with A
+/// leading B (the plant's forward), -1 the other way, 0 for no step or a
+/// jump of both lines (undecodable).
+pub fn decode_step((a, b): (bool, bool), (na, nb): (bool, bool)) -> i64 {
+    i64::from(na ^ b) - i64::from(a ^ nb)
+}
+
 /// Both encoders' pins and their plans, indexed by side (`Side::index`),
 /// then channel (A, B).
 pub(super) struct Encoders {
     wiring: [EncoderWiring; 2],
     irq: [[Option<DrivenPin>; 2]; 2],
-    /// The levels on the pins.
+    /// The levels on the pins: the interrupt pin (A, or A xor B), B.
     level: [[bool; 2]; 2],
     /// Encoder levels after the encoder faults, before glitches.
     base: [[bool; 2]; 2],
@@ -81,7 +89,9 @@ pub(super) struct Encoders {
     quiet_b_reads: u64,
     /// PIN reads of a lazy B that evaluated the plant.
     b_reads_evaluated: u64,
-    /// A edges raised on the pins, signed as the thesis' decoder counts them.
+    /// Edges raised on the pins, signed as the wiring's decoder counts
+    /// them: A edges as the thesis' does (A/B quadrature), every edge of
+    /// either channel (xor).
     edges_raised: [i64; 2],
     /// Cycle at which the last A edge of each encoder was due (the plant's
     /// edge time; simavr raises it at the first instruction boundary after).
@@ -178,12 +188,13 @@ impl Encoders {
         for side in Side::BOTH {
             let i = side.index();
             let (a, b) = robot.encoder_levels(side);
-            for (irq, level) in self.irq[i].into_iter().zip([a, b]) {
+            let shown = [self.wiring[i].interrupt_line(a, b), b];
+            for (irq, level) in self.irq[i].into_iter().zip(shown) {
                 if let Some(irq) = irq {
                     core.drive(irq, level);
                 }
             }
-            self.level[i] = [a, b];
+            self.level[i] = shown;
             self.base[i] = [a, b];
         }
     }
@@ -200,8 +211,8 @@ impl Encoders {
         self.lazy_b_allowed = false;
     }
 
-    /// A edges raised on the pins per side, signed as the thesis' decoder
-    /// counts them.
+    /// Edges raised on the pins per side, signed as the wiring's decoder
+    /// counts them (A edges; every edge on an xor wiring).
     pub(super) fn edges_raised(&self) -> [i64; 2] {
         self.edges_raised
     }
@@ -426,7 +437,9 @@ impl Encoders {
         for side in Side::BOTH {
             let i = side.index();
             let b = self.wiring[i].b;
+            // On an xor wiring every B edge changes the interrupt pin.
             lazy[i] = self.lazy_b_allowed
+                && self.wiring[i].kind == EncoderKind::Quadrature
                 && inject.encoder[i] == EncoderFault::Healthy
                 && !b.can_interrupt()
                 && !(b.is_comparator_input() && self.comparator_on);
@@ -470,7 +483,8 @@ impl Encoders {
         self.base[i] = [base_a, base_b];
         // A glitch pulse inverts what the pin shows while it lasts.
         let [ga, gb] = inject.glitch[i];
-        let (a, b) = (base_a ^ ga, base_b ^ gb);
+        let wiring = self.wiring[i];
+        let (a, b) = (wiring.interrupt_line(base_a, base_b) ^ ga, base_b ^ gb);
         let [old_a, old_b] = self.level[i];
         let [Some(irq_a), Some(irq_b)] = self.irq[i] else {
             return;
@@ -484,9 +498,14 @@ impl Encoders {
             core.drive(irq_a, a);
             recorder.pin(when, 2 * i as u8, a);
             self.level[i][0] = a;
-            self.edges_raised[i] += decode_a_edge(a, b);
             self.last_a_edge[i] = when;
         }
+        self.edges_raised[i] += match wiring.kind {
+            EncoderKind::Quadrature if a != old_a => decode_a_edge(a, b),
+            EncoderKind::Quadrature => 0,
+            // The channels the pins show: A is the xor line's level ^ B.
+            EncoderKind::Xor => decode_step((old_a ^ old_b, old_b), (a ^ b, b)),
+        };
     }
 
     /// The callback of planned encoder edges with nothing else due at
@@ -611,5 +630,29 @@ mod tests {
         board.left_encoder.b = HENRYTWO.left_encoder.b;
         let one = Encoders::new(&board);
         assert_eq!(one.lazy_b_change(&inject), Some([true, false]));
+    }
+
+    /// On an xor wiring every B edge changes the interrupt pin: B is never
+    /// raised lazily, and the plant is watched on both channels.
+    #[test]
+    fn an_xor_wiring_raises_b_at_its_own_edges() {
+        let inject = Injection::new(0);
+        let mut board = HENRYTWO;
+        board.left_encoder.kind = crate::board::EncoderKind::Xor;
+        let e = Encoders::new(&board);
+        assert_eq!(e.lazy_b_change(&inject), Some([false, true]));
+    }
+
+    /// A four-edge decoder over the plant's quadrature cycle: each step up
+    /// (A leading B) counts +1, each step down -1, a jump of both lines 0.
+    #[test]
+    fn decode_step_counts_every_edge_of_the_cycle() {
+        let levels = |q: i64| plant_model::encoder::levels(q);
+        for q in -8..8 {
+            assert_eq!(decode_step(levels(q), levels(q + 1)), 1, "up from {q}");
+            assert_eq!(decode_step(levels(q + 1), levels(q)), -1, "down to {q}");
+            assert_eq!(decode_step(levels(q), levels(q + 2)), 0, "jump from {q}");
+            assert_eq!(decode_step(levels(q), levels(q)), 0);
+        }
     }
 }

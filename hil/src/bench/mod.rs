@@ -261,8 +261,8 @@ impl Bench {
         let v = self.vars.as_ref().ok();
         Progress {
             cycle: self.cycle(),
-            left_edges: core.robot().a_edges(Side::Left),
-            right_edges: core.robot().a_edges(Side::Right),
+            left_edges: core.robot().counted_edges(Side::Left),
+            right_edges: core.robot().counted_edges(Side::Right),
             // Without the interface the firmware is busy while the watch
             // is on (the caller arms it for the test only), and what it
             // drives is its progress.

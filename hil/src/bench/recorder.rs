@@ -393,8 +393,8 @@ impl Snapshot {
             theta_rad: pose.theta().0,
             left_count: counts.map(|c| read_i32(core, c[0])),
             right_count: counts.map(|c| read_i32(core, c[1])),
-            left_edges: robot.a_edges(Side::Left),
-            right_edges: robot.a_edges(Side::Right),
+            left_edges: robot.counted_edges(Side::Left),
+            right_edges: robot.counted_edges(Side::Right),
             left_mm: robot.distance_travelled(Side::Left).0,
             right_mm: robot.distance_travelled(Side::Right).0,
         }
@@ -411,8 +411,8 @@ impl Recorder {
             x_mm: pose.x().0,
             y_mm: pose.y().0,
             theta_rad: pose.theta().0,
-            left_edges: robot.a_edges(Side::Left),
-            right_edges: robot.a_edges(Side::Right),
+            left_edges: robot.counted_edges(Side::Left),
+            right_edges: robot.counted_edges(Side::Right),
             left_duty: duty[0],
             right_duty: duty[1],
         };

@@ -115,7 +115,7 @@ pub(super) fn emulated(board: &Board) -> Vec<u8> {
 /// output is on one (an encoder or LED pin, or a motor input the board
 /// drives from another channel: PB7 is OC0A and OC1C). A compare output
 /// connected there would drive a pin the bench models otherwise.
-pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<u8>; 3] {
+pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<String>; 3] {
     let mut pins: Vec<_> = board
         .battery_leds
         .iter()
@@ -130,7 +130,7 @@ pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<u8>; 3] {
         let oc = PwmSource { timer: n, channel };
         pins.iter()
             .find(|(p, own)| p.pwm_sources().contains(&oc) && *own != Some(oc))
-            .map(|(p, _)| p.arduino)
+            .map(|(p, _)| p.name())
     })
 }
 

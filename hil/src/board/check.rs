@@ -9,8 +9,8 @@ use thiserror::Error;
 
 use super::file::{BatteryFile, BoardFile, DriverFile, EncoderFile, Sides};
 use super::{
-    BatteryWiring, Board, BridgeInput, DriverKind, EncoderWiring, LedWiring, MotorWiring, Pin,
-    UartLine, UartWiring,
+    BatteryWiring, Board, BridgeInput, DriverKind, EncoderKind, EncoderWiring, LedWiring,
+    MotorWiring, Pin, UartLine, UartWiring,
 };
 use crate::mcu::chip::{Chip, Mcu};
 use crate::mcu::clock::Clock;
@@ -56,14 +56,22 @@ pub enum ProblemKind {
     UnknownMcu { given: String },
     #[error("no {mcu} pin {given:?}; give {}", pin_names(mcu.chip()))]
     UnknownPin { given: String, mcu: Mcu },
-    #[error("D{pin} is already used by {first}; each pin carries one signal")]
-    PinReused { pin: u8, first: String },
-    #[error("D{pin} is on no timer's output-compare channel, so no PWM reaches it; {mcu} PWM pins: {}", mcu.chip().pwm_pins())]
-    NotPwm { pin: u8, mcu: Mcu },
-    #[error("D{pin} is on timer {timer}: {}; {mcu} PWM pins: {}", mcu.chip().unemulated_timer(*timer).unwrap_or("not emulated"), mcu.chip().pwm_pins())]
-    TimerNotEmulated { pin: u8, timer: u8, mcu: Mcu },
-    #[error("D{pin} cannot interrupt (no INTn or PCINTn), so the firmware would miss channel A's edges; give {}", mcu.chip().interrupt_pins())]
-    CannotInterrupt { pin: u8, mcu: Mcu },
+    #[error("{pin} is already used by {first}; each pin carries one signal")]
+    PinReused { pin: String, first: String },
+    #[error("{pin} is on no timer's output-compare channel, so no PWM reaches it; {mcu} PWM pins: {}", mcu.chip().pwm_pins())]
+    NotPwm { pin: String, mcu: Mcu },
+    #[error("{pin} is on timer {timer}: {}; {mcu} PWM pins: {}", mcu.chip().unemulated_timer(*timer).unwrap_or("not emulated"), mcu.chip().pwm_pins())]
+    TimerNotEmulated { pin: String, timer: u8, mcu: Mcu },
+    #[error("{pin} cannot interrupt (no INTn or PCINTn), so the firmware would miss {line}'s edges; give {}", mcu.chip().interrupt_pins())]
+    CannotInterrupt {
+        pin: String,
+        line: &'static str,
+        mcu: Mcu,
+    },
+    #[error("{pin} has no Arduino number; a motor-driver input needs one (the drive log and the robust firmware's parameters number them): give a pin \"D0\"-\"D{}\"", mcu.chip().last_arduino_pin())]
+    NoArduinoNumber { pin: String, mcu: Mcu },
+    #[error("{} give channel A's pin (`a`, A/B quadrature) or the A xor B line's (`xor`, Pololu's boards), and `b`", if *given { "both `a` and `xor` given:" } else { "no `a` or `xor`:" })]
+    EncoderLines { given: bool },
     #[error("no USART {usart}; the {mcu} has USART {}", mcu.chip().usart_range())]
     UartOutOfRange { usart: i64, mcu: Mcu },
     #[error("USART {usart} already carries {first}; each link needs a USART of its own ({})", mcu.chip().usart_range())]
@@ -134,12 +142,12 @@ pub(super) fn parse(text: &str, file: &str) -> Result<Board, BoardError> {
     }
 }
 
-/// The problems found so far and the pins taken, by Arduino number.
+/// The problems found so far and the pins taken, by port and bit.
 struct Checker<'a> {
     chip: &'static Chip,
     file: &'a str,
     problems: Vec<Problem>,
-    used: BTreeMap<u8, String>,
+    used: BTreeMap<(char, u8), String>,
     /// The USARTs taken, and by which link.
     uarts: Vec<(u8, String)>,
 }
@@ -159,10 +167,11 @@ pub(super) fn pin_by_name(chip: &Chip, name: &str) -> Option<Pin> {
     } else {
         let mut c = name.strip_prefix('P')?.chars();
         let (port, bit) = (c.next()?, c.next()?.to_digit(10)? as u8);
-        if c.next().is_some() || !chip.has_pin((port, bit)) {
+        if c.next().is_some() {
             return None;
         }
-        chip.arduino_number((port, bit))?
+        // A port pin need not have an Arduino number (the 32U4's PE2).
+        return Pin::on_port(chip.mcu, port, bit);
     };
     Pin::arduino(chip.mcu, n)
 }
@@ -189,27 +198,22 @@ impl Checker<'_> {
     /// The MCU's pin `bit` of port `port`, which the description has (a
     /// USART's or an ADC channel's).
     fn port_pin(&self, port: char, bit: u8) -> Pin {
-        let n = self.chip.arduino_number((port, bit));
-        Pin::arduino(
-            self.chip.mcu,
-            n.expect("a USART or ADC pin has an Arduino number"),
-        )
-        .expect("an Arduino number is a pin")
+        Pin::on_port(self.chip.mcu, port, bit).expect("a USART's or ADC's pin is on a port")
     }
 
     /// Take `pin` for `what` (said in the message of a later clash).
     fn take(&mut self, field: &str, pin: Pin, what: String) {
-        if let Some(first) = self.used.get(&pin.arduino) {
+        if let Some(first) = self.used.get(&(pin.port, pin.bit)) {
             let first = first.clone();
             self.problem(
                 field,
                 ProblemKind::PinReused {
-                    pin: pin.arduino,
+                    pin: pin.name(),
                     first,
                 },
             );
         } else {
-            self.used.insert(pin.arduino, what);
+            self.used.insert((pin.port, pin.bit), what);
         }
     }
 
@@ -234,12 +238,12 @@ impl Checker<'_> {
     /// `analogWrite`). Whether the firmware may use that timer as well (as
     /// its clock) is judged when it runs (`bench/timers.rs`).
     fn pwm(&mut self, field: &str, name: &str) -> Option<BridgeInput> {
-        let pin = self.pin(field, name)?;
+        let pin = self.driver_pin(field, name)?;
         let Some(&source) = pin.pwm_sources().first() else {
             self.problem(
                 field,
                 ProblemKind::NotPwm {
-                    pin: pin.arduino,
+                    pin: pin.name(),
                     mcu: self.chip.mcu,
                 },
             );
@@ -249,7 +253,7 @@ impl Checker<'_> {
             self.problem(
                 field,
                 ProblemKind::TimerNotEmulated {
-                    pin: pin.arduino,
+                    pin: pin.name(),
                     timer: source.timer,
                     mcu: self.chip.mcu,
                 },
@@ -262,10 +266,21 @@ impl Checker<'_> {
         })
     }
 
-    /// A direction input: any pin, as GPIO.
+    /// A direction input: any pin with an Arduino number, as GPIO.
     fn gpio(&mut self, field: &str, name: &str) -> Option<BridgeInput> {
-        let pin = self.pin(field, name)?;
+        let pin = self.driver_pin(field, name)?;
         Some(BridgeInput { pin, pwm: None })
+    }
+
+    /// The pin of a motor-driver input, taken: one with an Arduino number.
+    fn driver_pin(&mut self, field: &str, name: &str) -> Option<Pin> {
+        let pin = self.pin(field, name)?;
+        if pin.arduino.is_none() {
+            let (pin, mcu) = (pin.name(), self.chip.mcu);
+            self.problem(field, ProblemKind::NoArduinoNumber { pin, mcu });
+            return None;
+        }
+        Some(pin)
     }
 
     fn motors(&mut self, d: &DriverFile) -> Option<(DriverKind, [MotorWiring; 2])> {
@@ -294,6 +309,11 @@ impl Checker<'_> {
                     let p1 = c.pwm(&f(side, "pwm"), &m.pwm);
                     (p1, c.gpio(&f(side, "dir"), &m.dir), Some(None))
                 }
+                DriverFile::Drv8838 { left, right } => {
+                    let m = if side == "left" { left } else { right };
+                    let p1 = c.pwm(&f(side, "enable"), &m.enable);
+                    (p1, c.gpio(&f(side, "phase"), &m.phase), Some(None))
+                }
             };
             Some(MotorWiring {
                 pin1: p1?,
@@ -308,20 +328,33 @@ impl Checker<'_> {
             DriverFile::L298n { .. } => DriverKind::L298n,
             DriverFile::Tb6612 { .. } => DriverKind::Tb6612,
             DriverFile::PwmDir { .. } => DriverKind::PwmDir,
+            DriverFile::Drv8838 { .. } => DriverKind::Drv8838,
         };
         Some((kind, [left?, right?]))
     }
 
     fn encoders(&mut self, e: &Sides<EncoderFile>) -> Option<[EncoderWiring; 2]> {
         let one = |c: &mut Self, side: &str, e: &EncoderFile| {
-            let a_field = format!("encoders.{side}.a");
-            let a = c.pin(&a_field, &e.a);
+            let (kind, key, name, line) = match (&e.a, &e.xor) {
+                (Some(a), None) => (EncoderKind::Quadrature, "a", a, "channel A"),
+                (None, Some(x)) => (EncoderKind::Xor, "xor", x, "the A xor B line"),
+                _ => {
+                    let given = e.a.is_some();
+                    c.problem(
+                        &format!("encoders.{side}"),
+                        ProblemKind::EncoderLines { given },
+                    );
+                    return None;
+                }
+            };
+            let a_field = format!("encoders.{side}.{key}");
+            let a = c.pin(&a_field, name);
             if let Some(a) = a.filter(|a| !a.can_interrupt()) {
-                let (pin, mcu) = (a.arduino, c.chip.mcu);
-                c.problem(&a_field, ProblemKind::CannotInterrupt { pin, mcu });
+                let (pin, mcu) = (a.name(), c.chip.mcu);
+                c.problem(&a_field, ProblemKind::CannotInterrupt { pin, line, mcu });
             }
             let b = c.pin(&format!("encoders.{side}.b"), &e.b);
-            Some(EncoderWiring { a: a?, b: b? })
+            Some(EncoderWiring { kind, a: a?, b: b? })
         };
         let left = one(self, "left", &e.left);
         let right = one(self, "right", &e.right);

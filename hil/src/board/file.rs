@@ -39,10 +39,34 @@ pub(super) struct Sides<T> {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub(super) enum DriverFile {
-    Drv8833 { left: TwoPwmFile, right: TwoPwmFile },
-    L298n { left: EnableFile, right: EnableFile },
-    Tb6612 { left: PwmInFile, right: PwmInFile },
-    PwmDir { left: PwmDirFile, right: PwmDirFile },
+    Drv8833 {
+        left: TwoPwmFile,
+        right: TwoPwmFile,
+    },
+    L298n {
+        left: EnableFile,
+        right: EnableFile,
+    },
+    Tb6612 {
+        left: PwmInFile,
+        right: PwmInFile,
+    },
+    PwmDir {
+        left: PwmDirFile,
+        right: PwmDirFile,
+    },
+    Drv8838 {
+        left: PhaseEnableFile,
+        right: PhaseEnableFile,
+    },
+}
+
+/// DRV8838 (phase/enable): EN with PWM, PH the direction (high reverse).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PhaseEnableFile {
+    pub enable: String,
+    pub phase: String,
 }
 
 /// DRV8833: IN1 driven with PWM drives forward, IN2 reverse.
@@ -79,10 +103,14 @@ pub(super) struct PwmDirFile {
     pub dir: String,
 }
 
+/// An encoder: `a` and `b` (A/B quadrature, A on an interrupt pin), or
+/// `xor` and `b` (Pololu's boards: A xor B on the interrupt pin, B on
+/// another).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct EncoderFile {
-    pub a: String,
+    pub a: Option<String>,
+    pub xor: Option<String>,
     pub b: String,
 }
 

@@ -99,7 +99,7 @@ fn board_rs_names_the_same_pins() {
             .unwrap_or_else(|| panic!("board.rs has no pin {name}: {board:#?}"));
         assert_eq!(b.type_pin, port_bit(&pin), "{name}: type");
         assert_eq!(b.doc_pin, port_bit(&pin), "{name}: doc");
-        assert_eq!(b.doc_arduino, pin.arduino, "{name}: Arduino number");
+        assert_eq!(Some(b.doc_arduino), pin.arduino, "{name}: Arduino number");
     }
     let bridge = [
         ("right_forward", w.right_motor.pin1),

@@ -33,13 +33,14 @@ pub fn pin_named(mcu: Mcu, name: &str) -> Option<Pin> {
     check::pin_by_name(mcu.chip(), name)
 }
 
-/// An MCU pin: IO port letter and bit, with its Arduino number and the MCU
-/// it belongs to (whose description says what the pin can do).
+/// An MCU pin: IO port letter and bit, with its Arduino number where the
+/// Arduino core gives it one (the 32U4's PE2 has none) and the MCU it
+/// belongs to (whose description says what the pin can do).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Pin {
     pub port: char,
     pub bit: u8,
-    pub arduino: u8,
+    pub arduino: Option<u8>,
     #[serde(skip)]
     pub mcu: Mcu,
 }
@@ -51,9 +52,27 @@ impl Pin {
         Some(Pin {
             port,
             bit,
-            arduino: n,
+            arduino: Some(n),
             mcu,
         })
+    }
+
+    /// Pin `bit` of port `port` of `mcu`, with its Arduino number if it has
+    /// one.
+    pub fn on_port(mcu: Mcu, port: char, bit: u8) -> Option<Pin> {
+        let chip = mcu.chip();
+        chip.has_pin((port, bit)).then(|| Pin {
+            port,
+            bit,
+            arduino: chip.arduino_number((port, bit)),
+            mcu,
+        })
+    }
+
+    /// How reports, errors and traces name it: "D7" by its Arduino number,
+    /// "PE2" by port and bit where it has none.
+    pub fn name(&self) -> String {
+        self.mcu.chip().pin_name((self.port, self.bit))
     }
 
     fn chip(&self) -> &'static Chip {
@@ -127,6 +146,17 @@ pub struct BridgeInput {
     pub pwm: Option<PwmSource>,
 }
 
+impl BridgeInput {
+    /// Its Arduino number: a board check gives every motor-driver input
+    /// one (the robust firmware's parameters and the drive log number
+    /// them so).
+    pub fn number(&self) -> u8 {
+        self.pin
+            .arduino
+            .expect("a motor-driver input has an Arduino number (board check)")
+    }
+}
+
 /// The motor driver, and what its inputs mean (each motor's pins 1-3 in
 /// [`MotorWiring`], numbered as the robust firmware's parameters number
 /// them).
@@ -145,9 +175,13 @@ pub enum DriverKind {
     /// datasheet, H-SW control function; STBY held high).
     Tb6612,
     /// Pin 1 PWM, pin 2 direction (high forward): PWM low brakes, both
-    /// outputs low (the phase/enable drivers: DRV8835 in PH/EN mode,
-    /// DRV8838).
+    /// outputs low (the phase/enable drivers wired so: DRV8835 in PH/EN
+    /// mode).
     PwmDir,
+    /// Pin 1 EN (PWM), pin 2 PH: EN high drives, forward with PH low and
+    /// in reverse with PH high; EN low brakes, both outputs low (DRV8838
+    /// datasheet, table 1, nSLEEP high; Pololu's Romi 32U4).
+    Drv8838,
 }
 
 impl DriverKind {
@@ -156,7 +190,9 @@ impl DriverKind {
         match self {
             DriverKind::Drv8833 => WireKind::TwoPwm,
             DriverKind::L298n | DriverKind::Tb6612 => WireKind::EnableTwoDir,
-            DriverKind::PwmDir => WireKind::PwmDir,
+            // The robust firmware has no phase/enable kind whose direction
+            // high reverses: `Board::firmware_encoder_mismatch` refuses it.
+            DriverKind::PwmDir | DriverKind::Drv8838 => WireKind::PwmDir,
         }
     }
 }
@@ -178,11 +214,46 @@ impl MotorWiring {
     }
 }
 
-/// One encoder's two channels.
+/// How an encoder's two channels reach the MCU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EncoderKind {
+    /// A and B each on a pin, A on an interrupt pin.
+    Quadrature,
+    /// Pololu's 32U4 boards: A xor B on the interrupt pin (it changes at
+    /// every edge of either channel), B on another; the firmware recovers A
+    /// as xor ^ B and counts all four edges of a cycle.
+    Xor,
+}
+
+/// One encoder's two lines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct EncoderWiring {
+    pub kind: EncoderKind,
+    /// The interrupt pin: channel A's, or the A xor B line's
+    /// ([`EncoderKind::Xor`]).
     pub a: Pin,
+    /// Channel B's pin.
     pub b: Pin,
+}
+
+impl EncoderWiring {
+    /// The lines' names, interrupt pin first, as traces name them: "A",
+    /// "B", or "XOR", "B".
+    pub fn line_names(&self) -> [&'static str; 2] {
+        match self.kind {
+            EncoderKind::Quadrature => ["A", "B"],
+            EncoderKind::Xor => ["XOR", "B"],
+        }
+    }
+
+    /// What the interrupt pin shows for channel levels `(a, b)`.
+    pub fn interrupt_line(&self, a: bool, b: bool) -> bool {
+        match self.kind {
+            EncoderKind::Quadrature => a,
+            EncoderKind::Xor => a ^ b,
+        }
+    }
 }
 
 /// The battery-level LEDs (thesis `Nivel_Bateria`), each lit by a high pin.
@@ -234,7 +305,7 @@ const fn pin(port: char, bit: u8, arduino: u8) -> Pin {
     Pin {
         port,
         bit,
-        arduino,
+        arduino: Some(arduino),
         mcu: Mcu::Atmega2560,
     }
 }
@@ -264,10 +335,12 @@ pub const HENRYTWO: Board = Board {
         pin3: None,
     },
     left_encoder: EncoderWiring {
+        kind: EncoderKind::Quadrature,
         a: pin('E', 4, 2),
         b: pin('G', 5, 4),
     },
     right_encoder: EncoderWiring {
+        kind: EncoderKind::Quadrature,
         a: pin('E', 5, 3),
         b: pin('E', 3, 5),
     },
@@ -308,8 +381,11 @@ pub const FIRMWARE_ENCODERS: [EncoderWiring; 2] = [HENRYTWO.left_encoder, HENRYT
 /// "left A D2, B D4; right A D3, B D5".
 fn encoder_pins(e: [EncoderWiring; 2]) -> String {
     format!(
-        "left A D{}, B D{}; right A D{}, B D{}",
-        e[0].a.arduino, e[0].b.arduino, e[1].a.arduino, e[1].b.arduino
+        "left A {}, B {}; right A {}, B {}",
+        e[0].a.name(),
+        e[0].b.name(),
+        e[1].a.name(),
+        e[1].b.name()
     )
 }
 
@@ -329,6 +405,13 @@ impl Board {
         .into_iter()
         .filter_map(|(absent, what)| absent.then_some(what))
         .collect();
+        if self.driver == DriverKind::Drv8838 {
+            return Some(
+                "the robust firmware drives no DRV8838 (phase high = reverse): give a \
+                 pwm_dir driver, or run a firmware of your own (--tests)"
+                    .into(),
+            );
+        }
         if !missing.is_empty() {
             return Some(format!(
                 "the robust firmware drives a command link apart from the debug UART, a battery \
@@ -404,7 +487,7 @@ impl Board {
             .iter()
             .flat_map(|&s| self.motor(s).inputs())
             .collect();
-        v.sort_by_key(|b| b.pin.arduino);
+        v.sort_by_key(|b| b.number());
         v
     }
 
@@ -425,7 +508,7 @@ impl Board {
     /// [`NO_PIN`] where a kind has no third pin), as `protocol/README.md`
     /// (Parameters) defines them.
     pub fn firmware_params(&self) -> Vec<(Param, f32)> {
-        let num = |b: Option<BridgeInput>| f32::from(b.map_or(NO_PIN, |b| b.pin.arduino));
+        let num = |b: Option<BridgeInput>| f32::from(b.map_or(NO_PIN, |b| b.number()));
         let (l, r) = (&self.left_motor, &self.right_motor);
         vec![
             (Param::DriverKind, f32::from(self.driver.wire_kind() as u8)),
@@ -452,7 +535,7 @@ mod tests {
     #[test]
     fn bridge_inputs_are_all_on_port_h_and_distinct() {
         let inputs = HENRYTWO.bridge_inputs();
-        let arduino: Vec<u8> = inputs.iter().map(|b| b.pin.arduino).collect();
+        let arduino: Vec<u8> = inputs.iter().map(|b| b.number()).collect();
         assert_eq!(arduino, vec![6, 7, 8, 9]);
         assert!(inputs.iter().all(|b| b.pin.port == 'H'));
         assert_eq!(HENRYTWO.pwm_timers(), vec![2, 4]);

@@ -118,11 +118,12 @@ pub enum PwmError {
     FirmwareClock { config: Config, timsk: u8 },
     /// A compare output connected to a pin the board uses for something
     /// else (an encoder, an LED, another channel's PWM input).
-    #[error("{config}: the firmware connected OC{n}{channel} to D{pin}, which the board wires to something else; the bench models a compare output only on the motor PWM input the board gives it", n = config.timer.number())]
+    #[error("{config}: the firmware connected OC{n}{channel} to {pin}, which the board wires to something else; the bench models a compare output only on the motor PWM input the board gives it", n = config.timer.number())]
     ForeignOutput {
         config: Config,
         channel: char,
-        pin: u8,
+        /// The pin as the board names it ("D13", "PE2").
+        pin: String,
     },
     #[error("{error}; the firmware {what} then")]
     Observed {

@@ -192,7 +192,8 @@ pub fn render(input: &VcdInput) -> String {
         .iter()
         .flat_map(|&side| {
             let e = input.board.encoder(side);
-            [("A", e.a), ("B", e.b)].map(|(ch, pin)| (side, ch, pin.arduino))
+            let [a, b] = e.line_names();
+            [(a, e.a), (b, e.b)].map(|(ch, pin)| (side, ch, pin.name()))
         })
         .enumerate()
         .map(|(line, (side, ch, pin))| {
@@ -201,14 +202,14 @@ pub fn render(input: &VcdInput) -> String {
                 Side::Right => "right",
             };
             let initial = u8::from(first_level(line as u8)).to_string();
-            vars.add("encoders", &format!("{side}_{ch}_D{pin}"), "wire", initial)
+            vars.add("encoders", &format!("{side}_{ch}_{pin}"), "wire", initial)
         })
         .collect();
     let pins: Vec<(u8, String, String)> = input
         .board
         .bridge_inputs()
         .iter()
-        .map(|b| b.pin.arduino)
+        .map(|b| b.number())
         .map(|p| {
             (
                 p,
@@ -425,7 +426,7 @@ pub fn gtkw(vcd_name: &str, input: &VcdInput) -> String {
         };
         comment(&mut out, &format!("{s} wheel: bridge inputs, encoder"));
         for b in board.motor(side).inputs() {
-            let p = b.pin.arduino;
+            let p = b.number();
             values(&mut out, &[format!("bridge.D{p}_duty")]);
             bits(
                 &mut out,
@@ -433,10 +434,10 @@ pub fn gtkw(vcd_name: &str, input: &VcdInput) -> String {
             );
         }
         let e = board.encoder(side);
+        let [a, b] = e.line_names();
         bits(
             &mut out,
-            &[("A", e.a), ("B", e.b)]
-                .map(|(ch, pin)| format!("encoders.{s}_{ch}_D{}", pin.arduino)),
+            &[(a, e.a), (b, e.b)].map(|(ch, pin)| format!("encoders.{s}_{ch}_{}", pin.name())),
         );
     }
     for (n, baud) in uarts(board) {

@@ -190,7 +190,7 @@ pub fn run_line(
     let robot = core.robot();
     let pose = robot.pose();
     let wheel = |side: Side, idx: usize, count_addr: u16, stop: i32| WheelSummary {
-        plant_edges: robot.a_edges(side),
+        plant_edges: robot.counted_edges(side),
         raised_edges: core.edges_raised()[idx],
         firmware_count: bench.read_i32(count_addr),
         stop_count: stop,

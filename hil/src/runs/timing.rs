@@ -263,7 +263,7 @@ impl TimingProbe {
                         Side::Left => "left",
                         Side::Right => "right",
                     },
-                    pin: format!("D{}", a.arduino),
+                    pin: a.name(),
                     vector,
                     name: vector.map(Self::vector_name),
                 }

@@ -105,13 +105,18 @@ pub struct Robot {
     pose_time: Seconds,
     /// The thesis decoder's count per side, kept for flawed encoders.
     decoded: PerSide<Decoded>,
+    /// Per side, whether the firmware counts every edge of both channels
+    /// (an xor wiring) rather than A's: what [`Robot::counted_edges`] gives.
+    all_edges_counted: PerSide<bool>,
 }
 
-/// The decoder's net A-edge count at quadrature state `q`.
+/// The decoders' net counts at quadrature state `q`: A edges (the
+/// thesis'), every edge (a four-edge decoder).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Decoded {
     q: i64,
     count: i64,
+    all: i64,
 }
 
 impl Robot {
@@ -209,6 +214,7 @@ impl Robot {
             ground,
             pose_time: Seconds::ZERO,
             decoded: PerSide::default(),
+            all_edges_counted: PerSide::default(),
         })
     }
 
@@ -425,6 +431,7 @@ impl Robot {
                 .quadrature_index(Radians(wheel.angle_at(self.dynamics.now)));
             let decoded = self.decoded.get_mut(side);
             decoded.count += wheel.encoder.decoded_between(decoded.q, q);
+            decoded.all += wheel.encoder.all_decoded_between(decoded.q, q);
             decoded.q = q;
         }
     }

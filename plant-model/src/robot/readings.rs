@@ -64,6 +64,35 @@ impl Robot {
         }
     }
 
+    /// Net signed edges of both channels of `side` since time 0 as a decoder of all four
+    /// edges counts the levels (+1 a step with A leading B, -1 the other way), missed
+    /// pulses included (B's edges around a missing A pulse net zero); a glitch once passed
+    /// nets zero, and inside one the count is the state's.
+    pub fn all_edges(&self, side: Side) -> i64 {
+        let wheel = self.dynamics.wheels.get(side);
+        if wheel.encoder.is_flawed() {
+            self.decoded.get(side).all
+        } else {
+            self.quadrature_index(side)
+        }
+    }
+
+    /// Let the firmware count every edge of `side`'s encoder (`all`: an xor wiring, whose
+    /// interrupt pin changes at each) or channel A's: what [`Robot::counted_edges`] gives.
+    pub fn count_all_edges(&mut self, side: Side, all: bool) {
+        *self.all_edges_counted.get_mut(side) = all;
+    }
+
+    /// The plant's edges of `side` as the firmware's wiring counts them:
+    /// [`Robot::all_edges`] or [`Robot::a_edges`] ([`Robot::count_all_edges`]).
+    pub fn counted_edges(&self, side: Side) -> i64 {
+        if *self.all_edges_counted.get(side) {
+            self.all_edges(side)
+        } else {
+            self.a_edges(side)
+        }
+    }
+
     /// The encoder of `side`.
     pub fn encoder(&self, side: Side) -> &Encoder {
         &self.dynamics.wheels.get(side).encoder

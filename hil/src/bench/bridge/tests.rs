@@ -114,9 +114,9 @@ fn an_output_on_a_pin_the_board_uses_otherwise_is_refused() {
             e,
             PwmError::ForeignOutput {
                 channel: 'A',
-                pin: 10,
+                ref pin,
                 ..
-            }
+            } if pin == "D10"
         ),
         "{e}"
     );
@@ -141,9 +141,9 @@ fn an_output_on_a_pin_the_board_uses_otherwise_is_refused() {
             e,
             PwmError::ForeignOutput {
                 channel: 'C',
-                pin: 13,
+                ref pin,
                 ..
-            }
+            } if pin == "D13"
         ),
         "{e}"
     );

@@ -79,7 +79,14 @@ impl BenchCore {
         let trace_every = ((options.trace_interval_s / options.plant_step_s).round() as u32).max(1);
         Ok(Self {
             clock,
-            robot: Robot::new(robot, options.seed)?,
+            robot: {
+                let mut r = Robot::new(robot, options.seed)?;
+                for side in Side::BOTH {
+                    let all = wiring.encoder(side).kind == crate::board::EncoderKind::Xor;
+                    r.count_all_edges(side, all);
+                }
+                r
+            },
             plant_cycle: 0,
             counts,
             inject: Injection::new(options.seed ^ 0x5eed_f417),

@@ -211,6 +211,15 @@ impl Chip {
         self.arduino.iter().position(|&p| p == pin).map(|n| n as u8)
     }
 
+    /// A pin as reports and errors name it: "D7" by its Arduino number,
+    /// "PE2" by port and bit where it has none.
+    pub fn pin_name(&self, pin: PortBit) -> String {
+        match self.arduino_number(pin) {
+            Some(n) => format!("D{n}"),
+            None => format!("P{}{}", pin.0, pin.1),
+        }
+    }
+
     /// The highest Arduino digital pin number.
     pub fn last_arduino_pin(&self) -> u8 {
         self.arduino.len() as u8 - 1

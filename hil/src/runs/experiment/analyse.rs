@@ -289,8 +289,8 @@ fn bench_now(bench: &Bench) -> Snapshot {
         theta_rad: pose.theta().0,
         left_count: counts.map(|c| c[0]),
         right_count: counts.map(|c| c[1]),
-        left_edges: core.robot().a_edges(plant_model::Side::Left),
-        right_edges: core.robot().a_edges(plant_model::Side::Right),
+        left_edges: core.robot().counted_edges(plant_model::Side::Left),
+        right_edges: core.robot().counted_edges(plant_model::Side::Right),
         left_mm: core.robot().distance_travelled(plant_model::Side::Left).0,
         right_mm: core.robot().distance_travelled(plant_model::Side::Right).0,
     }

@@ -236,7 +236,7 @@ impl Observed {
             .bridge_inputs()
             .iter()
             .filter(|b| b.pwm.is_some())
-            .map(|b| b.pin.arduino)
+            .map(|b| b.number())
             .collect();
         // Replay the drive log to find the first moment after the fault with
         // every PWM bridge input at zero, and the first one after that with
