@@ -21,6 +21,7 @@ sketches=(
   "fixtures/arduino/pullup-encoders $mega"
   "fixtures/arduino/int-encoders $mega"
   "fixtures/arduino/uno-l298n $uno"
+  "fixtures/arduino/uno-pcint $uno"
 )
 out=firmware/target/arduino
 
