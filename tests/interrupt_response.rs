@@ -1,13 +1,16 @@
-//! The interrupt response against the ATmega2560 datasheet (§7.8.1,
-//! "Interrupt Response Time", a device with a 22-bit PC): five cycles from
-//! the request to the vector, which holds a `jmp` of three; five more when
-//! the interrupt wakes the CPU from idle sleep (whose start-up time is
-//! none); five for `reti`. simavr alone enters the vector at once, and
-//! wakes one cycle late (`hil/src/mcu/sim/response.rs` adds what is missing).
+//! The interrupt response against the datasheets ("Interrupt Response
+//! Time"): on the ATmega2560 (§7.8.1, a device with a 22-bit PC) five
+//! cycles from the request to the vector, which holds a `jmp` of three;
+//! five more when the interrupt wakes the CPU from idle sleep (whose
+//! start-up time is none); five for `reti`. On the ATmega328P (§6.7.1), a
+//! 2-byte PC: four, four and four. simavr alone enters the vector at once,
+//! and wakes one cycle late (`hil/src/mcu/sim/response.rs` adds what is
+//! missing).
 //!
-//! Each case runs a hand-assembled program on a bare simavr ATmega2560:
-//! INT0 enabled on any change of PD0, which the test toggles from a cycle
-//! timer at known cycles; the INT0 vector jumps to an ISR whose first
+//! Each case runs a hand-assembled program on a bare simavr of each MCU:
+//! INT0 enabled on any change of its pin (PD0 on the 2560, PD2 on the
+//! 328P), which the test toggles from a cycle timer at known cycles; the
+//! INT0 vector jumps to an ISR whose first
 //! instruction writes GPIOR0 and whose second is `reti`; the code it
 //! returns to writes GPIOR1 with its first instruction. The handler
 //! timestamps every write (an IO callback sees the cycle its instruction
@@ -17,10 +20,11 @@
 mod avr_asm;
 
 use avr_asm::{jmp, ldi, sts};
-use hil::mcu::sim::{Avr, Core, Handler, IoClaim, Irq, RESPONSE_CYCLES, WAKE_UP_CYCLES};
+use hil::mcu::chip::{Chip, Mcu};
+use hil::mcu::sim::{Avr, Core, Handler, IoClaim, Irq};
 
 const F_CPU: u32 = 16_000_000;
-/// Data-space addresses.
+/// Data-space addresses, the same on both MCUs.
 const GPIOR0: u16 = 0x3E;
 const GPIOR1: u16 = 0x4A;
 const EIMSK: u16 = 0x3D;
@@ -29,8 +33,9 @@ const SMCR: u16 = 0x53;
 
 /// The `jmp` at the vector: three cycles (AVR instruction set).
 const JMP_CYCLES: u64 = 3;
-/// `reti` on a 3-byte-PC device (§7.8.1), which simavr counts itself.
-const RETI_CYCLES: u64 = 5;
+/// The MCUs, with the datasheet's response, wake-up and `reti` cycles
+/// (`reti` simavr counts itself).
+const MCUS: [(Mcu, u64, u64, u64); 2] = [(Mcu::Atmega2560, 5, 5, 5), (Mcu::Atmega328p, 4, 4, 4)];
 
 /// What the program did, cycle by cycle.
 #[derive(Default)]
@@ -82,10 +87,10 @@ const LOOP_WRITES: usize = 500;
 /// idle sleep in a loop (`sleep; out GPIOR1; rjmp` back), or (awake) the
 /// loop of `out GPIOR1` (every cycle an instruction boundary, and every
 /// instruction one the ISR's return is seen at).
-fn program(asleep: bool) -> Vec<u8> {
+fn program(chip: &Chip, asleep: bool) -> Vec<u8> {
     let mut words = vec![0u16; ISR + 2];
     words[0..2].copy_from_slice(&jmp(MAIN as u16));
-    for v in 1..57 {
+    for v in 1..chip.vectors.len() {
         words[2 * v..2 * v + 2].copy_from_slice(&jmp(ISR as u16));
     }
     let mut main = Vec::new();
@@ -118,12 +123,14 @@ struct Serviced {
 }
 
 /// Run the program, toggling PD0 at `edges`; what the log shows of each.
-fn run(asleep: bool, edges: &[u64]) -> (Vec<u64>, Vec<Serviced>) {
-    let mut avr = Avr::new("atmega2560", F_CPU, Log::default()).unwrap();
-    avr.load_flash(0, &program(asleep)).unwrap();
+fn run(mcu: Mcu, asleep: bool, edges: &[u64]) -> (Vec<u64>, Vec<Serviced>) {
+    let chip = mcu.chip();
+    let mut avr = Avr::new(chip.simavr_core, F_CPU, Log::default()).unwrap();
+    avr.load_flash(0, &program(chip, asleep)).unwrap();
     avr.claim_io_write(GPIOR0, IoClaim::Observe).unwrap();
     avr.claim_io_write(GPIOR1, IoClaim::Observe).unwrap();
-    let pin = avr.port_pin('D', 0).unwrap();
+    let (port, bit) = chip.ext_int.iter().find(|e| e.n == 0).unwrap().pin;
+    let pin = avr.port_pin(port, bit).unwrap();
     let log = avr.handler_mut();
     log.pin = Some(pin);
     log.edges = edges.to_vec();
@@ -159,56 +166,70 @@ fn run(asleep: bool, edges: &[u64]) -> (Vec<u64>, Vec<Serviced>) {
 const EDGES: [u64; 6] = [1_000, 1_200, 2_345, 4_000, 4_001 + 137, 9_999];
 
 /// Awake, at an instruction boundary: the ISR's first instruction begins
-/// 5 + 3 cycles after the edge, and `reti` takes 5.
+/// the response + 3 cycles after the edge (5 + 3 on the 2560, 4 + 3 on the
+/// 328P), and `reti` takes as many as the response.
 #[test]
-fn awake_the_vector_is_five_cycles_after_the_edge_and_reti_five() {
-    let (raised, serviced) = run(false, &EDGES);
-    // Every cycle of the loop is an instruction boundary: the toggles came
-    // at their own cycles, not after an instruction in progress.
-    assert_eq!(raised, EDGES);
-    for s in &serviced {
-        assert_eq!(s.isr - s.edge, RESPONSE_CYCLES + JMP_CYCLES, "{s:?}");
-        // `out GPIOR0` (1 cycle), then `reti`.
-        assert_eq!(s.back - (s.isr + 1), RETI_CYCLES, "{s:?}");
+fn awake_the_vector_is_the_response_after_the_edge_and_reti_as_long() {
+    for (mcu, response, _, reti) in MCUS {
+        let (raised, serviced) = run(mcu, false, &EDGES);
+        // Every cycle of the loop is an instruction boundary: the toggles
+        // came at their own cycles, not after an instruction in progress.
+        assert_eq!(raised, EDGES, "{mcu}");
+        for s in &serviced {
+            assert_eq!(s.isr - s.edge, response + JMP_CYCLES, "{mcu} {s:?}");
+            // `out GPIOR0` (1 cycle), then `reti`.
+            assert_eq!(s.back - (s.isr + 1), reti, "{mcu} {s:?}");
+        }
+        assert_eq!(mcu.chip().response_cycles(), response, "{mcu}");
     }
-    assert_eq!((RESPONSE_CYCLES, RETI_CYCLES), (5, 5), "the datasheet's");
 }
 
 /// Asleep in idle: the edge comes at its cycle (simavr alone sleeps one
-/// past the timer), the ISR's first instruction begins 5 + 5 + 3 cycles
-/// after it, and `reti` takes 5, back to the instruction after `sleep`.
+/// past the timer), the ISR's first instruction begins the response, the
+/// wake-up and 3 cycles after it (5 + 5 + 3 on the 2560, 4 + 4 + 3 on the
+/// 328P), and `reti` returns to the instruction after `sleep`.
 #[test]
-fn asleep_the_vector_is_ten_cycles_after_the_edge() {
-    let (raised, serviced) = run(true, &EDGES);
-    assert_eq!(raised, EDGES, "the toggles at their cycles");
-    for s in &serviced {
-        assert_eq!(
-            s.isr - s.edge,
-            RESPONSE_CYCLES + WAKE_UP_CYCLES + JMP_CYCLES,
-            "{s:?}"
-        );
-        assert_eq!(s.back - (s.isr + 1), RETI_CYCLES, "{s:?}");
+fn asleep_the_vector_is_the_response_and_the_wake_up_after_the_edge() {
+    for (mcu, response, wake_up, reti) in MCUS {
+        let (raised, serviced) = run(mcu, true, &EDGES);
+        assert_eq!(raised, EDGES, "{mcu}: the toggles at their cycles");
+        for s in &serviced {
+            assert_eq!(
+                s.isr - s.edge,
+                response + wake_up + JMP_CYCLES,
+                "{mcu} {s:?}"
+            );
+            assert_eq!(s.back - (s.isr + 1), reti, "{mcu} {s:?}");
+        }
+        assert_eq!(mcu.chip().wake_up_cycles(), wake_up, "{mcu}");
     }
-    assert_eq!(WAKE_UP_CYCLES, 5, "the datasheet's");
 }
 
 /// An edge during a multi-cycle instruction waits for it to complete
-/// (§7.8.1), then the response: the toggle that falls on the loop's
-/// two-cycle `rjmp` is raised after it, and the ISR follows it by 5 + 3.
+/// (§7.8.1, §6.7.1), then the response: the toggle that falls on the
+/// loop's two-cycle `rjmp` is raised after it, and the ISR follows it by
+/// the response + 3.
 #[test]
 fn an_edge_during_an_instruction_waits_for_its_end() {
-    // The loop's `rjmp` takes the two cycles after its 500 `out`s.
-    let rjmp_second_cycle = first_loop_cycle() + LOOP_WRITES as u64 + 1;
-    let (raised, serviced) = run(false, &[rjmp_second_cycle]);
-    assert_eq!(raised, vec![rjmp_second_cycle + 1], "raised after the rjmp");
-    let s = &serviced[0];
-    assert_eq!(s.isr - s.edge, RESPONSE_CYCLES + JMP_CYCLES, "{s:?}");
+    for (mcu, response, _, _) in MCUS {
+        // The loop's `rjmp` takes the two cycles after its 500 `out`s.
+        let rjmp_second_cycle = first_loop_cycle(mcu) + LOOP_WRITES as u64 + 1;
+        let (raised, serviced) = run(mcu, false, &[rjmp_second_cycle]);
+        assert_eq!(
+            raised,
+            vec![rjmp_second_cycle + 1],
+            "{mcu}: raised after the rjmp"
+        );
+        let s = &serviced[0];
+        assert_eq!(s.isr - s.edge, response + JMP_CYCLES, "{mcu} {s:?}");
+    }
 }
 
 /// The cycle the awake loop's first `out GPIOR1` begins at.
-fn first_loop_cycle() -> u64 {
-    let mut avr = Avr::new("atmega2560", F_CPU, Log::default()).unwrap();
-    avr.load_flash(0, &program(false)).unwrap();
+fn first_loop_cycle(mcu: Mcu) -> u64 {
+    let chip = mcu.chip();
+    let mut avr = Avr::new(chip.simavr_core, F_CPU, Log::default()).unwrap();
+    avr.load_flash(0, &program(chip, false)).unwrap();
     avr.claim_io_write(GPIOR1, IoClaim::Observe).unwrap();
     avr.run_to(100);
     avr.handler().writes[0].1

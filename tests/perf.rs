@@ -40,7 +40,10 @@ fn a_black_box_runs_replay_ends_in_the_bench_runs_firmware_state() {
     .unwrap();
     let fw = hil::firmware::elf::Firmware::load(d.elf.as_ref().unwrap())
         .unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"));
-    let rec = bench_run_described(&fw, &support::robot("henrytwo"), Test::Line, &d, true).unwrap();
+    let board = hil::board::Board::default();
+    let test = Test::Line.into();
+    let rec =
+        bench_run_described(&fw, &support::robot("henrytwo"), &test, &d, &board, true).unwrap();
     assert!(rec.completed, "the sketch's line did not end on the bench");
     assert!(rec.edges.len() > 100, "{} edges recorded", rec.edges.len());
     let replay = raw_replay(&fw, &rec, false).unwrap();
@@ -143,4 +146,33 @@ fn edges_raised_from_the_plan_change_nothing() {
         assert_eq!(lean.4, full.4, "PWM statistics");
         assert_eq!(lean.5, full.5, "edges raised");
     }
+}
+
+/// `hil bench --tests` on the Uno robot's own sketch (a busy loop on the
+/// ATmega328P, its board's encoders and USART): the bench run and the raw
+/// simavr replay of the same ELF and inputs end in the same SRAM, and the
+/// ratio is printed. A benchmark: the ratio itself is not held to a bound.
+#[test]
+fn hil_bench_times_the_uno_robots_sketch_against_raw_simavr() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args(["bench", "--tests", "fixtures/arduino/uno-l298n/tests.toml"])
+        .args(["--board", "fixtures/boards/uno-l298n.toml"])
+        .args(["--robot", "fixtures/robots/uno-l298n.toml"])
+        .args(["--repeats", "1", "--without-simavr-pwm"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(stdout.starts_with("speed of leg-and-spin"), "{stdout}");
+    let ratio = stdout
+        .lines()
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix("bench overhead over raw simavr (no PWM timers): ")
+        })
+        .and_then(|l| l.strip_suffix("x uno-l298n"))
+        .unwrap_or_else(|| panic!("no ratio: {stdout}"));
+    assert!(ratio.parse::<f64>().unwrap() > 0.0, "{stdout}");
 }

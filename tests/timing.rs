@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 /// A run of `test` with the timing probe on the robust firmware.
 fn measure(test: Test, leg_mm: f64) -> (hil::runs::experiment::TestRun, TimingReport) {
     let fw = support::firmware("robust");
-    let probe = TimingProbe::new(&fw, "ht_control_tick", 240_000, &Board::default()).unwrap();
+    let probe = TimingProbe::new(&fw, Some("ht_control_tick"), 240_000, &Board::default()).unwrap();
     let opts = TestOptions {
         leg_mm,
         ..Default::default()
@@ -31,7 +31,7 @@ fn measure(test: Test, leg_mm: f64) -> (hil::runs::experiment::TestRun, TimingRe
     .unwrap();
     assert!(run.completed);
     let probe = obs.unwrap().into_any().downcast::<TimingProbe>().unwrap();
-    let report = probe.report(&fw, "ht_control_tick", 16_000_000, &run.segment_starts());
+    let report = probe.report(&fw, 16_000_000, &run.segment_starts());
     (run, report)
 }
 
@@ -110,7 +110,8 @@ const ISR_TRIP_FIRES: [(&str, u64); 2] = [("INT4", 77), ("INT5", 78)];
 /// run that lost it measures less than the datasheet's figures.
 #[test]
 fn encoder_isrs_are_measured() {
-    use hil::runs::timing::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
+    let mega = &hil::mcu::chip::ATMEGA2560;
+    let (response, wake_up) = (mega.response_cycles(), mega.wake_up_cycles());
     let r = report();
     for ((name, unarmed), (_, fires)) in ISR_UNARMED_UP.into_iter().zip(ISR_TRIP_FIRES) {
         let isr = r.isrs.iter().find(|i| i.name == name).expect(name);
@@ -133,8 +134,8 @@ fn encoder_isrs_are_measured() {
         // in the response time alone (the 5 cycles of the shortest); the CPU
         // sleeps ~98 % of the time, so nearly every edge wakes it (response
         // + wake-up, 10 cycles; a few wait for a handler in progress).
-        let asleep = (RESPONSE_CYCLES + WAKE_UP_CYCLES) as f64;
-        assert_eq!(isr.latency.min, RESPONSE_CYCLES, "{name}: latency min");
+        let asleep = (response + wake_up) as f64;
+        assert_eq!(isr.latency.min, response, "{name}: latency min");
         assert!(
             (asleep - 0.5..asleep + 0.5).contains(&isr.latency.mean),
             "{name}: latency mean {}",
@@ -152,7 +153,7 @@ fn encoder_isrs_are_measured() {
         // this edge pending, it wakes at once and the response is taken
         // again (INT5: 97 cycles = 77 + 2 x 10).
         assert!(
-            isr.latency.max <= 2 * (RESPONSE_CYCLES + WAKE_UP_CYCLES) + other,
+            isr.latency.max <= 2 * (response + wake_up) + other,
             "{name}: latency max {} cycles, longer than one other handler ({other}) and a return to sleep",
             isr.latency.max
         );
@@ -213,13 +214,13 @@ fn budgets_pass_and_a_breach_fails() {
 /// names both vectors and passes on a measurement, not on nothing.
 #[test]
 fn latency_is_measured_on_int2_and_pin_change_interrupts() {
-    use hil::runs::timing::RESPONSE_CYCLES;
+    let response = hil::mcu::chip::ATMEGA2560.response_cycles();
     let root = hil::paths::workspace_root();
     let d = Description::load(root.join("fixtures/arduino/int-encoders/tests.toml")).unwrap();
     let fw = Firmware::load(d.elf.as_ref().unwrap()).expect("built by tools/setup.sh");
     let board = Board::load(root.join("fixtures/boards/mega-int2-pcint.toml")).unwrap();
     let control = d.control_function(&fw).unwrap().unwrap();
-    let probe = TimingProbe::new(&fw, &control, 160_000, &board).unwrap();
+    let probe = TimingProbe::new(&fw, Some(&control), 160_000, &board).unwrap();
     let opts = TestOptions {
         leg_mm: d.leg_mm(None, 2000.0).unwrap(),
         bench: BenchOptions {
@@ -239,7 +240,7 @@ fn latency_is_measured_on_int2_and_pin_change_interrupts() {
     .unwrap();
     assert!(run.completed, "{:?}", run.finding);
     let probe = obs.unwrap().into_any().downcast::<TimingProbe>().unwrap();
-    let r = probe.report(&fw, &control, 16_000_000, &run.segment_starts());
+    let r = probe.report(&fw, 16_000_000, &run.segment_starts());
     let edges = |s: &str| {
         let e = r.encoder_vectors.iter().find(|e| e.side == s).unwrap();
         e.name.clone().unwrap()
@@ -254,11 +255,7 @@ fn latency_is_measured_on_int2_and_pin_change_interrupts() {
         // One entry and one latency per A edge (the robot only went forward).
         assert_eq!(isr.duration.count as i64, plant, "{name}: runs");
         assert_eq!(isr.latency.count, isr.duration.count, "{name}: latencies");
-        assert!(
-            isr.latency.min >= RESPONSE_CYCLES,
-            "{name}: {:?}",
-            isr.latency
-        );
+        assert!(isr.latency.min >= response, "{name}: {:?}", isr.latency);
     }
     let budgets = Budgets::load(&root.join("fixtures/timing-budgets.toml")).unwrap();
     let rows = r.check(&budgets);
@@ -299,4 +296,187 @@ fn hil_timing_measures_a_sketchs_int2_and_pcint_latency() {
         .expect("the latency row names both vectors");
     assert!(row["measured"].as_f64().unwrap() > 0.0, "{row}");
     assert_eq!(row["pass"], true);
+}
+
+/// A run of a described sketch's `test` on `board` with the timing probe
+/// (its description's control function, if it names one), recorded.
+fn measure_sketch(
+    tests: &str,
+    board: &str,
+    robot: &str,
+    test: &str,
+) -> (hil::runs::experiment::TestRun, TimingReport) {
+    let root = hil::paths::workspace_root();
+    let d = Description::load(root.join(tests)).unwrap();
+    let fw = Firmware::load(d.elf.as_ref().unwrap()).expect("built by tools/setup.sh");
+    let board = Board::load(root.join(board)).unwrap();
+    let control = d.control_function(&fw).transpose().unwrap();
+    let probe = TimingProbe::new(&fw, control.as_deref(), 320_000, &board).unwrap();
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
+        bench: BenchOptions {
+            board,
+            ..Default::default()
+        },
+        description: Some(std::sync::Arc::new(d)),
+        record: true,
+        ..Default::default()
+    };
+    let test = hil::runs::experiment::TestName::parse(test).unwrap();
+    let (run, obs) = run_test_observed(
+        fw.clone(),
+        &support::robot(robot),
+        test,
+        &opts,
+        Some(Box::new(probe)),
+    )
+    .unwrap();
+    assert!(run.completed, "{:?}", run.finding);
+    let probe = obs.unwrap().into_any().downcast::<TimingProbe>().unwrap();
+    let r = probe.report(&fw, 16_000_000, &run.segment_starts());
+    (run, r)
+}
+
+/// Transitions of recorded line `line` (0 left A, 2 right A) after its
+/// first level.
+fn transitions(run: &hil::runs::experiment::TestRun, line: u8) -> u64 {
+    let levels: Vec<bool> = run
+        .edges
+        .iter()
+        .filter(|e| e.line == line)
+        .map(|e| e.level)
+        .collect();
+    levels.windows(2).filter(|w| w[0] != w[1]).count() as u64
+}
+
+/// Holds each encoder vector of an ATmega328P run to the datasheet: one
+/// handler run and one latency per A transition of its encoder; the
+/// shortest latency the 328P's response, 4 cycles (§6.7.1: its 2-byte PC;
+/// the 2560's 5 would be wrong here), as an edge between two instructions
+/// of a CPU that never sleeps has; the longest at most the rest of the
+/// instruction in progress (3 cycles of a 4-cycle one), another handler's
+/// response and run, a main instruction after its `reti` (4 cycles at
+/// most) and its own response.
+fn check_328p_vectors(run: &hil::runs::experiment::TestRun, r: &TimingReport, names: [&str; 2]) {
+    let response = hil::mcu::chip::ATMEGA328P.response_cycles();
+    assert_eq!(response, 4);
+    assert_eq!(r.mcu, hil::board::Mcu::Atmega328p);
+    let vectors: Vec<String> = r
+        .encoder_vectors
+        .iter()
+        .map(|e| e.name.clone().unwrap())
+        .collect();
+    assert_eq!(vectors, names);
+    for (name, line) in names.into_iter().zip([0, 2]) {
+        let isr = r.isrs.iter().find(|i| i.name == name).expect(name);
+        assert_eq!(isr.duration.count, transitions(run, line), "{name}: runs");
+        assert_eq!(isr.latency.count, isr.duration.count, "{name}: latencies");
+        assert_eq!(isr.latency.min, response, "{name}: {:?}", isr.latency);
+        let other = r
+            .isrs
+            .iter()
+            .filter(|i| i.name != name)
+            .map(|i| i.duration.max)
+            .max()
+            .unwrap();
+        assert!(
+            response < isr.latency.max && isr.latency.max <= 3 + 2 * response + other + 4,
+            "{name}: latency max {} cycles, other handlers up to {other}",
+            isr.latency.max
+        );
+    }
+}
+
+/// The Uno robot's own sketch (uno-l298n: attachInterrupt on D2 and D3)
+/// over its leg and spin, on its ATmega328P: INT0's and INT1's latencies
+/// measured from every A edge (see [`check_328p_vectors`]). The sketch's
+/// function runs 42 cycles after the vector: attachInterrupt's handler
+/// (`jmp`, 15 `push`es, `in`, `eor`, two `lds`, `icall`) comes first.
+#[test]
+fn the_uno_robots_int0_and_int1_latencies_are_measured() {
+    let (run, r) = measure_sketch(
+        "fixtures/arduino/uno-l298n/tests.toml",
+        "fixtures/boards/uno-l298n.toml",
+        "uno-l298n",
+        "leg-and-spin",
+    );
+    check_328p_vectors(&run, &r, ["INT0", "INT1"]);
+    assert_eq!(r.control_function, None);
+}
+
+/// The Uno robot with its right encoder on a pin-change interrupt
+/// (uno-pcint: D11, PCINT3, ISR(PCINT0_vect)): INT0's and PCINT0's
+/// latencies measured from every A edge, its B line on the same group
+/// masked off (see [`check_328p_vectors`]); its control function timed
+/// every 20 ms.
+#[test]
+fn a_pin_change_interrupts_latency_is_measured_on_the_uno() {
+    let (run, r) = measure_sketch(
+        "fixtures/arduino/uno-pcint/tests.toml",
+        "fixtures/boards/uno-pcint.toml",
+        "uno-l298n",
+        "line",
+    );
+    check_328p_vectors(&run, &r, ["INT0", "PCINT0"]);
+    // The sketch's `control()`, by its C++ name.
+    assert_eq!(r.control_function.as_deref(), Some("_Z7controlv"));
+    let mean_ms = r.tick_period_cycles.mean / 16_000.0;
+    assert!((mean_ms - 20.0).abs() < 0.05, "mean period {mean_ms} ms");
+}
+
+/// `hil timing --tests` on the Uno robot's sketch, with its budgets (no
+/// control function: none timed): INT0 and INT1 named in the latency row,
+/// measured, every budget held (exit 0).
+#[test]
+fn hil_timing_measures_the_uno_robots_latency() {
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args(["timing", "--tests", "fixtures/arduino/uno-l298n/tests.toml"])
+        .args(["--board", "fixtures/boards/uno-l298n.toml"])
+        .args(["--robot", "fixtures/robots/uno-l298n.toml"])
+        .args([
+            "--budgets",
+            "fixtures/arduino/uno-l298n/timing-budgets.toml",
+        ])
+        .arg("--json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["test"], "leg-and-spin");
+    assert_eq!(v["report"]["mcu"], "atmega328p");
+    let row = v["budgets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["what"] == "encoder edge to handler (INT0, INT1), longest")
+        .expect("the latency row names both vectors");
+    assert!(row["measured"].as_f64().unwrap() > 0.0, "{row}");
+    assert_eq!(row["pass"], true);
+}
+
+/// Budgets for a control function, given for a sketch that names none:
+/// one line saying so, exit 2, before anything runs.
+#[test]
+fn control_budgets_need_a_control_function() {
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args(["timing", "--tests", "fixtures/arduino/uno-l298n/tests.toml"])
+        .args(["--board", "fixtures/boards/uno-l298n.toml"])
+        .args(["--robot", "fixtures/robots/uno-l298n.toml"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with("error: budgets file ")
+            && stderr.trim().ends_with(
+                "timing-budgets.toml sets control_max_us, but the firmware names no control \
+                 function to time (name it with the test description's symbols.control or \
+                 --function, or leave control_max_us, tick_period_us and tick_jitter_max_us out)"
+            ),
+        "{stderr}"
+    );
 }

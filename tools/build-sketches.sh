@@ -23,6 +23,7 @@ sketches=(
   "fixtures/arduino/int-encoders $mega"
   "fixtures/arduino/uno-l298n $uno"
   "fixtures/arduino/romi-32u4 $leonardo"
+  "fixtures/arduino/uno-pcint $uno"
 )
 out=firmware/target/arduino
 

@@ -95,24 +95,3 @@ fn the_romi_drives_its_leg_and_spin_counting_every_edge() {
     );
     assert_eq!(done, plant_edges_at(&r, u64::MAX), "at the end");
 }
-
-/// `hil timing` reads vectors and return addresses as the ATmega2560 lays
-/// them out: on the Uno's board it says so and exits 2 rather than report
-/// numbers it misread.
-#[test]
-fn timing_refuses_an_mcu_it_cannot_read() {
-    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
-        .current_dir(hil::paths::workspace_root())
-        .args(["timing", "--tests", UNO_TESTS, "--board"])
-        .args(["fixtures/boards/uno-l298n.toml", "--robot"])
-        .arg("fixtures/robots/uno-l298n.toml")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(
-        err.trim(),
-        "error: --board: hil timing measures the atmega2560 only (its vectors, its 3-byte \
-         return addresses); this board's MCU is the atmega328p"
-    );
-}

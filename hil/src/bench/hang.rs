@@ -143,30 +143,53 @@ impl std::fmt::Display for HangReport {
 }
 
 /// The return addresses on the stack, named, innermost first, at most `max`:
-/// a heuristic backtrace without debug info. A 3-byte word address on the
-/// stack (the ATmega2560's 22-bit PC, high byte first) counts when the
-/// instruction before it is a call (`call`, `rcall`, `icall`, `eicall`); an
-/// interrupted PC, pushed by no call, is skipped with the ISR's frame. The
-/// walk ends at the firmware's entry (`main`).
+/// a heuristic backtrace without debug info. A word address on the stack
+/// as wide as the MCU's PC (3 bytes on the ATmega2560, 2 on the others,
+/// high byte first) counts when the instruction before it is a call
+/// (`call`, `rcall`, `icall`, `eicall`); an interrupted PC, pushed by no
+/// call, is skipped with the ISR's frame. The walk ends at the firmware's
+/// entry (`main`).
 pub fn callers<H: Handler>(mcu: &Avr<H>, firmware: &Firmware, max: usize) -> Vec<String> {
+    walk(
+        |addr, n| mcu.read_data(addr, n),
+        |a| mcu.flash_word(a),
+        mcu.sp(),
+        mcu.chip().pc_bytes,
+        firmware,
+        max,
+    )
+}
+
+/// [`callers`] over any memory: `data(addr, n)` reads `n` bytes of the data
+/// space, `flash(addr)` a word of flash; return addresses are `pc_bytes`
+/// wide.
+fn walk(
+    data: impl Fn(u32, usize) -> Option<Vec<u8>>,
+    flash: impl Fn(u32) -> u16,
+    sp: u16,
+    pc_bytes: u8,
+    firmware: &Firmware,
+    max: usize,
+) -> Vec<String> {
     let after_call = |ret: u32| {
         ret >= 4
-            && (mcu.flash_word(ret - 4) & 0xfe0e == 0x940e
-                || mcu.flash_word(ret - 2) & 0xf000 == 0xd000
-                || matches!(mcu.flash_word(ret - 2), 0x9509 | 0x9519))
+            && (flash(ret - 4) & 0xfe0e == 0x940e
+                || flash(ret - 2) & 0xf000 == 0xd000
+                || matches!(flash(ret - 2), 0x9509 | 0x9519))
     };
+    let width = usize::from(pc_bytes);
     let mut out = Vec::new();
-    let mut addr = u32::from(mcu.sp()) + 1;
+    let mut addr = u32::from(sp) + 1;
     while out.len() < max {
-        let Some(b) = mcu.read_data(addr, 3) else {
+        let Some(b) = data(addr, width).filter(|b| b.len() == width) else {
             break;
         };
-        let ret = (u32::from(b[0]) << 16 | u32::from(b[1]) << 8 | u32::from(b[2])) * 2;
+        let ret = b.iter().fold(0u32, |r, &byte| r << 8 | u32::from(byte)) * 2;
         let named = after_call(ret).then(|| firmware.function_at(ret)).flatten();
         match named {
             Some((name, off)) => {
                 out.push(format!("{name}+0x{off:x}"));
-                addr += 3;
+                addr += u32::from(pc_bytes);
                 // The entry never returns: what lies above its frame is
                 // left over from start-up, not a caller.
                 if name == "main" || name.ends_with("rt_main") {
@@ -177,4 +200,51 @@ pub fn callers<H: Handler>(mcu: &Avr<H>, firmware: &Firmware, max: usize) -> Vec
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On the Uno's ATmega328P a call pushes a 2-byte return address: the
+    /// walk reads two bytes (as the MCU's description says) and names the
+    /// caller; read as the ATmega2560's three it names nothing.
+    #[test]
+    fn return_addresses_are_as_wide_as_the_mcus_pc() {
+        let path = crate::paths::workspace_root().join("firmware/target/arduino/uno-l298n.elf");
+        let fw = Firmware::load(&path).expect("built by tools/build-sketches.sh");
+        let flash = |a: u32| -> u16 {
+            fw.segments
+                .iter()
+                .find_map(|(start, bytes)| {
+                    let i = a.checked_sub(*start)? as usize;
+                    Some(u16::from_le_bytes([*bytes.get(i)?, *bytes.get(i + 1)?]))
+                })
+                .unwrap_or(0xffff)
+        };
+        let main = fw.symbol("main").unwrap().addr;
+        // main's first `call`: the return address is the word after it.
+        let call = (main..)
+            .step_by(2)
+            .find(|&a| flash(a) & 0xfe0e == 0x940e)
+            .unwrap();
+        let ret = (call + 4) / 2;
+        // The stack above SP: the return address, high byte first, then
+        // nothing pushed.
+        let sp: u16 = 0x8f0;
+        let mut stack = vec![0u8; 0x900];
+        stack[usize::from(sp) + 1] = (ret >> 8) as u8;
+        stack[usize::from(sp) + 2] = ret as u8;
+        let data = |addr: u32, n: usize| {
+            stack
+                .get(addr as usize..addr as usize + n)
+                .map(<[u8]>::to_vec)
+        };
+        let chip = &crate::mcu::chip::ATMEGA328P;
+        assert_eq!(
+            walk(data, flash, sp, chip.pc_bytes, &fw, 4),
+            [format!("main+0x{:x}", call + 4 - main)]
+        );
+        assert!(walk(data, flash, sp, 3, &fw, 4).is_empty());
+    }
 }

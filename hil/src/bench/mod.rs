@@ -66,6 +66,7 @@ pub use self::recorder::{
     Retained, Sample, Snapshot,
 };
 pub use self::run::{Debugger, Observer, Step, CHECK_PERIOD_S};
+pub use self::timers::emulated as emulated_timers;
 pub use crate::firmware::elf::Location;
 
 use self::registers::{MCUSR, MCUSR_EXTRF};

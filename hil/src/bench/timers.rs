@@ -104,7 +104,7 @@ pub(super) fn mirrored(n: u8) -> bool {
 
 /// The timers of the board's PWM pins the bench emulates (those it does
 /// not mirror), in timer order.
-pub(super) fn emulated(board: &Board) -> Vec<u8> {
+pub fn emulated(board: &Board) -> Vec<u8> {
     let mut v = board.pwm_timers();
     v.retain(|&n| !mirrored(n));
     v

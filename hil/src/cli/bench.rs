@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use hil::firmware::elf::Firmware;
-use hil::runs::experiment::Test;
+use hil::runs::experiment::{Test, TestName};
 
 use super::args::{Common, Json, Leg, SideArg};
 
@@ -15,11 +15,13 @@ const SKETCH_TESTS: &str = "firmware/arduino/henrytwo-thesis/tests.toml";
 
 #[derive(clap::Args)]
 pub struct Bench {
-    /// The test to time. With --tests, the firmware it describes is timed
-    /// (bench and raw simavr on the same inputs), alone: the thesis build
-    /// and sketch are the robust build's references.
-    #[arg(long, default_value = "umbmark-cw")]
-    test: Test,
+    /// The test to time [default: umbmark-cw; with --tests, the
+    /// description's one test, or its umbmark-cw]. With --tests, the
+    /// firmware it describes is timed on its board (bench and raw simavr on
+    /// the same ELF and inputs), alone: the thesis build and sketch are the
+    /// robust build's references.
+    #[arg(long)]
+    test: Option<TestName>,
     #[command(flatten)]
     leg: Leg,
     /// Skip the thesis build's runs (the slowest: busy loops; timed on
@@ -69,10 +71,9 @@ impl Bench {
             ))
             .into());
         }
-        if let Some(d) = described {
-            // Said before anything runs: not a bench error after the reset.
-            d.start(self.test).map_err(super::bad_input)?;
-        }
+        // Said before anything runs: not a bench error after the reset.
+        let test = super::timing::pick_test(described, self.test.clone(), Test::UmbmarkCw)
+            .map_err(super::bad_input)?;
         let (robot, firmware) = self.common.target.load()?;
         if self.diagnosis {
             return self.diagnosis(robot, firmware);
@@ -98,13 +99,15 @@ impl Bench {
         };
         let spinner = indicatif::ProgressBar::new_spinner();
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+        let board = self.common.target.bench().board;
         let report = hil::runs::perf::measure(&hil::runs::perf::BenchPlan {
             robust: &firmware,
             described,
+            board: &board,
             thesis: thesis.as_ref(),
             sketch: sketch.as_ref().map(|(f, d)| (f, d)),
             robot: &robot,
-            test: self.test,
+            test,
             leg_mm: self.common.leg_mm(self.leg)?,
             repeats: self.repeats as usize,
             raw_with_pwm_timers: !self.without_simavr_pwm,

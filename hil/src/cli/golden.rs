@@ -295,20 +295,13 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
     let clock = BenchOptions::default().clock;
     // The nominal period only sets the probe's jitter figure, unused here.
     let period = clock.cycles_in(plant_model::Seconds(15e-3));
-    let probe = TimingProbe::new(&firmware, CONTROL_FUNCTION, period, &opts.bench.board)
+    let probe = TimingProbe::new(&firmware, Some(CONTROL_FUNCTION), period, &opts.bench.board)
         .ok()
         .map(|p| Box::new(p) as Box<dyn Observer>);
     let (run, observer) = run_test_observed(firmware.clone(), &robot, test, &opts, probe)?;
     let report = observer
         .and_then(|o| o.into_any().downcast::<TimingProbe>().ok())
-        .map(|p| {
-            p.report(
-                &firmware,
-                CONTROL_FUNCTION,
-                clock.hz(),
-                &run.segment_starts(),
-            )
-        });
+        .map(|p| p.report(&firmware, clock.hz(), &run.segment_starts()));
     let quantities = hil::runs::golden::measure(&run, report.as_ref(), clock);
     let shown = |p: &Path| for_golden(p);
     let in_force = InForce {

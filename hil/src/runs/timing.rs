@@ -1,8 +1,9 @@
 //! Timing budgets of the firmware, measured cycle-exactly from ELF symbols.
 //!
 //! A [`TimingProbe`] watches every executed instruction of a run and measures:
-//! - the control tick: the period and jitter of the entries of the control
-//!   function (`ht_control_tick`), and its execution time (min/mean/max
+//! - the control tick, when the firmware has a control function
+//!   (`ht_control_tick`, or the one its test description names): the period
+//!   and jitter of its entries, and its execution time (min/mean/max
 //!   cycles) with the time spent in interrupts that preempted it taken out;
 //! - each interrupt vector used: duration from the vector to the end of its
 //!   RETI, and for the vectors of the board's encoder A pins (INT0-7 or a
@@ -16,6 +17,11 @@
 //! Interrupted time is attributed to the interrupt: cycles spent in an ISR
 //! that ran while the control function was active are subtracted from the
 //! function's execution time.
+//!
+//! Everything that differs between MCUs comes from the board's MCU's
+//! description ([`crate::mcu::chip`]): where the vectors are and their
+//! names, how wide a return address an interrupt pushes, and the
+//! datasheet's response time.
 
 use std::collections::BTreeMap;
 
@@ -27,23 +33,13 @@ use plant_model::Side;
 use crate::bench::{Observer, Step};
 use crate::board::Board;
 use crate::firmware::elf::Firmware;
+use crate::mcu::chip::Chip;
 
 const RETI: u16 = 0x9518;
 const RET: u16 = 0x9508;
-/// The ATmega2560 pushes a 3-byte return address (22-bit PC).
-const RETURN_ADDRESS_BYTES: u16 = 3;
-
-mod vectors;
-pub use vectors::VECTOR_NAMES;
 
 #[cfg(test)]
 mod tests;
-
-/// Interrupt response (datasheet 7.8.1): at least five cycles from the
-/// request to the vector's first instruction on a 3-byte-PC device, five more
-/// when the interrupt wakes the CPU from sleep. The simulation spends them
-/// (`crate::mcu::sim`), so the latencies measured contain them.
-pub use crate::mcu::sim::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
 
 #[derive(Debug, Error)]
 pub enum TimingError {
@@ -59,6 +55,12 @@ pub enum TimingError {
     },
     #[error("the firmware has no function {0:?} to time")]
     NoFunction(String),
+    #[error(
+        "budgets file {path} sets {field}, but the firmware names no control function to time \
+         (name it with the test description's symbols.control or --function, or leave \
+         control_max_us, tick_period_us and tick_jitter_max_us out)"
+    )]
+    NoControlFunction { path: String, field: &'static str },
     #[error("budgets file {path}: {field} = {value}: {allowed}")]
     Invalid {
         path: String,
@@ -68,16 +70,21 @@ pub enum TimingError {
     },
 }
 
-/// Budgets, from a TOML file. All times in microseconds.
+/// Budgets, from a TOML file. All times in microseconds. The control
+/// function's three are for a firmware that has one: left out, it is not
+/// timed.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Budgets {
     /// Longest execution of the control function (interrupts taken out).
-    pub control_max_us: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_max_us: Option<f64>,
     /// Largest deviation of the control tick's period from `tick_period_us`.
-    pub tick_jitter_max_us: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tick_jitter_max_us: Option<f64>,
     /// Nominal period of the control tick.
-    pub tick_period_us: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tick_period_us: Option<f64>,
     /// Longest execution of any interrupt handler.
     pub isr_max_us: f64,
     /// Longest latency from an encoder edge to its handler's first instruction.
@@ -118,27 +125,41 @@ impl Budgets {
         for (field, v) in [
             ("control_max_us", self.control_max_us),
             ("tick_period_us", self.tick_period_us),
-            ("isr_max_us", self.isr_max_us),
-            ("isr_latency_max_us", self.isr_latency_max_us),
-            ("interrupts_off_max_us", self.interrupts_off_max_us),
+            ("isr_max_us", Some(self.isr_max_us)),
+            ("isr_latency_max_us", Some(self.isr_latency_max_us)),
+            ("interrupts_off_max_us", Some(self.interrupts_off_max_us)),
         ] {
-            if !(v.is_finite() && v > 0.0 && v <= 1e6) {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0 && *v <= 1e6)) {
                 return Err(invalid(field, v.to_string(), TIME));
             }
         }
-        let jitter = self.tick_jitter_max_us;
-        if !(jitter.is_finite() && (0.0..=1e6).contains(&jitter)) {
-            return Err(invalid(
-                "tick_jitter_max_us",
-                jitter.to_string(),
-                "give a time from 0 to 1000000 us (one second)",
-            ));
+        match (self.tick_jitter_max_us, self.tick_period_us) {
+            (Some(jitter), _) if !(jitter.is_finite() && (0.0..=1e6).contains(&jitter)) => {
+                return Err(invalid(
+                    "tick_jitter_max_us",
+                    jitter.to_string(),
+                    "give a time from 0 to 1000000 us (one second)",
+                ));
+            }
+            (Some(jitter), None) => {
+                return Err(invalid(
+                    "tick_jitter_max_us",
+                    jitter.to_string(),
+                    "a jitter needs the period it is from: give tick_period_us too",
+                ));
+            }
+            _ => {}
         }
-        if self.stack_margin_min_bytes > 8192 {
+        let most = crate::mcu::chip::Mcu::ALL
+            .map(|m| m.chip().sram_range().len())
+            .into_iter()
+            .max()
+            .unwrap_or(0);
+        if self.stack_margin_min_bytes as usize > most {
             return Err(invalid(
                 "stack_margin_min_bytes",
                 self.stack_margin_min_bytes.to_string(),
-                "give 0 to 8192 bytes (the ATmega2560's RAM)",
+                "give 0 to 8192 bytes (the largest SRAM of the MCUs described, the ATmega2560's)",
             ));
         }
         let load = self.cpu_load_max;
@@ -148,6 +169,54 @@ impl Budgets {
                 load.to_string(),
                 "give a fraction above 0 and up to 1 (the CPU's awake share)",
             ));
+        }
+        Ok(())
+    }
+
+    /// The first of the control function's budgets set, if any: a firmware
+    /// must name a control function for them.
+    pub fn control_budget(&self) -> Option<&'static str> {
+        [
+            ("control_max_us", self.control_max_us),
+            ("tick_period_us", self.tick_period_us),
+            ("tick_jitter_max_us", self.tick_jitter_max_us),
+        ]
+        .into_iter()
+        .find_map(|(f, v)| v.map(|_| f))
+    }
+
+    /// Refuse control budgets for a firmware without a control function,
+    /// and a stack margin larger than `chip`'s SRAM.
+    pub fn check_for(
+        &self,
+        path: &str,
+        control: Option<&str>,
+        chip: &Chip,
+    ) -> Result<(), TimingError> {
+        if let (None, Some(field)) = (control, self.control_budget()) {
+            return Err(TimingError::NoControlFunction {
+                path: path.into(),
+                field,
+            });
+        }
+        let sram = chip.sram_range().len();
+        if self.stack_margin_min_bytes as usize > sram {
+            return Err(TimingError::Invalid {
+                path: path.into(),
+                field: "stack_margin_min_bytes",
+                value: self.stack_margin_min_bytes.to_string(),
+                allowed: match chip.mcu {
+                    crate::mcu::chip::Mcu::Atmega2560 => {
+                        "give at most the atmega2560's 8192 bytes of SRAM"
+                    }
+                    crate::mcu::chip::Mcu::Atmega328p => {
+                        "give at most the atmega328p's 2048 bytes of SRAM"
+                    }
+                    crate::mcu::chip::Mcu::Atmega32u4 => {
+                        "give at most the atmega32u4's 2560 bytes of SRAM"
+                    }
+                },
+            });
         }
         Ok(())
     }
@@ -218,7 +287,9 @@ pub struct EncoderVector {
 
 /// Watches a run; see the module docs.
 pub struct TimingProbe {
-    control_fn: u32,
+    chip: &'static Chip,
+    /// The control function's name and address (None: not timed).
+    control_fn: Option<(String, u32)>,
     vectors: BTreeMap<u32, u8>,
     encoders: Vec<EncoderVector>,
     /// Per encoder vector, the last edge a latency was measured from: an
@@ -241,19 +312,28 @@ pub struct TimingProbe {
 }
 
 impl TimingProbe {
-    /// Probe the control function `control_fn` (a symbol), whose nominal
-    /// period is `period_cycles`, and the latency of the interrupts of
-    /// `board`'s encoder A pins.
+    /// Probe the control function `control_fn` (a symbol; None: none),
+    /// whose nominal period is `period_cycles`, and the latency of the
+    /// interrupts of `board`'s encoder A pins, on the board's MCU.
     pub fn new(
         fw: &Firmware,
-        control_fn: &str,
+        control_fn: Option<&str>,
         period_cycles: u64,
         board: &Board,
     ) -> Result<Self, TimingError> {
-        let f = fw
-            .symbol(control_fn)
-            .map_err(|_| TimingError::NoFunction(control_fn.into()))?;
-        let vectors = (1u8..57).map(|n| (n as u32 * 4, n)).collect();
+        let control = match control_fn {
+            Some(name) => Some((
+                name.to_string(),
+                fw.symbol(name)
+                    .map_err(|_| TimingError::NoFunction(name.into()))?
+                    .addr,
+            )),
+            None => None,
+        };
+        let chip = board.mcu.chip();
+        let vectors = (1..chip.vectors.len() as u8)
+            .map(|n| (chip.vector_address(n), n))
+            .collect();
         let encoders = Side::BOTH
             .map(|side| {
                 let a = board.encoder(side).a;
@@ -265,12 +345,13 @@ impl TimingProbe {
                     },
                     pin: a.name(),
                     vector,
-                    name: vector.map(Self::vector_name),
+                    name: vector.map(|v| vector_name(chip, v)),
                 }
             })
             .to_vec();
         Ok(Self {
-            control_fn: f.addr,
+            chip,
+            control_fn: control,
             vectors,
             encoders,
             served: BTreeMap::new(),
@@ -287,13 +368,13 @@ impl TimingProbe {
             total: 0,
         })
     }
+}
 
-    fn vector_name(n: u8) -> String {
-        VECTOR_NAMES
-            .get(n as usize)
-            .map(|s| s.to_string())
-            .unwrap_or_else(|| format!("vector {n}"))
-    }
+/// Vector `n`'s name on `chip` (its number, when the chip has none).
+fn vector_name(chip: &Chip, n: u8) -> String {
+    chip.vector_name(n)
+        .map(str::to_string)
+        .unwrap_or_else(|| format!("vector {n}"))
 }
 
 impl Observer for TimingProbe {
@@ -337,20 +418,22 @@ impl Observer for TimingProbe {
                 // is no lower, but I went from set to clear, which no
                 // instruction that lands on a vector does.
                 let responded = s.interrupts_before && !s.interrupts_after;
-                if responded || s.sp_after + RETURN_ADDRESS_BYTES <= s.sp_before {
+                let pushed = u16::from(self.chip.pc_bytes);
+                if responded || s.sp_after + pushed <= s.sp_before {
                     // The response ends the step; waking, the CPU starts up
                     // first (asleep), then responds (awake).
+                    let response = self.chip.response_cycles();
                     if s.slept {
-                        self.awake += RESPONSE_CYCLES;
+                        self.awake += response;
                     }
                     self.isr_stack.push(IsrFrame {
                         vector: v,
                         entry: s.cycle_after,
-                        response: RESPONSE_CYCLES,
+                        response,
                     });
                     let t = self.isrs.entry(v).or_default();
                     t.vector = v;
-                    t.name = Self::vector_name(v);
+                    t.name = vector_name(self.chip, v);
                     // The newest A edge of the encoders on this vector
                     // (two may share a pin-change group), if not served.
                     let served = self.served.get(&v).copied().unwrap_or(0);
@@ -368,7 +451,8 @@ impl Observer for TimingProbe {
                     }
                 }
             }
-            if s.pc_after == self.control_fn && self.fn_frame.is_none() {
+            let control = self.control_fn.as_ref().map(|c| c.1);
+            if Some(s.pc_after) == control && self.fn_frame.is_none() {
                 self.entries.push(s.cycle_after);
                 self.fn_frame = Some(FnFrame {
                     entry: s.cycle_after,
@@ -401,7 +485,11 @@ impl Observer for TimingProbe {
 #[derive(Debug, Clone, Serialize)]
 pub struct TimingReport {
     pub clock_hz: u32,
-    pub control_function: String,
+    /// The board's MCU, whose vectors, return addresses and response these
+    /// are.
+    pub mcu: crate::mcu::chip::Mcu,
+    /// None: the firmware named none, and it was not timed.
+    pub control_function: Option<String>,
     pub control_cycles: Stats,
     /// Periods between consecutive entries of the control function, except
     /// those across a segment start (see [`TimingProbe::report`]).
@@ -428,13 +516,7 @@ impl TimingProbe {
     /// segment start is a pause, not jitter, and is left out (counted in
     /// [`TimingReport::tick_restarts`]); a tick missed while a segment
     /// runs still counts.
-    pub fn report(
-        &self,
-        fw: &Firmware,
-        control_fn: &str,
-        clock_hz: u32,
-        segment_starts: &[u64],
-    ) -> TimingReport {
+    pub fn report(&self, fw: &Firmware, clock_hz: u32, segment_starts: &[u64]) -> TimingReport {
         let bss_end = fw.symbol("__bss_end").map(|s| s.addr as u16).unwrap_or(0);
         let mut periods = Stats::default();
         let mut jitter = 0;
@@ -451,7 +533,8 @@ impl TimingProbe {
         }
         TimingReport {
             clock_hz,
-            control_function: control_fn.into(),
+            mcu: self.chip.mcu,
+            control_function: self.control_fn.as_ref().map(|c| c.0.clone()),
             control_cycles: self.control,
             tick_period_cycles: periods,
             tick_jitter_max_cycles: jitter,
@@ -528,20 +611,31 @@ impl TimingReport {
                 pass: measured.is_some_and(|m| if upper { m <= budget } else { m >= budget }),
             })
         };
-        row(
-            &format!("{} execution, max", self.control_function),
-            Some(self.us(self.control_cycles.max as f64)),
-            b.control_max_us,
-            "us",
-            true,
-        );
-        row(
-            "control tick jitter, max |period - nominal|",
-            Some(self.us(self.tick_jitter_max_cycles as f64)),
-            b.tick_jitter_max_us,
-            "us",
-            true,
-        );
+        // A control function that never ran, or whose tick never made a
+        // period, measured nothing.
+        let name = self
+            .control_function
+            .as_deref()
+            .unwrap_or("control function");
+        if let Some(budget) = b.control_max_us {
+            row(
+                &format!("{name} execution, max"),
+                (self.control_cycles.count > 0).then(|| self.us(self.control_cycles.max as f64)),
+                budget,
+                "us",
+                true,
+            );
+        }
+        if let Some(budget) = b.tick_jitter_max_us {
+            row(
+                "control tick jitter, max |period - nominal|",
+                (self.tick_period_cycles.count > 0)
+                    .then(|| self.us(self.tick_jitter_max_cycles as f64)),
+                budget,
+                "us",
+                true,
+            );
+        }
         let isr_max = self.isrs.iter().map(|i| i.duration.max).max().unwrap_or(0);
         row(
             "interrupt handler, longest",
@@ -580,26 +674,44 @@ impl TimingReport {
         use std::fmt::Write;
         let mut s = String::new();
         let c = |v: u64| self.us(v as f64);
-        let _ = writeln!(
-            s,
-            "control function {}: {} calls, {:.1} / {:.1} / {:.1} us (min / mean / max, interrupts excluded)",
-            self.control_function,
-            self.control_cycles.count,
-            c(self.control_cycles.min),
-            self.us(self.control_cycles.mean),
-            c(self.control_cycles.max)
-        );
-        let _ = writeln!(
-            s,
-            "control tick: period {:.3} / {:.3} / {:.3} ms, jitter max {:.2} us{}",
-            c(self.tick_period_cycles.min) / 1e3,
-            self.us(self.tick_period_cycles.mean) / 1e3,
-            c(self.tick_period_cycles.max) / 1e3,
-            c(self.tick_jitter_max_cycles),
-            match self.tick_restarts {
-                0 => String::new(),
-                n => format!(" ({n} restarts at segment starts left out)"),
+        match &self.control_function {
+            Some(name) => {
+                let _ = writeln!(
+                    s,
+                    "control function {}: {} calls, {:.1} / {:.1} / {:.1} us (min / mean / max, interrupts excluded)",
+                    name,
+                    self.control_cycles.count,
+                    c(self.control_cycles.min),
+                    self.us(self.control_cycles.mean),
+                    c(self.control_cycles.max)
+                );
+                let _ = writeln!(
+                    s,
+                    "control tick: period {:.3} / {:.3} / {:.3} ms, jitter max {:.2} us{}",
+                    c(self.tick_period_cycles.min) / 1e3,
+                    self.us(self.tick_period_cycles.mean) / 1e3,
+                    c(self.tick_period_cycles.max) / 1e3,
+                    c(self.tick_jitter_max_cycles),
+                    match self.tick_restarts {
+                        0 => String::new(),
+                        n => format!(" ({n} restarts at segment starts left out)"),
+                    }
+                );
             }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "control function: none named (symbols.control, --function), not timed"
+                );
+            }
+        }
+        let _ = writeln!(
+            s,
+            "interrupts on the {}: response {} cycles ({} waking), {}-byte return addresses",
+            self.mcu,
+            self.mcu.chip().response_cycles(),
+            self.mcu.chip().response_cycles() + self.mcu.chip().wake_up_cycles(),
+            self.mcu.chip().pc_bytes
         );
         for i in &self.isrs {
             let _ = write!(

@@ -342,6 +342,43 @@ impl Chip {
         self.vectors.get(usize::from(n)).copied()
     }
 
+    /// Bytes of flash per interrupt vector slot: a two-word `jmp` on a
+    /// device with more than 8 KB of flash, else a one-word `rjmp`.
+    pub fn vector_slot_bytes(&self) -> u32 {
+        if self.flash_bytes > 8 * 1024 {
+            4
+        } else {
+            2
+        }
+    }
+
+    /// The flash byte address of vector `n`'s slot.
+    pub fn vector_address(&self, n: u8) -> u32 {
+        u32::from(n) * self.vector_slot_bytes()
+    }
+
+    /// Cycles from an interrupt request to the vector's first instruction,
+    /// the CPU awake: the response pushes the PC, a cycle per byte, and
+    /// fetches the vector. Five with a 3-byte PC (ATmega2560 datasheet
+    /// §7.8.1), four with a 2-byte one (ATmega328P §6.7.1, ATmega32U4
+    /// §4.8.1).
+    pub fn response_cycles(&self) -> u64 {
+        u64::from(self.pc_bytes) + 2
+    }
+
+    /// Cycles the response takes longer when it wakes the CPU from sleep
+    /// (idle, whose start-up time is none): as many again, five on the
+    /// ATmega2560, four on the ATmega328P and ATmega32U4 (the same
+    /// sections).
+    pub fn wake_up_cycles(&self) -> u64 {
+        self.response_cycles()
+    }
+
+    /// SRAM's data-space addresses, as a range.
+    pub fn sram_range(&self) -> std::ops::Range<u16> {
+        self.sram.0..self.sram.1 + 1
+    }
+
     /// The PWM pins by Arduino number with their timers, as errors offer
     /// them: "D5 D6 (timer 0), D9 D10 (timer 1), ...".
     pub fn pwm_pins(&self) -> String {

@@ -228,6 +228,47 @@ fn vectors_and_registers_are_avr_libcs() {
             }
         }
         assert_eq!(chip.sram.1, reg_end(&text), "{mcu} RAMEND");
+        assert_eq!(
+            chip.vectors.len() as u32 * chip.vector_slot_bytes(),
+            vectors_size(&text),
+            "{mcu} _VECTORS_SIZE"
+        );
+    }
+}
+
+/// `#define _VECTORS_SIZE 228` or `(26 * 4)`: the vector table's bytes
+/// (the last definition: the device's own header comes after its family's).
+fn vectors_size(text: &str) -> u32 {
+    let line = text
+        .lines()
+        .rev()
+        .find(|l| {
+            l.trim_start_matches(['#', ' '])
+                .starts_with("define _VECTORS_SIZE")
+        })
+        .expect("_VECTORS_SIZE");
+    let v = line.split_once("_VECTORS_SIZE").unwrap().1;
+    v.split(|c: char| !c.is_ascii_digit())
+        .filter(|w| !w.is_empty())
+        .map(|w| w.parse::<u32>().unwrap())
+        .product()
+}
+
+/// The interrupt response, from each datasheet ("Interrupt Response
+/// Time"): five cycles to the vector on the ATmega2560, whose response
+/// pushes a 3-byte PC (§7.8.1), four on the ATmega328P (§6.7.1) and the
+/// ATmega32U4 (§4.8.1), which push two bytes; as many more to wake from
+/// sleep.
+#[test]
+fn the_interrupt_response_is_each_datasheets() {
+    for (mcu, response) in [
+        (Mcu::Atmega2560, 5),
+        (Mcu::Atmega328p, 4),
+        (Mcu::Atmega32u4, 4),
+    ] {
+        let c = mcu.chip();
+        assert_eq!(c.response_cycles(), response, "{mcu}");
+        assert_eq!(c.wake_up_cycles(), response, "{mcu}");
     }
 }
 

@@ -8,8 +8,8 @@
 //!
 //! What simavr does that we change, and why:
 //! - the interrupt response is the datasheet's (`response.rs`): entering a
-//!   vector takes five cycles (ten when it wakes the CPU), where simavr
-//!   takes none; a jump over a sleep ends on the cycle of the timer it
+//!   vector takes five cycles on the ATmega2560, four on the 2-byte-PC
+//!   MCUs (twice that when it wakes the CPU), where simavr takes none; a jump over a sleep ends on the cycle of the timer it
 //!   sleeps until, not one past it;
 //! - the sleep callback does not wait: simavr's default usleeps to keep
 //!   emulated time in step with the wall clock, which pins a sleeping
@@ -93,7 +93,6 @@ mod view;
 
 pub use irq::Irq;
 pub use pins::DrivenPin;
-pub use response::{RESPONSE_CYCLES, WAKE_UP_CYCLES};
 pub use view::Core;
 
 use mcu::{decode_state, io_slot, Mcu};
@@ -114,7 +113,10 @@ const STEP_LIMIT: u64 = 1;
 /// Errors from creating or driving the simulated MCU.
 #[derive(Debug, Error)]
 pub enum SimError {
-    #[error("simavr does not know the MCU {0:?}; the bench supports \"atmega2560\"")]
+    #[error(
+        "the bench has no description of the MCU simavr calls {0:?} (it describes {names})",
+        names = crate::mcu::chip::Mcu::names()
+    )]
     UnknownMcu(String),
     #[error("simavr failed to initialise the MCU {0:?}")]
     InitFailed(String),
@@ -122,6 +124,8 @@ pub enum SimError {
     FlashOverflow { addr: u32, len: usize, flash: u32 },
     #[error("the MCU has no IO port {0:?}")]
     NoSuchPort(char),
+    #[error("the MCU has no pin P{0}{1}")]
+    NoSuchPin(char, u8),
     #[error("the MCU has no USART{0}")]
     NoSuchUart(u8),
     #[error("IO address 0x{0:04x} is outside simavr's IO table")]
@@ -200,16 +204,24 @@ pub struct Avr<H: Handler> {
     /// Bursts and [`Avr::run_to`] let the core run free between cycle
     /// timers ([`Avr::set_free_run`]).
     free_run: bool,
+    chip: &'static crate::mcu::chip::Chip,
 }
 
 impl<H: Handler> Avr<H> {
     /// Create an MCU by simavr name at `frequency_hz`, with empty flash.
+    /// Only an MCU the bench describes (`crate::mcu::chip`): its response
+    /// and its pins are read from there.
     pub fn new(mcu: &str, frequency_hz: u32, handler: H) -> Result<Self, SimError> {
+        let chip = crate::mcu::chip::Mcu::ALL
+            .into_iter()
+            .map(crate::mcu::chip::Mcu::chip)
+            .find(|c| c.simavr_core == mcu)
+            .ok_or_else(|| SimError::UnknownMcu(mcu.into()))?;
         let name = CString::new(mcu).map_err(|_| SimError::UnknownMcu(mcu.into()))?;
         // From here the MCU is freed on every error path (`Mcu`'s drop).
         let mut avr = Mcu::by_name(&name).ok_or_else(|| SimError::UnknownMcu(mcu.into()))?;
         let run = avr.init(mcu)?;
-        let shared = SharedBox::new(Shared::new(avr.ptr(), Owner::next(), handler));
+        let shared = SharedBox::new(Shared::new(avr.ptr(), chip, Owner::next(), handler));
         // SAFETY: plain field writes on the initialised MCU.
         unsafe {
             let a = avr.as_ptr();
@@ -235,7 +247,13 @@ impl<H: Handler> Avr<H> {
             code_end: 0,
             run,
             free_run: true,
+            chip,
         })
+    }
+
+    /// The description of the MCU simavr emulates.
+    pub fn chip(&self) -> &'static crate::mcu::chip::Chip {
+        self.chip
     }
 
     #[inline]

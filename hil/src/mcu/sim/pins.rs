@@ -20,9 +20,7 @@ use simavr_ffi as ffi;
 use super::irq::Irq;
 use super::mcu::ioctl_def;
 use super::{Avr, Handler, SimError};
-
-/// The ports simavr names 'A' to 'L' (the ATmega2560 has no 'I').
-const PORTS: usize = 12;
+use crate::mcu::chip::Chip;
 
 /// A pin the bench drives from outside, from [`Avr::driven_pin`]. Drive it
 /// with [`Avr::drive`] or [`super::Core::drive`] (a plain raise of its
@@ -30,7 +28,10 @@ const PORTS: usize = 12;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DrivenPin {
     irq: Irq,
+    /// The port's letter, as simavr's ioctl names it.
     port: u8,
+    /// The port's index in the MCU's description (`Chip::ports`).
+    index: usize,
     bit: u8,
 }
 
@@ -41,29 +42,41 @@ impl DrivenPin {
     }
 }
 
-/// Per port, the pins declared external and the levels declared on them:
-/// simavr keeps one mask and one value per port and takes both at once, so
-/// the bench keeps the whole of them to change one bit.
+/// Per port of the MCU (in its description's order), the pins declared
+/// external and the levels declared on them: simavr keeps one mask and one
+/// value per port and takes both at once, so the bench keeps the whole of
+/// them to change one bit.
 pub(super) struct ExternalPins {
-    ports: [Cell<(u8, u8)>; PORTS],
+    chip: &'static Chip,
+    ports: Box<[Cell<(u8, u8)>]>,
 }
 
 impl ExternalPins {
-    pub(super) fn new() -> Self {
+    pub(super) fn new(chip: &'static Chip) -> Self {
         Self {
-            ports: std::array::from_fn(|_| Cell::new((0, 0))),
+            chip,
+            ports: chip.ports.iter().map(|_| Cell::new((0, 0))).collect(),
         }
     }
 
     /// Declare `pin` driven at `high`: the port's (mask, value) now, and
     /// whether that changed it.
     fn set(&self, pin: DrivenPin, high: bool) -> ((u8, u8), bool) {
-        let cell = &self.ports[usize::from(pin.port - b'A')];
+        let cell = &self.ports[pin.index];
         let old = cell.get();
         let bit = 1 << pin.bit;
         let new = (old.0 | bit, if high { old.1 | bit } else { old.1 & !bit });
         cell.set(new);
         (new, new != old)
+    }
+
+    /// The index of `port` in the MCU's description, when it has pin `bit`
+    /// there.
+    fn index(&self, port: char, bit: u8) -> Option<usize> {
+        self.chip
+            .has_pin((port, bit))
+            .then(|| self.chip.ports.iter().position(|p| p.letter == port))
+            .flatten()
     }
 }
 
@@ -109,21 +122,25 @@ pub(super) unsafe fn drive(
 }
 
 impl<H: Handler> Avr<H> {
-    /// Pin `bit` of port `port` ('A'..'L'), driven from outside from now on
-    /// at `high`: it reads what the bench drives whatever the firmware writes
-    /// to the port (its pull-up only matters to pins nobody drives).
+    /// Pin `bit` of port `port`, driven from outside from now on at `high`:
+    /// it reads what the bench drives whatever the firmware writes to the
+    /// port (its pull-up only matters to pins nobody drives). The MCU's
+    /// description says which pins it has: simavr's port registers have
+    /// eight bits where the silicon has fewer pins (the ATmega328P's PC7).
     ///
     /// # Panics
     /// With the panic of a callback the first raise ran.
     pub fn driven_pin(&mut self, port: char, bit: u8, high: bool) -> Result<DrivenPin, SimError> {
+        let index = self
+            .external_pins()
+            .index(port, bit)
+            .ok_or(SimError::NoSuchPin(port, bit))?;
         let irq = self.port_pin(port, bit)?;
-        let letter = u8::try_from(port)
-            .ok()
-            .filter(|p| (b'A'..b'A' + PORTS as u8).contains(p) && bit < 8)
-            .ok_or(SimError::NoSuchPort(port))?;
+        let letter = u8::try_from(port).map_err(|_| SimError::NoSuchPort(port))?;
         let pin = DrivenPin {
             irq,
             port: letter,
+            index,
             bit,
         };
         let (declared, _) = self.external_pins().set(pin, high);

@@ -1,22 +1,25 @@
-//! The interrupt response of the ATmega2560, which simavr leaves out.
+//! The interrupt response of the AVR, which simavr leaves out.
 //!
-//! Datasheet §7.8.1 ("Interrupt Response Time"), for a device with a 22-bit
-//! PC: the response takes five cycles (the three-byte PC push and the
-//! vector fetch) before the vector's first instruction, normally a `jmp` of
-//! three more; five more when the interrupt wakes the CPU from sleep (on
-//! top of the sleep mode's start-up time, none in idle); and `reti` takes
-//! five cycles.
+//! Datasheet "Interrupt Response Time" (ATmega2560 §7.8.1, ATmega328P
+//! §6.7.1, ATmega32U4 §4.8.1): the response takes a cycle per byte of the
+//! PC it pushes and the vector fetch before the vector's first instruction,
+//! normally a `jmp` of three more: five cycles with the ATmega2560's 3-byte
+//! PC, four with a 2-byte one; as many more when the interrupt wakes the
+//! CPU from sleep (on top of the sleep mode's start-up time, none in idle);
+//! `reti` takes as many again. The MCU's description has them
+//! ([`Chip::response_cycles`], [`Chip::wake_up_cycles`]).
 //!
 //! simavr (`sim_interrupts.c`, `avr_service_interrupts`) pushes the PC and
 //! sets it to the vector between two instructions without counting a
-//! cycle; its `jmp` and `reti` (`sim_core.c`) count their three and five.
-//! Entering a vector raises the "running" line of `AVR_INT_ANY` (so does
-//! `reti`, told apart by the I bit), so one notify on it adds the missing
-//! cycles to `avr->cycle`: the CPU stalls, as it does during a multi-cycle
-//! instruction. Nothing else changes: the cycle timers due
-//! during the stall (simavr's peripherals, the bench's events) fire right
-//! after the next instruction with their own `when`, as they do after any
-//! long instruction, and the timers derive their counters from the cycle.
+//! cycle; its `jmp` and `reti` (`sim_core.c`) count their three and
+//! `1 + address_size`. Entering a vector raises the "running" line of
+//! `AVR_INT_ANY` (so does `reti`, told apart by the I bit), so one notify
+//! on it adds the missing cycles to `avr->cycle`: the CPU stalls, as it
+//! does during a multi-cycle instruction. Nothing else changes: the cycle
+//! timers due during the stall (simavr's peripherals, the bench's events)
+//! fire right after the next instruction with their own `when`, as they do
+//! after any long instruction, and the timers derive their counters from
+//! the cycle.
 //!
 //! Waking is known from the sleep: simavr calls `avr->sleep` as it jumps
 //! over one, then adds `1 + how_long` to the cycle, one past the timer it
@@ -31,13 +34,8 @@ use std::ptr::NonNull;
 
 use simavr_ffi as ffi;
 
-/// Cycles from the interrupt request to the vector's first instruction on a
-/// 3-byte-PC device, the CPU awake (datasheet §7.8.1).
-pub const RESPONSE_CYCLES: u64 = 5;
-/// Cycles the response takes longer when the interrupt wakes the CPU from
-/// sleep (§7.8.1; the start-up time of idle, the one mode the bench's
-/// firmware sleeps in, is none).
-pub const WAKE_UP_CYCLES: u64 = 5;
+use crate::mcu::chip::Chip;
+
 /// No sleep has ended since the last interrupt was entered.
 const NOT_ASLEEP: u64 = u64::MAX;
 
@@ -50,12 +48,17 @@ pub(super) struct Response {
     sleep_end: Cell<u64>,
     /// The cycle the last `sleep` instruction began at.
     sleep_start: Cell<u64>,
+    /// The MCU's response, awake and waking.
+    cycles: u64,
+    wake_up_cycles: u64,
 }
 
 impl Response {
-    pub(super) fn new(avr: NonNull<ffi::avr_t>) -> Self {
+    pub(super) fn new(avr: NonNull<ffi::avr_t>, chip: &Chip) -> Self {
         Self {
             avr,
+            cycles: chip.response_cycles(),
+            wake_up_cycles: chip.wake_up_cycles(),
             sleep_end: Cell::new(NOT_ASLEEP),
             sleep_start: Cell::new(0),
         }
@@ -143,9 +146,9 @@ unsafe extern "C" fn running_changed(_irq: *mut ffi::avr_irq_t, _value: u32, par
             // `reti`: simavr counts its five cycles itself.
             0
         } else if response.sleep_end.replace(NOT_ASLEEP) == cycle {
-            RESPONSE_CYCLES + WAKE_UP_CYCLES
+            response.cycles + response.wake_up_cycles
         } else {
-            RESPONSE_CYCLES
+            response.cycles
         };
         (*avr).cycle = cycle + stall;
     }

@@ -23,6 +23,7 @@ use simavr_ffi as ffi;
 use super::owner::Owner;
 use super::pins::ExternalPins;
 use super::response::Response;
+use crate::mcu::chip::Chip;
 
 /// A panic caught at the C boundary, to be resumed in Rust.
 pub(super) type Payload = Box<dyn Any + Send>;
@@ -75,7 +76,12 @@ pub(super) struct Shared<H> {
 }
 
 impl<H> Shared<H> {
-    pub(super) fn new(avr: NonNull<ffi::avr_t>, owner: Owner, handler: H) -> Self {
+    pub(super) fn new(
+        avr: NonNull<ffi::avr_t>,
+        chip: &'static Chip,
+        owner: Owner,
+        handler: H,
+    ) -> Self {
         Self {
             avr,
             owner,
@@ -86,8 +92,8 @@ impl<H> Shared<H> {
             failure: Cell::new(None),
             writes: vec![None; ffi::MAX_IOs as usize],
             reads: vec![None; ffi::MAX_IOs as usize],
-            response: Response::new(avr),
-            external: ExternalPins::new(),
+            response: Response::new(avr, chip),
+            external: ExternalPins::new(chip),
             handler,
         }
     }

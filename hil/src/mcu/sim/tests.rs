@@ -271,6 +271,37 @@ fn a_driven_pin_keeps_its_level_through_port_writes() {
     assert_eq!(run(&mut avr), 0x20);
 }
 
+/// The pins the bench may drive are the MCU's description's: the Uno's
+/// ATmega328P has PC0-PC6 and no PC7 (simavr's port C has eight bits), and
+/// no port E, which the ATmega2560 has; the Mega has both.
+#[test]
+fn a_driven_pin_is_one_the_mcu_has() {
+    let make = |name: &str| {
+        let handler = Writes {
+            seen: Vec::new(),
+            at: 0,
+            attention: false,
+            on_write: OnWrite::Nothing,
+            pin: None,
+            irqs: Vec::new(),
+        };
+        Avr::new(name, 16_000_000, handler).unwrap()
+    };
+    let mut uno = make("atmega328p");
+    assert!(uno.driven_pin('C', 6, false).is_ok());
+    assert!(matches!(
+        uno.driven_pin('C', 7, false),
+        Err(SimError::NoSuchPin('C', 7))
+    ));
+    assert!(matches!(
+        uno.driven_pin('E', 4, false),
+        Err(SimError::NoSuchPin('E', 4))
+    ));
+    let mut mega = make("atmega2560");
+    assert!(mega.driven_pin('C', 7, false).is_ok());
+    assert!(mega.driven_pin('E', 4, false).is_ok());
+}
+
 /// The vendored simavr keeps the cores of the boards the bench has wiring
 /// for or is asked about (vendor/simavr-ffi/VENDORED.md); the others were
 /// left out of it, and simavr does not know them.

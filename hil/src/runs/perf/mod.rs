@@ -25,9 +25,10 @@ use plant_model::RobotConfig;
 use serde::Serialize;
 
 use crate::bench::BenchError;
+use crate::board::Board;
 use crate::firmware::description::Description;
 use crate::firmware::elf::Firmware;
-use crate::runs::experiment::Test;
+use crate::runs::experiment::TestName;
 
 mod record;
 mod replay;
@@ -60,10 +61,14 @@ pub struct BenchPlan<'a> {
     /// Its test description when it is run black-box (a firmware without
     /// the bench interface); None: its bench interface.
     pub described: Option<&'a Description>,
+    /// The board the described firmware runs on (the bench's builds and
+    /// the thesis sketch run on Henrytwo's).
+    pub board: &'a Board,
     /// The thesis build, when it is to be timed too.
     pub thesis: Option<&'a Firmware>,
     pub robot: &'a RobotConfig,
-    pub test: Test,
+    /// A thesis test, or with `described` any test it names.
+    pub test: TestName,
     pub leg_mm: f64,
     /// Each robust run is timed this many times, interleaved; the fastest
     /// counts (the least disturbed by the rest of the machine). The thesis
@@ -156,7 +161,7 @@ fn wall_ratio(a: Measured, b: Measured) -> f64 {
 #[derive(Clone, Copy)]
 enum How<'a> {
     Interface { leg_mm: f64 },
-    Described(&'a Description),
+    Described(&'a Description, &'a Board),
 }
 
 /// Time one build as `how` says: a recorded bench run for the
@@ -169,12 +174,20 @@ fn measure_build(
     raw_with_pwm_timers: bool,
 ) -> Result<BuildSpeed, PerfError> {
     let name = fw.name();
-    let bench_run = |fw: &Firmware, robot, test, record| match how {
-        How::Interface { leg_mm } => bench_run(fw, robot, test, leg_mm, record),
-        How::Described(d) => bench_run_described(fw, robot, test, d, record),
+    let bench_run = |fw: &Firmware, robot, test: &TestName, record| match how {
+        How::Interface { leg_mm } => {
+            let thesis = test.thesis().ok_or_else(|| {
+                BenchError::Description(format!(
+                    "{test} is no test of the bench's own builds (umbmark-cw, umbmark-ccw, line, \
+                     triangle)"
+                ))
+            })?;
+            bench_run(fw, robot, thesis, leg_mm, record)
+        }
+        How::Described(d, board) => bench_run_described(fw, robot, test, d, board, record),
     };
     (plan.progress)(&format!("{name}: recording the bench run's inputs"));
-    let rec = bench_run(fw, plan.robot, plan.test, true)?;
+    let rec = bench_run(fw, plan.robot, &plan.test, true)?;
     let mut bench: Option<Measured> = None;
     let mut raw_np: Option<Measured> = None;
     let mut raw: Option<Measured> = None;
@@ -182,7 +195,7 @@ fn measure_build(
     let repeats = plan.repeats.max(1);
     for i in 0..repeats {
         (plan.progress)(&format!("{name}: timing, round {} of {repeats}", i + 1));
-        let run = bench_run(fw, plan.robot, plan.test, false)?;
+        let run = bench_run(fw, plan.robot, &plan.test, false)?;
         if run.end_cycle != rec.end_cycle || run.fingerprint != rec.fingerprint {
             return Err(PerfError::RecordingChangedTheRun {
                 build: fw.name().to_string(),
@@ -225,7 +238,7 @@ fn measure_build(
 /// PWM timers), then the thesis build (bench, raw without PWM timers).
 pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
     let how = match plan.described {
-        Some(d) => How::Described(d),
+        Some(d) => How::Described(d, plan.board),
         None => How::Interface {
             leg_mm: plan.leg_mm,
         },
@@ -246,8 +259,14 @@ pub fn measure(plan: &BenchPlan) -> Result<BenchReport, PerfError> {
         None => None,
     };
     // The thesis sketch, black-box: its own 400 mm legs.
+    let henrytwo = Board::default();
     let sketch = match plan.sketch {
-        Some((fw, d)) => Some(measure_build(fw, plan, How::Described(d), false)?),
+        Some((fw, d)) => Some(measure_build(
+            fw,
+            plan,
+            How::Described(d, &henrytwo),
+            false,
+        )?),
         None => None,
     };
     Ok(BenchReport {

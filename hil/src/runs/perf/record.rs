@@ -7,9 +7,11 @@ use plant_model::RobotConfig;
 
 use super::Measured;
 use crate::bench::{AnalogEvent, BenchError, BenchOptions, PinEvent};
+use crate::board::Board;
 use crate::firmware::description::Description;
 use crate::firmware::elf::Firmware;
-use crate::runs::experiment::Test;
+use crate::mcu::chip::Chip;
+use crate::runs::experiment::{Shape, Test, TestName};
 use crate::runs::line::ready_bench;
 
 /// A bench run recorded for replay.
@@ -36,16 +38,16 @@ pub struct Recorded {
     pub completed: bool,
     /// SRAM at the end, which a faithful replay must reach.
     pub fingerprint: Vec<u8>,
+    /// The board the run was wired as: the replay's MCU, encoder pins,
+    /// USARTs and timers.
+    pub board: Board,
 }
 
-/// The ATmega2560's internal SRAM (data space addresses).
-const SRAM: std::ops::Range<u16> = 0x0200..0x2200;
-
-/// The state a replay must end in: all of SRAM, variables and stack alike
-/// (the IO registers differ with simavr's own PWM timers, which is the point
-/// of that replay).
-pub(super) fn fingerprint(read: impl Fn(u16) -> u8) -> Vec<u8> {
-    SRAM.map(read).collect()
+/// The state a replay must end in: all of the MCU's internal SRAM,
+/// variables and stack alike (the IO registers differ with simavr's own PWM
+/// timers, which is the point of that replay).
+pub(super) fn fingerprint(chip: &Chip, read: impl Fn(u16) -> u8) -> Vec<u8> {
+    chip.sram_range().map(read).collect()
 }
 
 /// Run `test` on the bench; with `record`, recording the inputs a replay
@@ -85,15 +87,18 @@ pub fn bench_run(
 }
 
 /// Run `test` of a firmware without the bench interface, as `d` describes
-/// it (started by one byte on a USART), recording as [`bench_run`] does.
+/// it (started by one byte on a USART), on `board`, recording as
+/// [`bench_run`] does.
 pub fn bench_run_described(
     fw: &Firmware,
     robot: &RobotConfig,
-    test: Test,
+    test: &TestName,
     d: &Description,
+    board: &Board,
     record: bool,
 ) -> Result<Recorded, BenchError> {
-    let (usart, byte) = match d.start(test)? {
+    let described = d.test(test.clone())?;
+    let (usart, byte) = match &described.start {
         crate::firmware::description::Start::Uart { usart, bytes } if bytes.len() == 1 => {
             (*usart, bytes[0])
         }
@@ -106,7 +111,11 @@ pub fn bench_run_described(
         }
     };
     let wall = Instant::now();
-    let mut bench = crate::bench::Bench::new(fw.clone(), robot, BenchOptions::default())?;
+    let opts = BenchOptions {
+        board: *board,
+        ..Default::default()
+    };
+    let mut bench = crate::bench::Bench::new(fw.clone(), robot, opts)?;
     if let Some(c) = d.resolve(fw)?.counts {
         bench.set_count_variables(c);
     }
@@ -117,11 +126,17 @@ pub fn bench_run_described(
     let command_cycle = bench.cycle();
     let mark = crate::runs::experiment::Mark::now(&bench);
     bench.send(usart, &[byte]);
-    let (legs, turns, _) = test.shape();
     let leg_mm = d.leg_mm(None, 2000.0)?;
-    // The test's own end, as a run of it has.
-    let end = d.end_of(&test.into());
-    let limit = legs as f64 * (leg_mm / 50.0 + 3.0) + turns as f64 * 8.0 + 5.0 + end.idle_s;
+    // The test's own end and limit, as a run of it has.
+    let end = d.end_of(test);
+    let shape = described.shape.or(test.thesis().map(Shape::of));
+    let limit = end.limit_s.unwrap_or_else(|| {
+        let opts = crate::runs::experiment::TestOptions {
+            leg_mm,
+            ..Default::default()
+        };
+        crate::runs::experiment::limit_s(shape.as_ref(), &opts) + end.idle_s
+    });
     let idle = bench.clock().cycles_in(plant_model::Seconds(end.idle_s));
     let completed = bench.run_until(limit, |b| {
         crate::runs::experiment::ended(b, end, idle, mark)
@@ -146,7 +161,8 @@ struct Start {
 fn recorded(bench: &crate::bench::Bench, wall: Instant, start: Start, completed: bool) -> Recorded {
     let wall_s = wall.elapsed().as_secs_f64();
     let end_cycle = bench.cycle();
-    let fingerprint = fingerprint(|a| bench.read_u8(a));
+    let fingerprint = fingerprint(bench.board().mcu.chip(), |a| bench.read_u8(a));
+    let board = *bench.board();
     let core = bench.core();
     Recorded {
         measured: Measured::new(bench.robot_time_s(), wall_s),
@@ -164,5 +180,6 @@ fn recorded(bench: &crate::bench::Bench, wall: Instant, start: Start, completed:
         analog: core.analog_log().to_vec(),
         completed,
         fingerprint,
+        board,
     }
 }

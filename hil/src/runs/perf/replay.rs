@@ -6,7 +6,6 @@ use std::time::Instant;
 use super::record::{fingerprint, Recorded};
 use super::Measured;
 use crate::bench::{AnalogEvent, AnalogInput, BenchError, BenchOptions, PinEvent};
-use crate::board::HENRYTWO;
 use crate::firmware::elf::Firmware;
 use crate::mcu::pwm::PwmTimer;
 use crate::mcu::sim::{Avr, Core, DrivenPin, Handler, IoClaim, Irq};
@@ -103,8 +102,11 @@ impl Handler for Replay {
     fn irq(&mut self, _core: &mut Core, _tag: u32, _value: u32) {}
 }
 
-/// Replay a recorded run in bare simavr; `simavr_pwm_timers`: leave timers
-/// 2 and 4 to simavr (as shipped) or take them off (as the bench does).
+/// Replay a recorded run in bare simavr, on the MCU and pins of the board
+/// it ran on; `simavr_pwm_timers`: leave the timers the bench emulates for
+/// the board's PWM pins (2 and 4 on Henrytwo's board, none on the Uno's,
+/// whose timer 0 the bench mirrors) to simavr (as shipped) or take them off
+/// (as the bench does).
 #[inline(never)] // profiled by name: see docs/design/performance.md
 pub fn raw_replay(
     fw: &Firmware,
@@ -124,7 +126,9 @@ pub fn raw_replay(
         command: Some((rec.command_cycle, rec.command)),
         pokes: rec.pokes.clone(),
     };
-    let mut avr = Avr::new(HENRYTWO.mcu.chip().simavr_core, clock.hz(), handler)?;
+    let w = &rec.board;
+    let chip = w.mcu.chip();
+    let mut avr = Avr::new(chip.simavr_core, clock.hz(), handler)?;
     // The reference: simavr as upstream runs it, back to its cycle timers
     // after every instruction.
     avr.set_free_run(false);
@@ -132,14 +136,13 @@ pub fn raw_replay(
         avr.load_flash(*addr, bytes)?;
     }
     if !simavr_pwm_timers {
-        let chip = HENRYTWO.mcu.chip();
-        for t in [2, 4].map(|n| PwmTimer::emulated(chip.timer(n).expect("the Mega's timer"))) {
+        for n in crate::bench::emulated_timers(w) {
+            let t = PwmTimer::emulated(chip.timer(n).expect("a board's PWM timers are modelled"));
             for a in t.write_addresses() {
                 avr.claim_io_write(a, IoClaim::Replace)?;
             }
         }
     }
-    let w = HENRYTWO;
     // Driven from outside, as the bench drives them (see `DrivenPin`).
     let pins = [
         avr.driven_pin(w.left_encoder.a.port, w.left_encoder.a.bit, false)?,
@@ -153,12 +156,17 @@ pub fn raw_replay(
             let _ = avr.uart(n)?;
         }
     }
-    let adc0 = avr.adc_input(0)?;
+    // The battery's divider, where the board has one (the bench's analog
+    // log holds its input's levels).
+    let adc0 = match w.battery {
+        Some(b) => Some(avr.adc_input(b.adc)?),
+        None => None,
+    };
     {
         let h = avr.handler_mut();
         h.pins = pins.map(Some);
         h.uart = Some(uart_in);
-        h.adc0 = Some(adc0);
+        h.adc0 = adc0;
     }
     // The bench raised the lines' levels at cycle 0, and the robot rests
     // until the command: the recording's first levels are those since boot.
@@ -180,6 +188,6 @@ pub fn raw_replay(
     avr.schedule(first);
     avr.run_to(rec.end_cycle);
     let measured = Measured::new(clock.seconds(avr.cycle()).0, wall.elapsed().as_secs_f64());
-    let faithful = fingerprint(|a| avr.data(a)) == rec.fingerprint;
+    let faithful = fingerprint(avr.chip(), |a| avr.data(a)) == rec.fingerprint;
     Ok(Replayed { measured, faithful })
 }

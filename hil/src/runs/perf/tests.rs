@@ -59,3 +59,18 @@ fn the_report_shows_the_rounds_spread_and_warns_when_it_is_wide() {
     let once = report(speed(1.26, vec![1.26]), None, 1);
     assert!(!once.render().contains("round by round"));
 }
+
+/// A replay is held to the whole of the MCU's SRAM: on the Uno's ATmega328P
+/// from 0x100 (where its variables are) to RAMEND 0x8FF, not the
+/// ATmega2560's 0x200-0x21FF.
+#[test]
+fn the_fingerprint_is_the_mcus_sram() {
+    let seen = std::cell::RefCell::new(Vec::new());
+    let f = record::fingerprint(&crate::mcu::chip::ATMEGA328P, |a| {
+        seen.borrow_mut().push(a);
+        a as u8
+    });
+    let seen = seen.into_inner();
+    assert_eq!((seen.first(), seen.last()), (Some(&0x100), Some(&0x8ff)));
+    assert_eq!((f.len(), seen.len()), (2048, 2048));
+}

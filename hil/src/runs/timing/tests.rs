@@ -5,7 +5,7 @@ use super::*;
 fn isr(vector: u8, latencies: &[u64]) -> IsrTiming {
     let mut t = IsrTiming {
         vector,
-        name: TimingProbe::vector_name(vector),
+        name: vector_name(&crate::mcu::chip::ATMEGA2560, vector),
         ..Default::default()
     };
     t.duration.add(40);
@@ -20,7 +20,7 @@ fn encoder(side: &'static str, pin: &str, vector: Option<u8>) -> EncoderVector {
         side,
         pin: pin.into(),
         vector,
-        name: vector.map(TimingProbe::vector_name),
+        name: vector.map(|v| vector_name(&crate::mcu::chip::ATMEGA2560, v)),
     }
 }
 
@@ -28,7 +28,8 @@ fn encoder(side: &'static str, pin: &str, vector: Option<u8>) -> EncoderVector {
 fn report(isrs: Vec<IsrTiming>, right: Option<u8>) -> TimingReport {
     TimingReport {
         clock_hz: 16_000_000,
-        control_function: "control".into(),
+        mcu: crate::mcu::chip::Mcu::Atmega2560,
+        control_function: Some("control".into()),
         control_cycles: Stats::default(),
         tick_period_cycles: Stats::default(),
         tick_jitter_max_cycles: 0,
@@ -49,9 +50,9 @@ fn report(isrs: Vec<IsrTiming>, right: Option<u8>) -> TimingReport {
 
 fn latency_row(r: &TimingReport) -> BudgetRow {
     let budgets = Budgets {
-        control_max_us: 2000.0,
-        tick_jitter_max_us: 100.0,
-        tick_period_us: 15000.0,
+        control_max_us: Some(2000.0),
+        tick_jitter_max_us: Some(100.0),
+        tick_period_us: Some(15000.0),
         isr_max_us: 50.0,
         isr_latency_max_us: 50.0,
         interrupts_off_max_us: 100.0,
