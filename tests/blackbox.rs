@@ -419,7 +419,7 @@ fn the_cli_says_what_a_black_box_run_needs() {
     let _ = std::fs::remove_file(&bad);
     assert_eq!(code, Some(2), "{err}");
     assert!(
-        err.contains("tests.line.uart = 9: the ATmega2560 has USART 0-3"),
+        err.contains("tests.line.uart = 9: give a USART, 0-3, or \"usb\""),
         "{err}"
     );
 }

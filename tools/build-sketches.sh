@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the Arduino sketches from source with Debian's Arduino AVR core and
 # arduino-builder, as the Arduino IDE would for each sketch's board (a Mega
-# 2560 or an Uno): the builder's prototypes, the core's flags (-Os, LTO), its
+# 2560, an Uno or a Leonardo): the builder's prototypes, the core's flags (-Os, LTO), its
 # core library. Each
 # ELF (with its symbols) lands in firmware/target/arduino/NAME.elf, built from
 # source and never committed.
@@ -15,12 +15,14 @@ cd "$(dirname "$0")/.."
 # Each sketch with the board it is built for (its fqbn, as arduino-cli names it).
 mega=arduino:avr:mega:cpu=atmega2560
 uno=arduino:avr:uno
+leonardo=arduino:avr:leonardo
 sketches=(
   "firmware/arduino/henrytwo-thesis $mega"
   "fixtures/arduino/square-demo $mega"
   "fixtures/arduino/pullup-encoders $mega"
   "fixtures/arduino/int-encoders $mega"
   "fixtures/arduino/uno-l298n $uno"
+  "fixtures/arduino/usb-serial $leonardo"
 )
 out=firmware/target/arduino
 
