@@ -430,3 +430,5 @@ mod commands;
 mod example_robots;
 #[path = "blackbox/own_tests.rs"]
 mod own_tests;
+#[path = "blackbox/usb_serial.rs"]
+mod usb_serial;

@@ -85,10 +85,10 @@ pub fn wait_ready(bench: &mut Bench, description: Option<&Description>) -> Resul
             |b| b.is_idle(),
         );
     };
+    refuse_usb_without_usb(bench, d)?;
     match &d.ready.text {
         Some(t) => {
             let text = t.clone();
-            refuse_usb_without_usb(bench, d)?;
             let seen = bench.run_until(d.ready.after_s, |b| {
                 contains(b.uart_output(text.usart), &text.text)
             })?;
@@ -115,20 +115,8 @@ pub fn wait_ready(bench: &mut Bench, description: Option<&Description>) -> Resul
 /// A description that names the USB serial, for a board whose MCU has no
 /// USB: refused before the run, in one line.
 pub(crate) fn refuse_usb_without_usb(bench: &Bench, d: &Description) -> Result<(), BenchError> {
-    let mcu = bench.board().mcu;
-    match d.usb_field() {
-        Some(field) if mcu.chip().usb.is_none() => Err(BenchError::Description(format!(
-            "{}: {field} = \"usb\": the board's {mcu} has no USB; give one of its USARTs ({})",
-            d.path,
-            mcu.chip()
-                .usarts
-                .iter()
-                .map(|u| u.n.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ))),
-        _ => Ok(()),
-    }
+    d.check_usb(bench.board().mcu)
+        .map_err(BenchError::Description)
 }
 
 /// Where the USB host stood, for a finding about text on the USB serial

@@ -185,6 +185,24 @@ impl Description {
             })
     }
 
+    /// Refuses a description that names the USB serial for an MCU without
+    /// USB, in one line naming the field and the MCU's USARTs.
+    pub fn check_usb(&self, mcu: crate::board::Mcu) -> Result<(), String> {
+        match self.usb_field() {
+            Some(field) if mcu.chip().usb.is_none() => Err(format!(
+                "{}: {field} = \"usb\": the board's {mcu} has no USB; give one of its USARTs ({})",
+                self.path,
+                mcu.chip()
+                    .usarts
+                    .iter()
+                    .map(|u| u.n.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// How `test` starts, or why it cannot run.
     pub fn start(&self, test: impl Into<TestName>) -> Result<&Start, DescriptionError> {
         self.test(test).map(|t| &t.start)
