@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds the Arduino sketches from source with Debian's Arduino AVR core and
 # arduino-builder, as the Arduino IDE would for each sketch's board (a Mega
-# 2560, an Uno or a Leonardo): the builder's prototypes, the core's flags (-Os, LTO), its
-# core library. Each
+# 2560, an Uno or a Leonardo): the builder's prototypes, the core's flags
+# (-Os, LTO), its core library. Each
 # ELF (with its symbols) lands in firmware/target/arduino/NAME.elf, built from
 # source and never committed.
 #
