@@ -425,7 +425,7 @@ fn the_cli_says_what_a_black_box_run_needs() {
     let _ = std::fs::remove_file(&bad);
     assert_eq!(code, Some(2), "{err}");
     assert!(
-        err.contains("tests.line.uart = 9: the ATmega2560 has USART 0-3"),
+        err.contains("tests.line.uart = 9: give a USART, 0-3, or \"usb\""),
         "{err}"
     );
 }
@@ -436,3 +436,5 @@ mod commands;
 mod example_robots;
 #[path = "blackbox/own_tests.rs"]
 mod own_tests;
+#[path = "blackbox/usb_serial.rs"]
+mod usb_serial;

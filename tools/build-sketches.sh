@@ -24,6 +24,7 @@ sketches=(
   "fixtures/arduino/uno-l298n $uno"
   "fixtures/arduino/romi-32u4 $leonardo"
   "fixtures/arduino/uno-pcint $uno"
+  "fixtures/arduino/usb-serial $leonardo"
 )
 out=firmware/target/arduino
 

@@ -23,7 +23,8 @@
 //! | `bridge.rs` | the motor driver's inputs from the PWM timers and ports, to the plant; [`PinStats`] |
 //! | `driver.rs` | each driver's truth table (DRV8833, L298N, TB6612, PWM/DIR) as the plant's bridge inputs |
 //! | `edges.rs` | where an encoder edge is born: planning, raising, lazy channel B |
-//! | `uart.rs` | the host's side of the USARTs |
+//! | `uart.rs` | the host's side of the USARTs (and the USB serial's bytes) |
+//! | `usb.rs` | the USB host of an MCU with USB: enumeration, the CDC serial |
 //! | `power.rs` | A0, VCC and the brown-out detector |
 //! | `faults.rs` | [`Action`], [`Trigger`], [`ScheduledFault`] and their schedule |
 //! | `recorder.rs` | what a run records: [`Sample`], [`DriveEvent`], [`Cutoff`], [`Motion`], ... |
@@ -51,6 +52,7 @@ mod run;
 mod setup;
 mod timers;
 mod uart;
+mod usb;
 
 use henrytwo_protocol::{Phase, RunState};
 use plant_model::{RobotConfig, Seconds, Side};
@@ -67,6 +69,8 @@ pub use self::recorder::{
 };
 pub use self::run::{Debugger, Observer, Step, CHECK_PERIOD_S};
 pub use self::timers::emulated as emulated_timers;
+pub use self::uart::{serial_name, SERIALS, USB_SERIAL};
+pub use self::usb::{UsbEvents, UsbState, FRAME_S as USB_FRAME_S};
 pub use crate::firmware::elf::Location;
 
 use self::registers::{MCUSR, MCUSR_EXTRF};
@@ -395,7 +399,9 @@ impl Bench {
             .and_then(|a| Phase::from_u8(self.read_u8(a)))
     }
 
-    /// Send bytes to USART `n`'s receiver (simavr paces them at the baud rate).
+    /// Send bytes to USART `n`'s receiver (simavr paces them at the baud
+    /// rate), or with `n` = [`USB_SERIAL`] on the USB serial (the host
+    /// sends them once the port is open, a packet a frame).
     pub fn send(&mut self, n: u8, bytes: &[u8]) {
         let now = self.avr.cycle();
         self.avr.handler_mut().queue_uart(n as usize, bytes, now);
@@ -442,6 +448,17 @@ impl Bench {
     pub fn drive_pin(&mut self, pin: crate::board::Pin, high: bool) -> Result<(), BenchError> {
         self.avr.driven_pin(pin.port, pin.bit, high)?;
         Ok(())
+    }
+
+    /// Where the USB host is with the device; None on an MCU without USB.
+    pub fn usb_state(&self) -> Option<&UsbState> {
+        self.avr.handler().usb_state()
+    }
+
+    /// The USB host's moments (attach, bus reset, each request done):
+    /// (cycle, what); empty on an MCU without USB.
+    pub fn usb_events(&self) -> &[(u64, &'static str)] {
+        self.avr.handler().usb_events()
     }
 
     /// Bytes the firmware sent on USART `n` so far (since the last

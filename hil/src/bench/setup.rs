@@ -4,8 +4,11 @@
 
 use plant_model::{RobotConfig, Side};
 
-use super::core::{BenchCore, TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_OUT};
+use super::core::{
+    BenchCore, TAG_LED_PORT, TAG_PORT_DDR, TAG_PORT_REG, TAG_UART_OUT, TAG_USB_ATTACH,
+};
 use super::registers::ACSR;
+use super::usb::UsbHost;
 use super::{BenchError, BenchOptions};
 use crate::board::Board;
 use crate::firmware::elf::Firmware;
@@ -91,7 +94,16 @@ pub(super) fn build(
         avr.watch_irq(output, TAG_UART_OUT + n as u32);
         avr.handler_mut().uart.connect(n, input);
     }
+    // An MCU with USB has the bench's USB host on its port, the cable in.
+    if let Some(usb) = wiring.mcu.chip().usb {
+        let port = avr.usb(usb.usbcon, usb.general_vector)?;
+        avr.watch_irq(port.attach_irq(), TAG_USB_ATTACH);
+        avr.handler_mut().usb = Some(UsbHost::new(port, options.clock));
+    }
     avr.with_core(|core, c| {
+        if let Some(usb) = &mut core.usb {
+            usb.plug(c);
+        }
         core.update_supply(c, 0);
         core.update_adc(c, 0);
         // Encoder lines start at the plant's levels.

@@ -1,6 +1,9 @@
 //! The host's side of the MCU's USARTs: bytes from the host go out one per
 //! byte time (those on the Bluetooth link through the link's faults, at the
-//! time they are on the air), bytes from the firmware are collected.
+//! time they are on the air), bytes from the firmware are collected. The
+//! USB serial of an MCU with USB (`usb.rs` is its host) is one more
+//! channel here, [`USB_SERIAL`], beside USART 0-3: its bytes are recorded
+//! as theirs are.
 
 use std::collections::VecDeque;
 
@@ -8,6 +11,19 @@ use super::log::Log;
 use super::NEVER;
 use crate::mcu::clock::Clock;
 use crate::mcu::sim::Irq;
+
+pub use crate::firmware::description::USB_SERIAL;
+/// USART 0-3 and the USB serial.
+pub const SERIALS: usize = 5;
+
+/// The name of serial channel `n` for people: "USART 1", "the USB serial".
+pub fn serial_name(n: u8) -> String {
+    if n == USB_SERIAL {
+        "the USB serial".into()
+    } else {
+        format!("USART {n}")
+    }
+}
 
 /// Bytes kept of each USART's output and in the log: over 18 minutes of a
 /// USART sending without a pause at 9600 baud.
@@ -17,16 +33,16 @@ pub(super) struct HostUart {
     /// The USART carrying the Bluetooth link.
     bluetooth: usize,
     /// Bytes the firmware sent, per USART (up to a cap, unless taken).
-    out: [Log<u8>; 4],
+    out: [Log<u8>; SERIALS],
     /// Bytes the firmware sent: (cycle, USART, byte).
     log: Log<(u64, u8, u8)>,
     /// Bytes the host's side put on the firmware's RX pins, as they
     /// arrived (after the link's faults): (cycle, USART, byte).
     rx_log: Log<(u64, u8, u8)>,
     /// Bytes from the host waiting to go out on each USART, one per byte time.
-    tx: [VecDeque<u8>; 4],
-    next: [u64; 4],
-    irq: [Option<Irq>; 4],
+    tx: [VecDeque<u8>; SERIALS],
+    next: [u64; SERIALS],
+    irq: [Option<Irq>; SERIALS],
     byte_cycles: u64,
 }
 
@@ -38,8 +54,8 @@ impl HostUart {
             log: Log::new(UART_CAP),
             rx_log: Log::new(UART_CAP),
             tx: Default::default(),
-            next: [NEVER; 4],
-            irq: [None; 4],
+            next: [NEVER; SERIALS],
+            irq: [None; SERIALS],
             // 10 bits per byte (8N1) at 9600 baud, as the HC-05 sends them.
             byte_cycles: (clock.hz() as u64 * 10).div_ceil(9600),
         }
@@ -129,8 +145,10 @@ impl HostUart {
 
     /// A notice for each record that reached its cap.
     pub(super) fn notices(&self) -> Vec<String> {
-        let mut v: Vec<String> = (0..4)
-            .filter_map(|n| self.out[n].notice(&format!("record of the bytes from USART{n}")))
+        let mut v: Vec<String> = (0..SERIALS as u8)
+            .filter_map(|n| {
+                self.out[n as usize].notice(&format!("record of the bytes from {}", serial_name(n)))
+            })
             .collect();
         v.extend(self.log.notice("UART log (VCD)"));
         v.extend(self.rx_log.notice("UART receive log (VCD)"));

@@ -229,6 +229,8 @@ impl Target {
             // The names the description gives must be in this ELF: checked
             // now, not when the run reaches them.
             d.resolve(&firmware).map_err(super::bad_input)?;
+            let board = self.board.map_or(Mcu::default(), |b| b.mcu);
+            d.check_usb(board).map_err(super::BadInput)?;
             if let Some(name) = d.control_function(&firmware) {
                 name.map_err(super::bad_input)?;
             }

@@ -6,7 +6,7 @@
 use henrytwo_protocol::Param;
 use plant_model::RobotConfig;
 
-use crate::bench::{Bench, BenchError};
+use crate::bench::{Bench, BenchError, UsbState, USB_SERIAL};
 use crate::firmware::description::Description;
 use crate::firmware::link::{frame, replies, Command};
 use crate::firmware::params::{plan, refusals, Tell};
@@ -85,23 +85,47 @@ pub fn wait_ready(bench: &mut Bench, description: Option<&Description>) -> Resul
             |b| b.is_idle(),
         );
     };
+    refuse_usb_without_usb(bench, d)?;
     match &d.ready.text {
         Some(t) => {
             let text = t.clone();
-            bench.run_expect(
-                &format!(
-                    "{}: the firmware did not send {:?} on USART {} after reset (ready.text)",
-                    d.path,
-                    String::from_utf8_lossy(&text.text),
-                    text.usart
-                ),
-                d.ready.after_s,
-                |b| contains(b.uart_output(text.usart), &text.text),
-            )?;
+            let seen = bench.run_until(d.ready.after_s, |b| {
+                contains(b.uart_output(text.usart), &text.text)
+            })?;
+            if !seen {
+                // On the USB serial, where the host got with the device.
+                return Err(BenchError::Timeout {
+                    what: format!(
+                        "{}: the firmware did not send {:?} on {} after reset (ready.text){}",
+                        d.path,
+                        String::from_utf8_lossy(&text.text),
+                        crate::bench::serial_name(text.usart),
+                        usb_note(bench, text.usart)
+                    ),
+                    robot_s: d.ready.after_s,
+                    at: bench.location(),
+                });
+            }
         }
         None => bench.run_for(d.ready.after_s)?,
     }
     Ok(())
+}
+
+/// A description that names the USB serial, for a board whose MCU has no
+/// USB: refused before the run, in one line.
+pub(crate) fn refuse_usb_without_usb(bench: &Bench, d: &Description) -> Result<(), BenchError> {
+    d.check_usb(bench.board().mcu)
+        .map_err(BenchError::Description)
+}
+
+/// Where the USB host stood, for a finding about text on the USB serial
+/// that never came: "" for any other link.
+pub(crate) fn usb_note(bench: &Bench, usart: u8) -> String {
+    match bench.usb_state() {
+        Some(s) if usart == USB_SERIAL && *s != UsbState::Open => format!("; USB: {s}"),
+        _ => String::new(),
+    }
 }
 
 /// Whether `needle` occurs in `hay`: a text a firmware printed, among its bytes.

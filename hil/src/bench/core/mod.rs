@@ -21,7 +21,8 @@ use crate::bench::recorder::{
 use crate::bench::registers::{ACSR, ACSR_ACIC, ACSR_ACIE};
 use crate::bench::requests::Requests;
 use crate::bench::timers::{Look, SimavrTimers};
-use crate::bench::uart::HostUart;
+use crate::bench::uart::{HostUart, USB_SERIAL};
+use crate::bench::usb::UsbHost;
 use crate::bench::{BenchOptions, NEVER};
 use crate::board::Board;
 use crate::mcu::clock::Clock;
@@ -37,6 +38,8 @@ pub(in crate::bench) const TAG_PORT_REG: u32 = 0x100;
 pub(in crate::bench) const TAG_PORT_DDR: u32 = 0x200;
 pub(in crate::bench) const TAG_LED_PORT: u32 = 3;
 pub(in crate::bench) const TAG_UART_OUT: u32 = 16; // + USART number
+/// The USB controller's attach line.
+pub(in crate::bench) const TAG_USB_ATTACH: u32 = 24;
 
 /// The bench's side of the simulation (see the module docs).
 pub struct BenchCore {
@@ -51,6 +54,8 @@ pub struct BenchCore {
     pub(super) bridge: Bridge,
     pub(super) edges: Encoders,
     pub(super) uart: HostUart,
+    /// The USB host, on an MCU with USB (set up by `setup.rs`).
+    pub(in crate::bench) usb: Option<UsbHost>,
     pub(super) power: Power,
     pub(super) faults: FaultSchedule,
     pub(super) recorder: Recorder,
@@ -93,6 +98,7 @@ impl BenchCore {
             bridge: Bridge::new(*wiring, clock),
             edges: Encoders::new(wiring),
             uart: HostUart::new(wiring.command_uart.usart, clock),
+            usb: None,
             power: Power::new(
                 options.supply,
                 wiring.battery.map_or(0.0, |b| b.divider),
@@ -150,6 +156,7 @@ impl BenchCore {
         self.next_step
             .min(self.bridge.next_top())
             .min(self.uart.next_due())
+            .min(self.usb.as_ref().map_or(NEVER, UsbHost::next_due))
             .min(self.faults.next_due())
             .min(self.edges.next_internal())
     }
@@ -170,6 +177,26 @@ impl BenchCore {
         self.refresh_bridge(core, cycle);
         // The LED pins are inputs again: all dark.
         self.recorder.leds_changed(cycle, 0);
+        // The USB controller is detached again; the cable stays in.
+        if let Some(usb) = &mut self.usb {
+            usb.plug(core);
+        }
+    }
+
+    /// The USB host's actions due at `when`, their bytes recorded as a
+    /// USART's are.
+    fn usb_due(&mut self, core: &mut Core, when: u64) {
+        let Some(usb) = &mut self.usb else { return };
+        if usb.next_due() > when {
+            return;
+        }
+        let traffic = usb.step(core, when);
+        for b in traffic.received {
+            self.uart.received(when, USB_SERIAL as usize, b);
+        }
+        for b in traffic.delivered {
+            self.uart.delivered(when, USB_SERIAL as usize, b);
+        }
     }
 
     /// The reset the run loop is to perform, taken.
@@ -282,6 +309,7 @@ impl Handler for BenchCore {
         self.apply_due_actions(core, when);
         self.apply_due_glitches(core, when);
         self.send_due_host_bytes(core, when);
+        self.usb_due(core, when);
         self.raise_encoders(core, when);
         self.plant_step(core, when);
         self.update_supply(core, when);
@@ -309,6 +337,12 @@ impl Handler for BenchCore {
                     .set_ddr((t - TAG_PORT_DDR) as usize, value as u8);
                 self.refresh_bridge(core, core.cycle());
                 core.schedule(self.next_event());
+            }
+            TAG_USB_ATTACH => {
+                if let Some(usb) = &mut self.usb {
+                    usb.attach(core.cycle(), value != 0, self.clock);
+                    core.schedule(self.next_event());
+                }
             }
             t if (TAG_UART_OUT..TAG_UART_OUT + 4).contains(&t) => {
                 let n = (t - TAG_UART_OUT) as usize;

@@ -2,6 +2,8 @@
 //! records, counters and the fault schedule.
 
 use super::*;
+use crate::bench::uart::USB_SERIAL;
+use crate::bench::usb::UsbState;
 
 /// What the parts hold, for the bench and its callers.
 impl BenchCore {
@@ -170,9 +172,22 @@ impl BenchCore {
         self.faults.applied()
     }
 
-    /// Queue bytes from the host for USART `n`.
+    /// Queue bytes from the host for USART `n` (or the USB serial).
     pub(crate) fn queue_uart(&mut self, n: usize, bytes: &[u8], now: u64) {
-        self.uart.queue(n, bytes, now);
+        match &mut self.usb {
+            Some(usb) if n == USB_SERIAL as usize => usb.queue(bytes),
+            _ => self.uart.queue(n, bytes, now),
+        }
+    }
+
+    /// Where the USB host is; None without USB.
+    pub(crate) fn usb_state(&self) -> Option<&UsbState> {
+        self.usb.as_ref().map(|u| u.state())
+    }
+
+    /// The USB host's moments: (cycle, what).
+    pub(crate) fn usb_events(&self) -> &[(u64, &'static str)] {
+        self.usb.as_ref().map_or(&[], |u| u.events())
     }
 
     /// Bytes the firmware sent on USART `n` so far.

@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use thiserror::Error;
 
-use super::{DescribedTest, Description, End, Ready, Shape, Start, Symbols, TestName, UartText};
+use super::{
+    DescribedTest, Description, End, Ready, Shape, Start, Symbols, TestName, UartText, USB_SERIAL,
+};
 use crate::board::{pin_named, Mcu};
 
 #[derive(Debug, Error)]
@@ -51,11 +53,29 @@ struct FirmwareDoc {
     elf: Option<PathBuf>,
 }
 
+/// A serial link as a description names it: a USART's number, or "usb"
+/// for the MCU's USB serial.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+enum UartDoc {
+    Usart(i64),
+    Name(String),
+}
+
+impl std::fmt::Display for UartDoc {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            UartDoc::Usart(n) => write!(f, "{n}"),
+            UartDoc::Name(s) => write!(f, "{s:?}"),
+        }
+    }
+}
+
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ReadyDoc {
     after_s: Option<f64>,
-    uart: Option<u8>,
+    uart: Option<UartDoc>,
     text: Option<String>,
 }
 
@@ -71,14 +91,14 @@ struct LegDoc {
 struct EndDoc {
     idle_s: Option<f64>,
     limit_s: Option<f64>,
-    uart: Option<u8>,
+    uart: Option<UartDoc>,
     text: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct StartDoc {
-    uart: Option<u8>,
+    uart: Option<UartDoc>,
     bytes: Option<Vec<u8>>,
     text: Option<String>,
     pin: Option<String>,
@@ -141,11 +161,17 @@ impl Checker<'_> {
         }
     }
 
-    fn usart(&self, field: &str, n: u8) -> Result<u8, DescriptionError> {
-        if n <= 3 {
-            Ok(n)
-        } else {
-            Err(self.field(field, n, "the ATmega2560 has USART 0-3"))
+    /// The serial channel: USART 0-3 (the board's MCU may have fewer,
+    /// checked at the run), or "usb", the USB serial ([`USB_SERIAL`]).
+    fn usart(&self, field: &str, u: &UartDoc) -> Result<u8, DescriptionError> {
+        match u {
+            UartDoc::Usart(n @ 0..=3) => Ok(*n as u8),
+            UartDoc::Name(s) if s == "usb" => Ok(USB_SERIAL),
+            _ => Err(self.field(
+                field,
+                u,
+                "give a USART, 0-3, or \"usb\" (the USB serial of an MCU with USB)",
+            )),
         }
     }
 
@@ -159,7 +185,7 @@ impl Checker<'_> {
     fn uart_text(
         &self,
         section: &str,
-        uart: Option<u8>,
+        uart: &Option<UartDoc>,
         text: &Option<String>,
     ) -> Result<Option<UartText>, DescriptionError> {
         match (uart, text) {
@@ -176,7 +202,7 @@ impl Checker<'_> {
             (None, Some(t)) => Err(self.field(
                 &format!("{section}.text"),
                 format!("{t:?}"),
-                "give the USART it comes on too (uart = 0-3)",
+                "give the link it comes on too (uart = 0-3 or \"usb\")",
             )),
         }
     }
@@ -193,7 +219,7 @@ impl Checker<'_> {
                 .limit_s
                 .map(|s| self.seconds(&format!("{section}.limit_s"), s, 1.0, 3600.0))
                 .transpose()?,
-            text: self.uart_text(section, d.uart, &d.text)?,
+            text: self.uart_text(section, &d.uart, &d.text)?,
         })
     }
 
@@ -262,7 +288,7 @@ impl Checker<'_> {
 
     fn start(&self, name: &str, d: &StartDoc) -> Result<Start, DescriptionError> {
         let f = |k: &str| format!("tests.{name}.{k}");
-        match (d.uart, &d.pin) {
+        match (&d.uart, &d.pin) {
             (Some(u), None) => {
                 let usart = self.usart(&f("uart"), u)?;
                 let bytes = match (&d.bytes, &d.text) {
@@ -322,7 +348,7 @@ impl Checker<'_> {
             _ => Err(self.field(
                 &format!("tests.{name}"),
                 "...",
-                "say how the test starts: uart = 0-3 with bytes or text, or pin with level",
+                "say how the test starts: uart = 0-3 or \"usb\" with bytes or text, or pin with level",
             )),
         }
     }
@@ -346,7 +372,7 @@ pub(super) fn parse(text: &str, path: &str, dir: &Path) -> Result<Description, D
             0.0,
             60.0,
         )?,
-        text: c.uart_text("ready", doc.ready.uart, &doc.ready.text)?,
+        text: c.uart_text("ready", &doc.ready.uart, &doc.ready.text)?,
     };
     let leg_mm = match (doc.leg.mm, &doc.leg.variable) {
         (Some(mm), None) => {

@@ -91,9 +91,14 @@ pub struct End {
     pub text: Option<UartText>,
 }
 
-/// Bytes on a USART.
+/// The serial channel number of the MCU's USB serial (`uart = "usb"`), after
+/// USART 0-3.
+pub const USB_SERIAL: u8 = 4;
+
+/// Bytes on a serial link.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UartText {
+    /// USART 0-3, or [`USB_SERIAL`].
     pub usart: u8,
     pub text: Vec<u8>,
 }
@@ -101,7 +106,7 @@ pub struct UartText {
 /// How a test starts.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Start {
-    /// The host sends `bytes` to USART `usart`.
+    /// The host sends `bytes` to USART `usart` (or the USB serial, [`USB_SERIAL`]).
     Uart { usart: u8, bytes: Vec<u8> },
     /// The bench holds `pin` at a level (a button, a jumper) from the start
     /// to the end of the test: its name (`"D30"`, `"PE2"`), a pin of the
@@ -157,6 +162,45 @@ impl Description {
                 allowed: format!("describes no {} test", test.name()),
             }
         })
+    }
+
+    /// The first field that names the USB serial (`"ready.uart"`), if any:
+    /// a run on an MCU without USB refuses the description naming it.
+    pub fn usb_field(&self) -> Option<String> {
+        let on_usb = |t: &Option<UartText>| t.as_ref().is_some_and(|t| t.usart == USB_SERIAL);
+        if on_usb(&self.ready.text) {
+            return Some("ready.uart".into());
+        }
+        if on_usb(&self.end.text) {
+            return Some("end.uart".into());
+        }
+        self.tests
+            .iter()
+            .find_map(|(name, t)| match (&t.start, &t.end) {
+                (Start::Uart { usart, .. }, _) if *usart == USB_SERIAL => {
+                    Some(format!("tests.{name}.uart"))
+                }
+                (_, Some(e)) if on_usb(&e.text) => Some(format!("tests.{name}.end.uart")),
+                _ => None,
+            })
+    }
+
+    /// Refuses a description that names the USB serial for an MCU without
+    /// USB, in one line naming the field and the MCU's USARTs.
+    pub fn check_usb(&self, mcu: crate::board::Mcu) -> Result<(), String> {
+        match self.usb_field() {
+            Some(field) if mcu.chip().usb.is_none() => Err(format!(
+                "{}: {field} = \"usb\": the board's {mcu} has no USB; give one of its USARTs ({})",
+                self.path,
+                mcu.chip()
+                    .usarts
+                    .iter()
+                    .map(|u| u.n.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            _ => Ok(()),
+        }
     }
 
     /// How `test` starts, or why it cannot run.

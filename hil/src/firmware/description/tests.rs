@@ -68,7 +68,12 @@ fn a_full_description_reads_as_written() {
 #[case(
     "uart = 1\nbytes = [2]",
     "uart = 7\nbytes = [2]",
-    "tests.umbmark-cw.uart = 7: the ATmega2560 has USART 0-3"
+    "tests.umbmark-cw.uart = 7: give a USART, 0-3, or \"usb\" (the USB serial of an MCU with USB)"
+)]
+#[case(
+    "uart = 1\nbytes = [2]",
+    "uart = \"usb1\"\nbytes = [2]",
+    "tests.umbmark-cw.uart = \"usb1\": give a USART, 0-3, or \"usb\""
 )]
 #[case(
     "uart = 1\nbytes = [2]",

@@ -169,4 +169,5 @@ pub static ATMEGA2560: Chip = Chip {
         Layout::TIMER5,
     ],
     unemulated_timers: &[],
+    usb: None,
 };

@@ -96,4 +96,5 @@ pub static ATMEGA328P: Chip = Chip {
     ],
     timers: &[Layout::TIMER0, Layout::TIMER1_AB, Layout::TIMER2],
     unemulated_timers: &[],
+    usb: None,
 };

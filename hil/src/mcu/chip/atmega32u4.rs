@@ -4,7 +4,7 @@
 //! Port Functions"), vectors (table 9-1), ports and timers (register
 //! summary). Its 10-bit high-speed timer 4 is not emulated.
 
-use super::{AnalogPins, Chip, ExtInt, Mcu, PcintGroup, Port, PwmSource, Usart};
+use super::{AnalogPins, Chip, ExtInt, Mcu, PcintGroup, Port, PwmSource, Usart, UsbDevice};
 use crate::mcu::pwm::layout::Layout;
 
 const fn oc(timer: u8, channel: char) -> PwmSource {
@@ -104,4 +104,6 @@ pub static ATMEGA32U4: Chip = Chip {
         4,
         "the atmega32u4's timer 4 (10-bit, high speed) is not emulated (simavr lacks it too)",
     )],
+    // USBCON at 0xD8 (datasheet 21.13, avr-libc's iom32u4.h); USB_GEN is vector 10.
+    usb: Some(UsbDevice { usbcon: 0xD8, general_vector: 10 }),
 };

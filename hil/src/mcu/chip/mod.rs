@@ -197,6 +197,18 @@ pub struct Chip {
     pub timers: &'static [Layout],
     /// Timers the MCU has and the bench does not emulate, with why.
     pub unemulated_timers: &'static [(u8, &'static str)],
+    /// Its USB device controller, if it has one.
+    pub usb: Option<UsbDevice>,
+}
+
+/// A USB device controller (the 32U4's): where its registers start and
+/// its general interrupt (the start of frame's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UsbDevice {
+    /// USBCON's data-space address; the others follow at fixed offsets.
+    pub usbcon: u16,
+    /// USB_GEN's vector.
+    pub general_vector: u8,
 }
 
 impl Chip {

@@ -128,7 +128,7 @@ impl<H: Handler> Avr<H> {
         Ok((input, output))
     }
 
-    fn own(&self, irq: *mut ffi::avr_irq_t) -> Option<Irq> {
+    pub(super) fn own(&self, irq: *mut ffi::avr_irq_t) -> Option<Irq> {
         NonNull::new(irq).map(|raw| Irq {
             raw,
             owner: self.owner(),

@@ -70,6 +70,9 @@
 //!   which add the response's cycles, and their installation;
 //! - `trampolines.rs`: the `extern "C"` callbacks and the timer
 //!   registration;
+//! - `usb.rs`: the USB controller's ioctls, its vector's raise, the
+//!   look-up of its IRQ and vector, and the side-effect-free look at an
+//!   endpoint through simavr's read handlers;
 //! - `owner.rs`, `tests.rs`: none.
 
 use std::ffi::{c_void, CString};
@@ -89,10 +92,12 @@ pub(crate) mod sys;
 #[cfg(test)]
 mod tests;
 mod trampolines;
+mod usb;
 mod view;
 
 pub use irq::Irq;
 pub use pins::DrivenPin;
+pub use usb::{EndpointState, UsbAnswer, UsbPort};
 pub use view::Core;
 
 use mcu::{decode_state, io_slot, Mcu};
@@ -128,6 +133,8 @@ pub enum SimError {
     NoSuchPin(char, u8),
     #[error("the MCU has no USART{0}")]
     NoSuchUart(u8),
+    #[error("the MCU has no USB device controller")]
+    NoUsb,
     #[error("IO address 0x{0:04x} is outside simavr's IO table")]
     IoOutOfRange(u16),
 }

@@ -55,6 +55,16 @@ impl Core {
         }
     }
 
+    /// The MCU, for the other views of this module (`usb.rs`).
+    pub(super) fn avr_ptr(&self) -> NonNull<ffi::avr_t> {
+        self.avr
+    }
+
+    /// Whose MCU this is, to check what a caller brings belongs to it.
+    pub(super) fn owner(&self) -> Owner {
+        self.owner
+    }
+
     /// The current emulated cycle.
     pub fn cycle(&self) -> u64 {
         // SAFETY: `avr` is live for as long as `self` (see `new`); reading a

@@ -5,10 +5,12 @@
 use plant_model::{RobotConfig, Seconds};
 
 use super::{analyse, limit_s, Shape, ShapeRule, TestName, TestOptions, TestRun};
-use crate::bench::{Bench, BenchError, Motion, Observer};
+use crate::bench::{
+    serial_name, Bench, BenchError, Motion, Observer, SERIALS, USB_FRAME_S, USB_SERIAL,
+};
 use crate::firmware::description::{Description, DescriptionError, End, Start};
 use crate::firmware::elf::Firmware;
-use crate::runs::start::contains;
+use crate::runs::start::{contains, refuse_usb_without_usb, usb_note};
 
 impl From<DescriptionError> for BenchError {
     fn from(e: DescriptionError) -> Self {
@@ -25,14 +27,14 @@ fn driven(m: Motion) -> bool {
 #[derive(Clone, Copy)]
 pub(crate) struct Mark {
     motions: usize,
-    uart: [usize; 4],
+    uart: [usize; SERIALS],
 }
 
 impl Mark {
     pub(crate) fn now(b: &Bench) -> Self {
         Mark {
             motions: b.core().motions().len(),
-            uart: [0, 1, 2, 3].map(|n| b.uart_output(n).len()),
+            uart: std::array::from_fn(|n| b.uart_output(n as u8).len()),
         }
     }
 }
@@ -42,6 +44,12 @@ impl Mark {
 /// wire), 10 bits a byte.
 fn wire_cycles(bench: &Bench, text: Option<&crate::firmware::description::UartText>) -> u64 {
     let Some(t) = text else { return 0 };
+    if t.usart == USB_SERIAL {
+        // A packet a frame: written a frame before the host read it, at most.
+        return bench
+            .clock()
+            .cycles_in(Seconds(USB_FRAME_S * t.text.len().div_ceil(64) as f64));
+    }
     let baud = bench
         .board()
         .uarts()
@@ -100,6 +108,7 @@ pub(crate) fn run_described_on(
     observer: Option<Box<dyn Observer>>,
 ) -> Result<TestRun, BenchError> {
     let described = d.test(test.clone())?;
+    refuse_usb_without_usb(bench, d)?;
     let start = described.start.clone();
     // Its own end, else the description's: one end for every test stopped
     // a square at a text its other test prints midway.
@@ -206,8 +215,11 @@ pub(crate) fn run_described_on(
         )),
         None => (!completed).then(|| {
             format!(
-                "did not end ({}) within {limit:.0} s of robot time; the firmware is {}",
+                "did not end ({}{}) within {limit:.0} s of robot time; the firmware is {}",
                 end_rule(&end),
+                end.text
+                    .as_ref()
+                    .map_or(String::new(), |t| usb_note(bench, t.usart)),
                 bench.location()
             )
         }),
@@ -230,9 +242,9 @@ pub(crate) fn run_described_on(
 fn end_rule(end: &End) -> String {
     match &end.text {
         Some(t) => format!(
-            "no {:?} on USART {}",
+            "no {:?} on {}",
             String::from_utf8_lossy(&t.text),
-            t.usart
+            serial_name(t.usart)
         ),
         None => format!("the motors never idle for {} s after driving", end.idle_s),
     }

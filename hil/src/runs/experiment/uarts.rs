@@ -1,10 +1,12 @@
 //! What the firmware sent on each USART over a run, from reset to the end,
 //! named as the board names its links: a sketch's `Serial` prints (USART0,
-//! the board's `debug_uart`) as much as the command link's replies.
+//! the board's `debug_uart`) as much as the command link's replies. On an
+//! MCU with USB, its USB serial (the Leonardo core's `Serial`) too, named
+//! `usb_serial`.
 
 use std::fmt::Write;
 
-use crate::bench::Bench;
+use crate::bench::{Bench, USB_SERIAL};
 
 /// The ATmega2560's USARTs: 0-3.
 const USARTS: u8 = 4;
@@ -13,8 +15,10 @@ const USARTS: u8 = 4;
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct UartOutput {
     /// The board's name for the link on it (`debug_uart`, `command_uart`),
-    /// or `usartN` for one the board does not wire that the firmware used.
+    /// `usartN` for one the board does not wire that the firmware used, or
+    /// `usb_serial`.
     pub name: String,
+    /// The USART's number; 4 for the USB serial.
     pub usart: u8,
     /// The board's baud rate for it; None for a USART the board does not wire.
     pub baud: Option<u32>,
@@ -27,6 +31,13 @@ pub struct UartOutput {
 /// on or not), then any other USART the firmware sent on.
 pub(crate) fn outputs(bench: &Bench) -> Vec<UartOutput> {
     let links = bench.board().uarts();
+    let usb = bench.board().mcu.chip().usb.map(|_| UartOutput {
+        name: "usb_serial".into(),
+        usart: USB_SERIAL,
+        baud: None,
+        text: String::from_utf8_lossy(bench.uart_output(USB_SERIAL)).into_owned(),
+        bytes: bench.uart_output(USB_SERIAL).to_vec(),
+    });
     (0..USARTS)
         .filter_map(|n| {
             let link = links.iter().find(|(_, u)| u.usart == n);
@@ -42,6 +53,7 @@ pub(crate) fn outputs(bench: &Bench) -> Vec<UartOutput> {
                 bytes: bytes.to_vec(),
             })
         })
+        .chain(usb)
         .collect()
 }
 
@@ -60,9 +72,11 @@ impl UartOutput {
 pub fn render(outputs: &[UartOutput], indent: &str) -> String {
     let mut s = String::new();
     for u in outputs {
-        let baud = u
-            .baud
-            .map_or_else(|| "not on the board".into(), |b| format!("{b} baud"));
+        let link = match u.baud {
+            _ if u.usart == USB_SERIAL => "USB CDC".to_string(),
+            Some(b) => format!("USART{}, {b} baud", u.usart),
+            None => format!("USART{}, not on the board", u.usart),
+        };
         let kind = match (u.bytes.is_empty(), u.is_text()) {
             (true, _) => "",
             (false, true) => ", text:",
@@ -70,9 +84,8 @@ pub fn render(outputs: &[UartOutput], indent: &str) -> String {
         };
         let _ = writeln!(
             s,
-            "{indent}{} (USART{}, {baud}): {} bytes{kind}",
+            "{indent}{} ({link}): {} bytes{kind}",
             u.name,
-            u.usart,
             u.bytes.len()
         );
         if u.bytes.is_empty() {
