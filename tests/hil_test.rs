@@ -100,11 +100,11 @@ assert props["seed"] == "0" and props["firmware"] == "robust", props
 failed = [c for c in cases if c.find("failure") is not None]
 assert len(failed) == 1
 assert "600" in failed[0].find("failure").get("message")
-# time is wall seconds: far below the robot seconds of its property (the
-# bench runs many times real time).
+# time is wall seconds, as JUnit's readers take it (never the robot seconds, which
+# are a property of their own); how many depends on the machine, not checked here.
 suite = [s for s in root.findall("testsuite") if s.find("testcase/failure") is not None][0]
-robot = float({p.get("name"): p.get("value") for p in suite.findall("properties/property")}["robot_time_s"])
-assert robot > 1.0 and float(failed[0].get("time")) < robot / 2, (robot, failed[0].get("time"))
+robot = {p.get("name"): p.get("value") for p in suite.findall("properties/property")}["robot_time_s"]
+assert float(robot) > 1.0 and float(failed[0].get("time")) >= 0.0 and abs(float(failed[0].get("time")) - float(robot)) > 1e-3, (robot, failed[0].get("time"))
 # GitLab's attachment form, relative to the report.
 out = failed[0].find("system-out").text.splitlines()
 assert "[[ATTACHMENT|report-artifacts/dropout-line-length.vcd]]" in out, out
@@ -242,7 +242,7 @@ for path, failures in ((sys.argv[1], 0), (sys.argv[2], 1)):
     assert case.get("name") == "encoder-dropout" and case.get("classname") == "hil.faults"
     props = {p.get("name"): p.get("value") for p in root.findall("testsuite/properties/property")}
     assert float(props["robot_time_s"]) > 3.0, props
-    assert float(case.get("time")) < float(props["robot_time_s"]), "time is wall seconds"
+    assert float(case.get("time")) >= 0.0 and abs(float(case.get("time")) - float(props["robot_time_s"])) > 1e-3, "time is wall seconds"
     failure = case.find("failure")
     if failures:
         assert props["firmware"] == "thesis", props

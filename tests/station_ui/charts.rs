@@ -82,7 +82,7 @@ pub async fn data<T: serde::de::DeserializeOwned>(e: &Element, name: &str) -> T 
 
 /// Wait until `css` matches `n` elements, for up to `secs` seconds.
 pub async fn wait_count(c: &Client, css: &str, n: usize, secs: u64) -> Vec<Element> {
-    let until = Instant::now() + Duration::from_secs(secs);
+    let until = Instant::now() + Duration::from_secs(secs * super::SLACK);
     loop {
         let found = c.find_all(Locator::Css(css)).await.unwrap();
         if found.len() == n {

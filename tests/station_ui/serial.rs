@@ -30,7 +30,7 @@ async fn the_page_drives_a_robot_on_a_serial_port() {
     c.goto(&url).await.unwrap();
     // --port preselects the device.
     c.wait()
-        .at_most(Duration::from_secs(10))
+        .at_most(Duration::from_secs(10 * super::SLACK))
         .for_element(Locator::Css("#robot-select option"))
         .await
         .unwrap();
