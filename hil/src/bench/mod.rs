@@ -103,6 +103,11 @@ pub struct BenchOptions {
     /// one instruction at a time as it does by default. The results are the
     /// same to the cycle and the bit (tests/free_run.rs); free is faster.
     pub free_run: bool,
+    /// On an MCU with USB, the bench's USB host is on the cable (VBUS,
+    /// enumeration, start of frame every millisecond). Off, the cable is
+    /// out, as on a robot driving on the floor: the firmware's USB
+    /// interrupts never run.
+    pub usb_cable: bool,
 }
 
 impl Default for BenchOptions {
@@ -118,6 +123,7 @@ impl Default for BenchOptions {
             board: Board::default(),
             supply: Supply::default(),
             free_run: true,
+            usb_cable: true,
         }
     }
 }

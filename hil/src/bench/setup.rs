@@ -94,8 +94,9 @@ pub(super) fn build(
         avr.watch_irq(output, TAG_UART_OUT + n as u32);
         avr.handler_mut().uart.connect(n, input);
     }
-    // An MCU with USB has the bench's USB host on its port, the cable in.
-    if let Some(usb) = wiring.mcu.chip().usb {
+    // An MCU with USB has the bench's USB host on its port, the cable in
+    // unless the options take it out.
+    if let Some(usb) = wiring.mcu.chip().usb.filter(|_| options.usb_cable) {
         let port = avr.usb(usb.usbcon, usb.general_vector)?;
         avr.watch_irq(port.attach_irq(), TAG_USB_ATTACH);
         avr.handler_mut().usb = Some(UsbHost::new(port, options.clock));

@@ -70,7 +70,12 @@ impl Timing {
             )
             .map_err(super::bad_input)?;
         let probe = TimingProbe::new(&firmware, function.as_deref(), period, &opts.bench.board)
-            .map_err(|e| super::bad_input(anyhow::anyhow!("--function {function:?}: {e}")))?;
+            .map_err(|e| {
+                super::bad_input(match function.as_deref() {
+                    Some(f) => anyhow::anyhow!("--function {f:?}: {e}"),
+                    None => anyhow::anyhow!("{e}"),
+                })
+            })?;
         let (run, observer) = run_test_observed(
             firmware.clone(),
             &robot,

@@ -93,7 +93,15 @@ pub(crate) fn run_described(
     d: &Description,
     observer: Option<Box<dyn Observer>>,
 ) -> Result<(TestRun, Option<Box<dyn Observer>>), BenchError> {
-    let mut bench = Bench::new(firmware, robot, opts.bench)?;
+    // The USB cable is in only for a test that talks over it: a robot
+    // driving its test is not tethered, and the host's frames and a
+    // control transfer's waits inside the firmware's USB interrupt would
+    // change its timing.
+    let options = crate::bench::BenchOptions {
+        usb_cable: d.usb_field().is_some(),
+        ..opts.bench
+    };
+    let mut bench = Bench::new(firmware, robot, options)?;
     let run = run_described_on(&mut bench, test, opts, d, observer)?;
     Ok((run, bench.take_observer()))
 }
