@@ -34,8 +34,7 @@ use charts::{axis, data, legend, legend_overflow, wait_count};
 use fantoccini::{Client, ClientBuilder, Locator};
 
 /// How many times longer than on a quiet machine a wait may take: the waits are liveness
-/// deadlines (a page that never updates fails), not timings, and this binary shares the
-/// cores with the bench runs of other tests.
+/// deadlines, not timings, and this binary shares the cores with other tests' bench runs.
 const SLACK: u64 = 6;
 
 /// Kills a child process when the test ends, passed or not.
