@@ -456,6 +456,58 @@ fn hil_timing_measures_the_uno_robots_latency() {
     assert_eq!(row["pass"], true);
 }
 
+/// `hil timing --tests` on the Romi's own sketch, on its ATmega32U4: the
+/// xor lines' INT6 (right) and PCINT0 (left, PB4) named in the latency row,
+/// each run once per edge of either channel (the leg's and the spin's, the
+/// same number on both wheels), the shortest latency the 32U4's response
+/// (4 cycles: 0.25 us), every budget held (exit 0).
+#[test]
+fn hil_timing_measures_the_romis_int6_and_pcint0_latency() {
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args(["timing", "--tests", "fixtures/arduino/romi-32u4/tests.toml"])
+        .args(["--board", "fixtures/boards/romi-32u4.toml"])
+        .args(["--robot", "fixtures/robots/romi-32u4.toml"])
+        .args([
+            "--budgets",
+            "fixtures/arduino/romi-32u4/timing-budgets.toml",
+        ])
+        .arg("--json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["report"]["mcu"], "atmega32u4");
+    let row = v["budgets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["what"] == "encoder edge to handler (PCINT0, INT6), longest")
+        .expect("the latency row names both vectors");
+    assert!(row["measured"].as_f64().unwrap() > 0.0, "{row}");
+    assert_eq!(row["pass"], true);
+    let isr = |name: &str| {
+        v["report"]["isrs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|i| i["name"] == name)
+            .unwrap_or_else(|| panic!("{name} not measured: {}", v["report"]["isrs"]))
+            .clone()
+    };
+    let (right, left) = (isr("INT6"), isr("PCINT0"));
+    for i in [&right, &left] {
+        assert_eq!(i["latency"]["count"], i["duration"]["count"], "{i}");
+        assert_eq!(i["latency"]["min"], 4, "{i}");
+    }
+    assert!(
+        right["duration"]["count"].as_u64().unwrap() > 7000,
+        "{right}"
+    );
+    assert_eq!(right["duration"]["count"], left["duration"]["count"]);
+}
+
 /// Budgets for a control function, given for a sketch that names none:
 /// one line saying so, exit 2, before anything runs.
 #[test]
