@@ -429,14 +429,25 @@ fn a_pin_change_interrupts_latency_is_measured_on_the_uno() {
 /// measured, every budget held (exit 0).
 #[test]
 fn hil_timing_measures_the_uno_robots_latency() {
+    let v = hil_timing_of("uno-l298n", "atmega328p", "INT0, INT1");
+    assert_eq!(v["test"], "leg-and-spin");
+}
+
+/// `hil timing --json` of the example robot `name`'s sketch (its tests, board, robot and
+/// budgets files) on `mcu`: exit 0, the latency row naming `vectors`, measured and held.
+fn hil_timing_of(name: &str, mcu: &str, vectors: &str) -> serde_json::Value {
     let out = Command::new(env!("CARGO_BIN_EXE_hil"))
         .current_dir(hil::paths::workspace_root())
-        .args(["timing", "--tests", "fixtures/arduino/uno-l298n/tests.toml"])
-        .args(["--board", "fixtures/boards/uno-l298n.toml"])
-        .args(["--robot", "fixtures/robots/uno-l298n.toml"])
+        .args([
+            "timing",
+            "--tests",
+            &format!("fixtures/arduino/{name}/tests.toml"),
+        ])
+        .args(["--board", &format!("fixtures/boards/{name}.toml")])
+        .args(["--robot", &format!("fixtures/robots/{name}.toml")])
         .args([
             "--budgets",
-            "fixtures/arduino/uno-l298n/timing-budgets.toml",
+            &format!("fixtures/arduino/{name}/timing-budgets.toml"),
         ])
         .arg("--json")
         .output()
@@ -444,16 +455,17 @@ fn hil_timing_measures_the_uno_robots_latency() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["test"], "leg-and-spin");
-    assert_eq!(v["report"]["mcu"], "atmega328p");
+    assert_eq!(v["report"]["mcu"], mcu);
+    let what = format!("encoder edge to handler ({vectors}), longest");
     let row = v["budgets"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|r| r["what"] == "encoder edge to handler (INT0, INT1), longest")
+        .find(|r| r["what"] == what.as_str())
         .expect("the latency row names both vectors");
     assert!(row["measured"].as_f64().unwrap() > 0.0, "{row}");
     assert_eq!(row["pass"], true);
+    v
 }
 
 /// `hil timing --tests` on the Romi's own sketch, on its ATmega32U4: the
@@ -463,30 +475,7 @@ fn hil_timing_measures_the_uno_robots_latency() {
 /// (4 cycles: 0.25 us), every budget held (exit 0).
 #[test]
 fn hil_timing_measures_the_romis_int6_and_pcint0_latency() {
-    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
-        .current_dir(hil::paths::workspace_root())
-        .args(["timing", "--tests", "fixtures/arduino/romi-32u4/tests.toml"])
-        .args(["--board", "fixtures/boards/romi-32u4.toml"])
-        .args(["--robot", "fixtures/robots/romi-32u4.toml"])
-        .args([
-            "--budgets",
-            "fixtures/arduino/romi-32u4/timing-budgets.toml",
-        ])
-        .arg("--json")
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{stderr}");
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["report"]["mcu"], "atmega32u4");
-    let row = v["budgets"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|r| r["what"] == "encoder edge to handler (PCINT0, INT6), longest")
-        .expect("the latency row names both vectors");
-    assert!(row["measured"].as_f64().unwrap() > 0.0, "{row}");
-    assert_eq!(row["pass"], true);
+    let v = hil_timing_of("romi-32u4", "atmega32u4", "PCINT0, INT6");
     let isr = |name: &str| {
         v["report"]["isrs"]
             .as_array()

@@ -8,18 +8,14 @@ use super::*;
 
 const UNO_TESTS: &str = "fixtures/arduino/uno-l298n/tests.toml";
 
-/// The Uno robot drives its 1 m leg and its quarter spin to the left from
-/// its own sketch: the ATmega328P's timer 0 fast PWM on the L298N's enables
-/// (D5/D6), INPUT_PULLUP encoders on INT0/INT1 on the port the sketch writes
-/// every period, its one USART carrying both the start byte and the counts.
-/// The leg is within 5 % of 1 m, the spin within 15 degrees of 90, and the
-/// counts the sketch prints once at rest are the plant's edges then.
-#[test]
-fn the_uno_robot_drives_its_leg_and_spin_counting_every_edge() {
+/// `leg-and-spin` of the example robot `name` (its sketch's tests, its board and robot
+/// files), checked for its shape: completed, one leg within 5 % of 1 m, one spin within
+/// 15 degrees of 90.
+fn leg_and_spin(tests: &str, name: &str) -> TestRun {
     let r = run_on_board(
-        UNO_TESTS,
-        "fixtures/boards/uno-l298n.toml",
-        &support::robot("uno-l298n"),
+        tests,
+        &format!("fixtures/boards/{name}.toml"),
+        &support::robot(name),
         TestName::parse("leg-and-spin").unwrap(),
     );
     assert!(r.completed, "{:?}", r.finding);
@@ -34,6 +30,18 @@ fn the_uno_robot_drives_its_leg_and_spin_counting_every_edge() {
     assert!((leg - 1000.0).abs() <= 50.0, "leg {leg} mm");
     let spin = r.turns[0].plant_angle_deg;
     assert!((spin - 90.0).abs() <= 15.0, "spin {spin} deg");
+    r
+}
+
+/// The Uno robot drives its 1 m leg and its quarter spin to the left from
+/// its own sketch: the ATmega328P's timer 0 fast PWM on the L298N's enables
+/// (D5/D6), INPUT_PULLUP encoders on INT0/INT1 on the port the sketch writes
+/// every period, its one USART carrying both the start byte and the counts.
+/// The leg is within 5 % of 1 m, the spin within 15 degrees of 90, and the
+/// counts the sketch prints once at rest are the plant's edges then.
+#[test]
+fn the_uno_robot_drives_its_leg_and_spin_counting_every_edge() {
+    let r = leg_and_spin(UNO_TESTS, "uno-l298n");
     // The right encoder is mirrored (its B leads A driving forward): the
     // plant counts its edges down, the sketch's decoding up.
     let at = |cycle| {
@@ -61,24 +69,7 @@ const ROMI_TESTS: &str = "fixtures/arduino/romi-32u4/tests.toml";
 /// are the plant's edges of both channels then.
 #[test]
 fn the_romi_drives_its_leg_and_spin_counting_every_edge() {
-    let r = run_on_board(
-        ROMI_TESTS,
-        "fixtures/boards/romi-32u4.toml",
-        &support::robot("romi-32u4"),
-        TestName::parse("leg-and-spin").unwrap(),
-    );
-    assert!(r.completed, "{:?}", r.finding);
-    assert_eq!(
-        (r.legs.len(), r.turns.len()),
-        (1, 1),
-        "{:?} {:?}",
-        r.legs,
-        r.turns
-    );
-    let leg = r.legs[0].plant_distance_mm;
-    assert!((leg - 1000.0).abs() <= 50.0, "leg {leg} mm");
-    let spin = r.turns[0].plant_angle_deg;
-    assert!((spin - 90.0).abs() <= 15.0, "spin {spin} deg");
+    let r = leg_and_spin(ROMI_TESTS, "romi-32u4");
     let (after_leg, done) = (
         printed_counts_on(&r, 1, "leg"),
         printed_counts_on(&r, 1, "spin"),
