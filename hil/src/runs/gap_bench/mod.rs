@@ -47,12 +47,12 @@ pub use batch::Batched;
 pub use params::{apply, bench_parameters};
 pub use select::{
     choose, diagnose_bench, fit_candidates, fit_effects_jointly, fit_nominal, kinematic_shortlist,
-    BenchCandidate, BenchDiagnosis, ChosenValue, FitPlan, FittedCandidate, JointFit, NominalFit,
-    SelectOptions, Surrogate,
+    third_starts, training_score, BenchCandidate, BenchDiagnosis, ChosenValue, FitPlan,
+    FittedCandidate, JointFit, NominalFit, SelectOptions, Surrogate,
 };
 pub use selftest::{
     bench_self_test, bench_self_test_of, self_test_split, BenchCase, BenchSelfTest, DEFAULT_CASES,
-    HELDOUT_CUT_PCT, RUNS_PER_GROUP, TWO_EFFECT_CASES, VALUE_WITHIN_PCT,
+    HELDOUT_CUT_PCT, RUNS_PER_GROUP, THREE_EFFECT_CASE, TWO_EFFECT_CASES, VALUE_WITHIN_PCT,
 };
 pub use series::{
     series_chi2, series_chi2_of_runs, series_noise, SegmentFit, SeriesNoise, SeriesRun,

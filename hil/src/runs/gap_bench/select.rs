@@ -57,6 +57,7 @@ mod render;
 mod search;
 mod telemetry;
 pub use choose::choose;
+pub use forward::third_starts;
 pub use joint::JointFit;
 use search::{grid, Search};
 use telemetry::{scores_series, series_total};

@@ -62,6 +62,15 @@ pub const TWO_EFFECT_CASES: [[(&str, f64); 2]; 2] = [
     ],
 ];
 
+/// The self-test's case with three hidden effects at once: Borenstein's pair (the first of
+/// [`TWO_EFFECT_CASES`]) and coasting, which changes UMBmark's turns as a wider wheelbase
+/// does, against it here (a coast turns further, a wide wheelbase less far).
+pub const THREE_EFFECT_CASE: [(&str, f64); 3] = [
+    (gap::effects::WHEEL_DIAMETER_RATIO, 0.97),
+    (gap::effects::WHEELBASE_RATIO, 1.05),
+    (gap::effects::COAST, 0.12),
+];
+
 /// One case.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BenchCase {

@@ -58,6 +58,33 @@ fn single_starts(a: (f64, Option<f64>), b: (f64, Option<f64>)) -> Vec<Vec<f64>> 
     out
 }
 
+/// The starts of a triple's fit: the pair at its values (`pair`) with the third effect
+/// `third` at its single fit's value `single`, at neutral, and at each point of its search
+/// grid ([`SelectOptions::grid`]). A single fit of a robot with several errors compensates
+/// those it lacks, so its value can be far from the third's own (coasting fitted alone
+/// takes the part of a wide wheelbase, whose turns it shortens the other way), and so can
+/// neutral; one of the grid's points is near it. All are evaluated in one batch, and the
+/// best on the training data begins.
+pub fn third_starts(pair: &[f64], third: &str, single: f64, opts: &SelectOptions) -> Vec<Vec<f64>> {
+    let Some(spec) = crate::runs::gap_bench::bench_parameters()
+        .into_iter()
+        .find(|s| s.name == third)
+    else {
+        return vec![pair.iter().copied().chain([single]).collect()];
+    };
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    for x in [single, spec.neutral]
+        .into_iter()
+        .chain(super::search::grid(&spec, opts.grid))
+    {
+        let v: Vec<f64> = pair.iter().copied().chain([x]).collect();
+        if !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    out
+}
+
 /// The pairs to fit: the surrogate's (effects, values) first, then Borenstein's pair
 /// ([`BORENSTEIN_PAIR`]), then the best single fits two at a time; each set of effects
 /// once, at most `opts.joint_pairs`.
@@ -188,15 +215,7 @@ pub(super) fn forward(
             let mut best_triple: Option<JointFit> = None;
             for (e, v) in thirds {
                 let effects: Vec<String> = p.effects.iter().cloned().chain([e.clone()]).collect();
-                // The pair at its values with the third at its single value, and at neutral.
-                let neutral = crate::runs::gap_bench::bench_parameters()
-                    .into_iter()
-                    .find(|s| s.name == e)
-                    .map_or(v, |s| s.neutral);
-                let values: Vec<Vec<f64>> = [v, neutral]
-                    .iter()
-                    .map(|&x| p.values.iter().copied().chain([x]).collect())
-                    .collect();
+                let values = third_starts(&p.values, &e, v, opts);
                 let f = fit_joint(
                     batched,
                     plan,

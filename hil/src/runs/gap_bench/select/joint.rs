@@ -78,15 +78,20 @@ impl JointFit {
 }
 
 /// The evaluations of one set of effects: each (point, group)'s weighted centroid
-/// residuals and series deviance, kept so that folds reuse the whole fit's runs.
+/// residuals, its series' residuals and deviance, kept so that folds reuse the whole fit's
+/// runs.
 struct Joint<'a> {
     batched: &'a Batched<'a>,
     train: &'a TrainSet,
     opts: &'a SelectOptions,
     specs: Vec<ParamSpec>,
-    /// (point bits, group) -> (residuals, series deviance).
-    seen: HashMap<(Vec<u64>, usize), (Vec<f64>, f64)>,
+    /// (point bits, group) -> its evaluation.
+    seen: HashMap<(Vec<u64>, usize), Evaluated>,
 }
+
+/// One (point, group)'s centroid residuals then series residuals, how many of them are the
+/// centroid's, and the series deviance.
+type Evaluated = (Vec<f64>, usize, f64);
 
 fn bits(u: &[f64]) -> Vec<u64> {
     u.iter().map(|v| v.to_bits()).collect()
@@ -139,20 +144,27 @@ impl<'a> Joint<'a> {
                 .map(|(p, g)| sc.centroid_residuals(&self.params(p), &all[*g]))
                 .collect()
         })?;
-        for ((p, g), r) in todo.into_iter().zip(got) {
-            let series = super::telemetry::group_series(
+        for ((p, g), mut r) in todo.into_iter().zip(got) {
+            let (series, z) = super::telemetry::group_series(
                 self.batched,
                 self.train,
                 &self.opts.fit,
                 &self.params(&p),
                 &all[g],
             )?;
-            self.seen.insert((bits(&p), g), (r, series));
+            let ends = r.len();
+            r.extend(z);
+            self.seen.insert((bits(&p), g), (r, ends, series));
         }
         Ok(())
     }
 
-    /// The residuals of `groups` at `p` (evaluated before), one vector.
+    /// The residuals of `groups` at `p` (evaluated before), one vector: each group's
+    /// centroid residuals, then its series' (a segment kind's mean speed and duty over their
+    /// errors), so that the fit follows the whole training score the single fits are ranked
+    /// by. The end points alone leave effects that trade off in them (a wider wheelbase and
+    /// coasting both change UMBmark's turns) to the fit's start; the series tells them apart
+    /// (the encoders count a coast, never a wheelbase).
     fn residuals(&self, p: &[f64], groups: &[usize]) -> Vec<f64> {
         groups
             .iter()
@@ -163,9 +175,15 @@ impl<'a> Joint<'a> {
     /// Centroid χ² and series deviance of `groups` at `p` (evaluated before).
     fn parts(&self, p: &[f64], groups: &[usize]) -> (f64, f64) {
         groups.iter().fold((0.0, 0.0), |(c, s), &g| {
-            let (r, d) = &self.seen[&(bits(p), g)];
-            (c + super::chi2(r), s + d)
+            let (r, ends, d) = &self.seen[&(bits(p), g)];
+            (c + super::chi2(&r[..*ends]), s + d)
         })
+    }
+
+    /// The whole training score of `groups` at `p`: what the fit minimises.
+    fn score(&self, p: &[f64], groups: &[usize]) -> f64 {
+        let (c, s) = self.parts(p, groups);
+        c + s
     }
 
     /// The Jacobian of the residuals of `groups` at `p`, per scale of each effect (columns),
@@ -218,7 +236,7 @@ impl<'a> Joint<'a> {
         let groups = self.groups(keep);
         let mut p = self.clamp(start);
         self.eval(std::slice::from_ref(&p), &groups)?;
-        let mut chi = self.parts(&p, &groups).0;
+        let mut chi = self.score(&p, &groups);
         let mut damping = 1.0;
         for _ in 0..iterations {
             let jac = self.jacobian(&p, &groups)?;
@@ -246,7 +264,7 @@ impl<'a> Joint<'a> {
             self.eval(&points, &groups)?;
             let best = trials
                 .iter()
-                .map(|(l, q)| (*l, q, self.parts(q, &groups).0))
+                .map(|(l, q)| (*l, q, self.score(q, &groups)))
                 .min_by(|a, b| a.2.total_cmp(&b.2));
             match best {
                 Some((lambda, q, c)) if c < chi => {
@@ -398,7 +416,7 @@ pub(super) fn fit_joint(
     j.eval(&starts, &groups)?;
     let start = starts
         .iter()
-        .min_by(|a, b| j.parts(a, &groups).0.total_cmp(&j.parts(b, &groups).0))
+        .min_by(|a, b| j.score(a, &groups).total_cmp(&j.score(b, &groups)))
         .ok_or_else(|| GapError::Fit(format!("no start for {}", effects.join(" + "))))?
         .clone();
     let p = j.fit(&start, &|_| true, opts.joint_iterations)?;

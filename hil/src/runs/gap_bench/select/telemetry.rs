@@ -72,27 +72,31 @@ pub(super) fn series_total(
     Ok(Some(t))
 }
 
-/// The series deviance of one training group under `params` (0: the group has no
-/// telemetry, or this batch records none): its runs were made with its centroid.
+/// The series deviance of one training group under `params`, and its residuals (each
+/// segment kind's [`super::super::SegmentFit::z`], whose squares are the deviance's χ²):
+/// (0, none) when the group has no telemetry, or this batch records none. Its runs were
+/// made with its centroid.
 pub(super) fn group_series(
     batched: &Batched,
     train: &TrainSet,
     fit: &FitOptions,
     params: &EffectParams,
     g: &Group,
-) -> Result<f64, GapError> {
+) -> Result<(f64, Vec<f64>), GapError> {
     let Some(real) = &g.telemetry else {
-        return Ok(0.0);
+        return Ok((0.0, Vec::new()));
     };
     if !batched.records_series() {
-        return Ok(0.0);
+        return Ok((0.0, Vec::new()));
     }
     let sc = Scorer::new(batched, train, fit);
     let sim = batched
         .series(params, &sc.centroid_experiment(g))
         .ok_or_else(|| GapError::Fit(format!("{}: the bench recorded no series", g.id)))?;
     let counted: Vec<_> = sim.into_iter().map(|r| r.counted).collect();
-    Ok(super::super::series_chi2_of_runs(&g.id.to_string(), real, &counted)?.deviance())
+    let s = super::super::series_chi2_of_runs(&g.id.to_string(), real, &counted)?;
+    let z = s.segments.iter().flat_map(|f| f.z).collect();
+    Ok((s.deviance(), z))
 }
 
 impl Search<'_> {
