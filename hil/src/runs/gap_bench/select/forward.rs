@@ -318,6 +318,27 @@ mod tests {
         p.0.iter().map(String::as_str).collect()
     }
 
+    /// A triple starts from the pair with its third effect at its single value, at neutral
+    /// and at each point of its grid, each once: coasting (0..0.3 s, 7 points) fitted alone
+    /// at 0.12 s gives 8 starts; fitted at neutral, 7.
+    #[test]
+    fn a_third_effect_starts_from_its_single_value_neutral_and_its_grid() {
+        use gap::effects::COAST;
+        let opts = SelectOptions::default();
+        let spec = crate::runs::gap_bench::bench_parameters()
+            .into_iter()
+            .find(|s| s.name == COAST)
+            .unwrap();
+        let grid = super::super::search::grid(&spec, opts.grid);
+        assert_eq!(grid.len(), 7, "{grid:?}");
+        let starts = third_starts(&[0.97, 1.05], COAST, 0.12, &opts);
+        let thirds: Vec<f64> = starts.iter().map(|v| v[2]).collect();
+        assert_eq!(thirds[..2], [0.12, 0.0], "{starts:?}");
+        assert_eq!(thirds[2..], grid[1..], "{starts:?}");
+        assert!(starts.iter().all(|v| v[..2] == [0.97, 1.05]), "{starts:?}");
+        assert_eq!(third_starts(&[0.97, 1.05], COAST, 0.0, &opts).len(), 7);
+    }
+
     /// Borenstein's pair is fitted though neither of its effects ranks first alone, from
     /// both single values and from each with the other at neutral; the single fits' pairs
     /// follow it, and the surrogate's own Ed + Eb pair (with its values as the first start)
