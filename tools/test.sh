@@ -1,10 +1,31 @@
 #!/usr/bin/env bash
 # The test suite: set up, then lint and test the host workspace (the tests
 # run the real firmware ELF in the emulator) and the firmware's logic on the
-# host.
+# host. Each stage's wall time goes to stderr ("test.sh: ... s"), so that a
+# CI log says where its minutes went.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh
+
+# Runs a stage, then prints its name and wall time.
+stage() {
+  local name="$1" start=$SECONDS
+  shift
+  "$@"
+  echo "test.sh: $name: $((SECONDS - start)) s" >&2
+}
+
+# The firmware's logic, linted and unit-tested on the host: run from there,
+# cargo ignores firmware/.cargo/config.toml (target avr-none) and builds for
+# the host. It shares nothing with the workspace's build but the cores, so it
+# runs beside the workspace's tests (many of which leave one of 2 cores idle
+# for stretches), its output kept until they are done.
+firmware_host() {
+  cargo fmt --manifest-path firmware/Cargo.toml --check
+  cargo clippy --manifest-path firmware/Cargo.toml --lib --tests --quiet -- -D warnings
+  cargo test --manifest-path firmware/Cargo.toml --lib
+}
+
+stage "set-up" tools/setup.sh
 cargo fmt --all --check
 # The vendored simavr-ffi is the published crate plus its patch files.
 tools/vendor-check.sh
@@ -12,12 +33,25 @@ tools/vendor-check.sh
 python3 tools/module-cycles.py hil plant-model calib gap protocol firmware input-file
 bash tools/module-cycles-test.sh
 # The ci profile: release without link-time optimisation (see Cargo.toml).
-cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings
-cargo test --workspace --profile ci
+stage "clippy" cargo clippy --workspace --all-targets --profile ci --quiet -- -D warnings
+
+fw_log="$(mktemp)"
+fw_start=$SECONDS
+firmware_host >"$fw_log" 2>&1 &
+fw_pid=$!
+# A failed stage below ends the script: the firmware's checks end with it.
+trap 'kill "$fw_pid" 2>/dev/null || true; rm -f "$fw_log"' EXIT
+
+stage "workspace tests" cargo test --workspace --profile ci
 # The example crate copied out of the repository, as a user has it.
-tools/example-outside.sh
-# The firmware's logic, linted and unit-tested on the host: run from here, cargo
-# ignores firmware/.cargo/config.toml (target avr-none) and builds for the host.
-cargo fmt --manifest-path firmware/Cargo.toml --check
-cargo clippy --manifest-path firmware/Cargo.toml --lib --tests --quiet -- -D warnings
-cargo test --manifest-path firmware/Cargo.toml --lib
+stage "example crate outside" tools/example-outside.sh
+
+fw_status=0
+wait "$fw_pid" || fw_status=$?
+echo "test.sh: the firmware's host checks (run beside the above):" >&2
+cat "$fw_log" >&2
+if [ "$fw_status" -ne 0 ]; then
+  echo "error: the firmware's host checks failed (exit $fw_status)" >&2
+  exit 1
+fi
+echo "test.sh: firmware host checks: $((SECONDS - fw_start)) s (beside the workspace's)" >&2
