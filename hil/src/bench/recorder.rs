@@ -227,7 +227,8 @@ pub(super) struct Recorder {
 /// samples are 11 minutes at 10 ms before the trace is thinned; 2^19 drive
 /// events are 87 minutes of driving (the robust build changes the bridge
 /// about 100 times a robot second on a leg); 2^21 pin changes, several
-/// minutes of both encoders' four lines (a VCD trace).
+/// minutes of both encoders' four lines (a recording for a replay; a VCD
+/// trace written as the run goes keeps none, see [`Tap`]).
 pub(super) const TRACE_CAP: usize = 1 << 16;
 pub(super) const DRIVE_CAP: usize = 1 << 19;
 pub(super) const PIN_CAP: usize = 1 << 21;

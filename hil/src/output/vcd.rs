@@ -1,7 +1,8 @@
 //! Value Change Dump traces of a run, for GTKWave, Surfer and sigrok.
 //!
-//! Written after the run from what the bench recorded, so tracing costs the
-//! simulation nothing but the recording: the encoder lines as raised on the
+//! Written as the run makes it ([`VcdWriter`], given the bench's records as
+//! they are made: `hil run --vcd`) or after the run from what the bench
+//! recorded ([`write`]), the same bytes either way: the encoder lines as raised on the
 //! pins, each H-bridge input's duty as the PWM model produced it (and, on
 //! request, the 31 kHz waveform itself, generated from the timer model), the
 //! board's UARTs as the bit-level waveforms on their pins in both directions
