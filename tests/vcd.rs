@@ -6,12 +6,22 @@
 //! TX. A GTKWave save file lies beside the trace, naming it by its file name
 //! (the pair opens when moved) and zoomed to the run; the firmware's text is
 //! in a string variable GTKWave shows as text.
+//!
+//! The trace is written as the run makes it (issue 51): the same bytes as
+//! the trace rendered after the run from its records, and what a run holds
+//! for it does not grow with robot time.
 
 #[path = "support/mod.rs"]
 mod support;
 
 use std::path::Path;
 use std::process::Command;
+use std::sync::{Arc, Mutex};
+
+use henrytwo_protocol::Test;
+use hil::bench::{Bench, SharedTap};
+use hil::output::vcd::{VcdInput, VcdWriter};
+use hil::runs::experiment::{run_test, TestOptions};
 
 /// sigrok-cli with `args` on `vcd`: its stdout, or a failure that says why.
 fn sigrok(vcd: &Path, args: &[&str]) -> String {
@@ -193,4 +203,119 @@ fn gtkwave_opens_a_moved_pair_at_the_runs_extent() {
         .count();
     assert_eq!(traces as usize, listed, "{stdout}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// FNV-1a of `bytes`: a digest whose algorithm is fixed (the standard
+/// library's hasher may change between releases).
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// A VCD writer in memory, shared with the bench as its tap.
+type Shared = Arc<Mutex<VcdWriter<Vec<u8>>>>;
+
+fn writer(opts: &TestOptions) -> Shared {
+    let clock = opts.bench.clock.hz();
+    Arc::new(Mutex::new(VcdWriter::new(
+        Vec::new(),
+        clock,
+        &opts.bench.board,
+        false,
+    )))
+}
+
+/// The 100 mm line, recorded: its trace written as the run went, and the
+/// trace rendered after the run from the records of the same run without
+/// the writer (the bench is deterministic) are the same bytes, and the
+/// bytes the renderer wrote before traces were streamed (75955 bytes, their
+/// digest taken then): `hil run line --leg-mm 100 --vcd`.
+#[test]
+fn a_trace_written_as_the_run_goes_is_the_trace_rendered_after_it() {
+    let robot = support::robot("henrytwo");
+    let mut opts = TestOptions {
+        leg_mm: 100.0,
+        record: true,
+        ..Default::default()
+    };
+    let kept = run_test(support::firmware("robust"), &robot, Test::Line, &opts).unwrap();
+    let after = hil::output::vcd::render(&VcdInput {
+        clock_hz: opts.bench.clock.hz(),
+        board: &opts.bench.board,
+        edges: &kept.edges,
+        drive: &kept.drive,
+        uart_tx: &kept.uart,
+        uart_rx: &kept.uart_rx,
+        samples: &kept.trace,
+        pwm_edges: false,
+    });
+    assert_eq!(
+        (after.len(), fnv1a(after.as_bytes())),
+        (75_955, 0xea8a_5231_16c3_12e0),
+        "the trace of the 100 mm line changed"
+    );
+
+    let w = writer(&opts);
+    opts.tap = Some(SharedTap(w.clone()));
+    let streamed = run_test(support::firmware("robust"), &robot, Test::Line, &opts).unwrap();
+    assert!(
+        streamed.edges.is_empty(),
+        "the pin changes went to the trace"
+    );
+    drop(opts);
+    let w = Arc::try_unwrap(w).ok().unwrap().into_inner().unwrap();
+    assert_eq!(w.late(), 0, "a change came after its cycle was written");
+    let bytes = w.finish().unwrap();
+    assert!(bytes == after.as_bytes(), "the streamed trace differs");
+}
+
+/// What a run holds for its trace, counted (items, not the process's
+/// memory): with the trace written as the run goes, no pin change is kept
+/// and the writer holds the changes of the last moments, as many after
+/// 20 robot seconds as after 2; with the pin changes kept (no writer),
+/// they grow with the run.
+#[test]
+fn a_streamed_trace_holds_nothing_per_robot_second() {
+    let robot = support::robot("henrytwo");
+    let opts = TestOptions::default();
+    let start = |tap: Option<&Shared>| {
+        let mut bench = Bench::new(support::firmware("robust"), &robot, opts.bench).unwrap();
+        hil::runs::start::wait_ready(&mut bench, None).unwrap();
+        bench.true_waveforms();
+        match tap {
+            Some(w) => bench.stream_records(SharedTap(w.clone())),
+            None => bench.start_recording(),
+        }
+        hil::runs::start::start_test(&mut bench, &[], true, Test::Line);
+        bench
+    };
+    let w = writer(&opts);
+    let mut streamed = start(Some(&w));
+    let held = |bench: &Bench| (bench.core().retained().pins, w.lock().unwrap().pending());
+    streamed.run_for(2.0).unwrap();
+    let (pins_2, pending_2) = held(&streamed);
+    streamed.run_for(18.0).unwrap();
+    let (pins_20, pending_20) = held(&streamed);
+    let written = w.lock().unwrap().end_cycle();
+    assert!(
+        written > 19 * 16_000_000,
+        "the writer had the whole run: {written}"
+    );
+    assert_eq!((pins_2, pins_20), (0, 0), "pin changes kept");
+    assert!(pending_2 > 0, "the writer holds the last moments");
+    assert!(
+        pending_20 <= 2 * pending_2,
+        "held {pending_2} changes after 2 s, {pending_20} after 20 s"
+    );
+
+    // The same run keeping its pin changes: over a thousand a robot second
+    // (the robot drives 14 s of the 20).
+    let mut kept = start(None);
+    kept.run_for(20.0).unwrap();
+    assert!(
+        kept.core().retained().pins > 20 * 1000,
+        "{:?}",
+        kept.core().retained()
+    );
 }

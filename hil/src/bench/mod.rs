@@ -65,7 +65,7 @@ pub use self::faults::{Action, ScheduledFault, Trigger};
 pub use self::log::Retention;
 pub use self::recorder::{
     AnalogEvent, AnalogInput, Cutoff, DriveEvent, LedEvent, Motion, MotionEvent, PinEvent,
-    Retained, Sample, Snapshot,
+    Retained, Sample, SharedTap, Snapshot, Tap,
 };
 pub use self::run::{Debugger, Observer, Step, CHECK_PERIOD_S};
 pub use self::timers::emulated as emulated_timers;
@@ -299,6 +299,14 @@ impl Bench {
     pub fn start_recording(&mut self) {
         let cycle = self.avr.cycle();
         self.avr.handler_mut().start_recording(cycle);
+    }
+
+    /// [`Bench::start_recording`], with every record given to `tap` as it
+    /// is made (see [`Tap`]) instead of the pin changes kept: a trace
+    /// written as the run goes, from what the records hold now on.
+    pub fn stream_records(&mut self, tap: SharedTap) {
+        let cycle = self.avr.cycle();
+        self.avr.handler_mut().stream_records(cycle, tap);
     }
 
     /// Raise every encoder transition at its own cycle, B included (for

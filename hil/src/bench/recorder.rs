@@ -167,6 +167,39 @@ pub struct MotionEvent {
     pub at: Snapshot,
 }
 
+/// Where a run's records go as the bench makes them, besides what it keeps:
+/// a trace written while the run goes (see `Bench::stream_records`), so
+/// that what only the trace needs (every encoder pin change, every drive
+/// change, every sample) is not kept for the whole run.
+pub trait Tap: Send {
+    fn pin(&mut self, e: PinEvent);
+    fn drive(&mut self, e: &DriveEvent);
+    /// A byte on a UART: sent by the firmware (`cycle` its frame started on
+    /// the TX pin) or received (`cycle` the receiver had it).
+    fn uart(&mut self, received: bool, cycle: u64, usart: u8, byte: u8);
+    fn sample(&mut self, s: &Sample);
+    /// Nothing the bench records from now on changes anything before
+    /// `cycle`.
+    fn settle(&mut self, cycle: u64);
+}
+
+/// A [`Tap`] shared between the bench and whoever finishes it after the run.
+#[derive(Clone)]
+pub struct SharedTap(pub std::sync::Arc<std::sync::Mutex<dyn Tap>>);
+
+impl SharedTap {
+    fn with(&self, f: impl FnOnce(&mut dyn Tap)) {
+        let mut tap = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        f(&mut *tap);
+    }
+}
+
+impl std::fmt::Debug for SharedTap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SharedTap")
+    }
+}
+
 /// The records of one run, each bounded (see `log.rs`).
 pub(super) struct Recorder {
     led_wiring: Option<LedWiring>,
@@ -183,13 +216,19 @@ pub(super) struct Recorder {
     /// The motion now (the log may keep only the first or the latest).
     motion: Option<Motion>,
     retention: Retention,
+    /// Where the records go as they are made, when a trace is written as
+    /// the run goes; then the pin changes are not kept.
+    tap: Option<SharedTap>,
+    /// The UART log entries (sent, received) given to the tap so far.
+    uart_fed: [usize; 2],
 }
 
 /// The caps of the records in a test run (see `log.rs`): 2^16 trace
 /// samples are 11 minutes at 10 ms before the trace is thinned; 2^19 drive
 /// events are 87 minutes of driving (the robust build changes the bridge
 /// about 100 times a robot second on a leg); 2^21 pin changes, several
-/// minutes of both encoders' four lines (a VCD trace).
+/// minutes of both encoders' four lines (a recording for a replay; a VCD
+/// trace written as the run goes keeps none, see [`Tap`]).
 pub(super) const TRACE_CAP: usize = 1 << 16;
 pub(super) const DRIVE_CAP: usize = 1 << 19;
 pub(super) const PIN_CAP: usize = 1 << 21;
@@ -241,6 +280,8 @@ impl Recorder {
             analog: Log::new(EVENT_CAP),
             motion: None,
             retention: Retention::Run,
+            tap: None,
+            uart_fed: [0; 2],
         }
     }
 
@@ -298,6 +339,9 @@ impl Recorder {
     }
 
     pub(super) fn drive(&mut self, e: DriveEvent) {
+        if let Some(t) = &self.tap {
+            t.with(|t| t.drive(&e));
+        }
         self.drive_log.push(e);
     }
 
@@ -342,7 +386,9 @@ impl Recorder {
 
     /// An encoder line changed on its pin (kept only while recording).
     pub(super) fn pin(&mut self, cycle: u64, line: u8, level: bool) {
-        if let Some(rec) = &mut self.pins {
+        if let Some(t) = &self.tap {
+            t.with(|t| t.pin(PinEvent { cycle, line, level }));
+        } else if let Some(rec) = &mut self.pins {
             rec.push(PinEvent { cycle, line, level });
         }
     }
@@ -416,6 +462,9 @@ impl Recorder {
             left_duty: duty[0],
             right_duty: duty[1],
         };
+        if let Some(t) = &self.tap {
+            t.with(|t| t.sample(&s));
+        }
         self.trace.push(s);
     }
 
@@ -441,6 +490,55 @@ impl Recorder {
             log.keep_latest();
         }
         self.pins = Some(log);
+    }
+
+    /// Give every record from now on to `tap` as it is made, starting with
+    /// what the records hold now (the trace, the drive changes since reset)
+    /// and the four encoder lines' `levels` at `cycle`; the pin changes are
+    /// not kept (see [`Tap`]).
+    pub(super) fn stream_to(&mut self, tap: SharedTap, cycle: u64, levels: [[bool; 2]; 2]) {
+        tap.with(|t| {
+            for s in self.trace.as_slice() {
+                t.sample(s);
+            }
+            for e in self.drive_log.as_slice() {
+                t.drive(e);
+            }
+            for (line, &level) in levels.iter().flatten().enumerate() {
+                t.pin(PinEvent {
+                    cycle,
+                    line: line as u8,
+                    level,
+                });
+            }
+        });
+        self.pins = None;
+        self.uart_fed = [0; 2];
+        self.tap = Some(tap);
+    }
+
+    /// Give the tap the UART bytes logged since the last call (`sent`,
+    /// `received`: the logs since reset), and tell it the run has settled
+    /// up to `settled`.
+    pub(super) fn feed_tap(
+        &mut self,
+        sent: &[(u64, u8, u8)],
+        received: &[(u64, u8, u8)],
+        settled: u64,
+    ) {
+        let Some(tap) = &self.tap else {
+            return;
+        };
+        let fed = &mut self.uart_fed;
+        tap.with(|t| {
+            for (d, log) in [sent, received].into_iter().enumerate() {
+                for &(cycle, usart, byte) in log.get(fed[d]..).unwrap_or_default() {
+                    t.uart(d == 1, cycle, usart, byte);
+                }
+                fed[d] = log.len();
+            }
+            t.settle(settled);
+        });
     }
 
     pub(super) fn trace(&self) -> &[Sample] {

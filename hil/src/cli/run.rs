@@ -1,10 +1,14 @@
 //! Single runs: `hil run` (one test, per leg and turn) and `hil line`.
 
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use hil::bench::BenchOptions;
 use hil::board::Board;
+use hil::output::vcd::VcdWriter;
+use hil::output::StreamedFile;
 use hil::runs::experiment::{run_test, Test, TestName, TestRun};
 use hil::runs::line::{run_line, LineOptions};
 use hil::runs::report::{json_with_pace, Pace, PaceFields};
@@ -74,6 +78,16 @@ impl Run {
             opts.faults = s.scheduled();
             opts.framed = s.framed;
         }
+        // The trace is written as the run makes it (see `StreamedVcd`).
+        let vcd = match &common.trace.vcd {
+            Some(path) => {
+                let board = common.target.bench().board;
+                let stream = StreamedVcd::create(path, common.trace.vcd_pwm, board)?;
+                opts.tap = Some(stream.tap());
+                Some(stream)
+            }
+            None => None,
+        };
         let clock = common.print.wall_clock();
         let run = match gdb {
             Some(port) => {
@@ -105,14 +119,9 @@ impl Run {
             }
             None => run_test(firmware, &robot, test, &opts)?,
         };
-        if let (Some(path), Some(kind)) = (&common.trace.vcd, vcd_kind) {
-            let written = write_vcd(
-                path,
-                kind,
-                &run,
-                common.trace.vcd_pwm,
-                &common.target.bench().board,
-            )?;
+        drop(opts);
+        if let (Some(stream), Some(kind)) = (vcd, vcd_kind) {
+            let written = stream.finish(kind)?;
             let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
             eprintln!("wrote {}", written.join(" and "));
         }
@@ -219,6 +228,75 @@ impl Line {
     }
 }
 
+/// A trace written to its file as the run makes it: the bench gives the
+/// writer every record as it is made (a [`hil::bench::Tap`]), so that the
+/// run keeps no pin change and the writer only the last moments' changes;
+/// the same bytes as [`write_vcd`] writes from a run's records.
+struct StreamedVcd {
+    path: PathBuf,
+    board: Board,
+    pwm_edges: bool,
+    writer: Arc<Mutex<VcdWriter<BufWriter<StreamedFile>>>>,
+}
+
+impl StreamedVcd {
+    fn create(path: &Path, pwm_edges: bool, board: Board) -> Result<Self> {
+        let file =
+            StreamedFile::create(path).with_context(|| format!("writing {}", path.display()))?;
+        let clock_hz = BenchOptions::default().clock.hz();
+        let writer = VcdWriter::new(BufWriter::new(file), clock_hz, &board, pwm_edges);
+        Ok(Self {
+            path: path.to_path_buf(),
+            board,
+            pwm_edges,
+            writer: Arc::new(Mutex::new(writer)),
+        })
+    }
+
+    fn tap(&self) -> hil::bench::SharedTap {
+        hil::bench::SharedTap(self.writer.clone())
+    }
+
+    /// The rest of the trace written, the file in its place, and for a
+    /// regular file its GTKWave save file beside it (see [`write_vcd`]):
+    /// the paths written.
+    fn finish(self, kind: hil::output::Kind) -> Result<Vec<PathBuf>> {
+        let context = || format!("writing {}", self.path.display());
+        let writer = Arc::try_unwrap(self.writer)
+            .map_err(|_| anyhow::anyhow!("the trace is still in use by the bench"))?
+            .into_inner()
+            .unwrap_or_else(|p| p.into_inner());
+        let end_cycle = writer.end_cycle();
+        let file = writer.finish().with_context(context)?;
+        file.into_inner()
+            .map_err(|e| e.into_error())
+            .with_context(context)?
+            .commit()
+            .with_context(context)?;
+        if kind == hil::output::Kind::InPlace {
+            return Ok(vec![self.path]);
+        }
+        let traced = hil::output::vcd::Traced {
+            clock_hz: BenchOptions::default().clock.hz(),
+            board: &self.board,
+            pwm_edges: self.pwm_edges,
+            end_cycle,
+        };
+        let save = self.path.with_extension("gtkw");
+        super::write_output(
+            &save,
+            hil::output::vcd::gtkw_of(&gtkw_name(&self.path), &traced).as_bytes(),
+        )?;
+        Ok(vec![self.path, save])
+    }
+}
+
+/// The trace's name in its save file: its bare file name.
+fn gtkw_name(path: &Path) -> String {
+    path.file_name()
+        .map_or_else(|| "trace.vcd".into(), |n| n.to_string_lossy().into_owned())
+}
+
 /// The trace of `run` at `path` and, for a regular file, its GTKWave save file
 /// beside it (the same name, `.gtkw`), naming the trace by its file name so that
 /// the pair opens wherever it is moved. A pipe or a device (`kind` in place) has
@@ -245,9 +323,9 @@ pub(super) fn write_vcd(
         return Ok(vec![path.to_path_buf()]);
     }
     let save = path.with_extension("gtkw");
-    let name = path
-        .file_name()
-        .map_or_else(|| "trace.vcd".into(), |n| n.to_string_lossy());
-    super::write_output(&save, hil::output::vcd::gtkw(&name, &input).as_bytes())?;
+    super::write_output(
+        &save,
+        hil::output::vcd::gtkw(&gtkw_name(path), &input).as_bytes(),
+    )?;
     Ok(vec![path.to_path_buf(), save])
 }

@@ -91,6 +91,72 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     }
 }
 
+/// A result file written while the work goes (a trace as the run makes
+/// it), as [`write_file`] writes one at the end: into a temporary file in
+/// the same folder, renamed over `path` by [`StreamedFile::commit`] (and
+/// removed when dropped uncommitted: a run that failed leaves no half
+/// file); a pipe or a device in place.
+pub struct StreamedFile {
+    file: std::fs::File,
+    path: std::path::PathBuf,
+    tmp: Option<std::path::PathBuf>,
+}
+
+impl StreamedFile {
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        let kind = match path.symlink_metadata() {
+            Ok(meta) => kind_of(meta.file_type())
+                .map_err(|why| std::io::Error::new(std::io::ErrorKind::InvalidInput, why))?,
+            Err(_) => Kind::Replace,
+        };
+        let (file, tmp) = match kind {
+            Kind::Replace => {
+                let dir = parent(path);
+                std::fs::create_dir_all(dir)?;
+                let name = path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "output".into());
+                let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+                (std::fs::File::create(&tmp)?, Some(tmp))
+            }
+            Kind::InPlace => (std::fs::OpenOptions::new().write(true).open(path)?, None),
+        };
+        Ok(Self {
+            file,
+            path: path.to_path_buf(),
+            tmp,
+        })
+    }
+
+    /// Everything written: the file in its place.
+    pub fn commit(mut self) -> std::io::Result<()> {
+        self.file.flush()?;
+        if let Some(tmp) = self.tmp.take() {
+            self.file.sync_all()?;
+            std::fs::rename(&tmp, &self.path)?;
+        }
+        Ok(())
+    }
+}
+
+impl Write for StreamedFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Drop for StreamedFile {
+    fn drop(&mut self) {
+        if let Some(tmp) = self.tmp.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}
+
 fn kind_of(t: FileType) -> Result<Kind, &'static str> {
     if t.is_file() {
         Ok(Kind::Replace)

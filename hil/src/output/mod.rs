@@ -29,7 +29,7 @@ mod lock;
 mod set;
 pub mod vcd;
 
-pub use file::{check_file, write_file, Kind, Refused};
+pub use file::{check_file, write_file, Kind, Refused, StreamedFile};
 pub use lock::{share, SharedLock};
 pub use set::OutputDir;
 

@@ -1,7 +1,8 @@
 //! Value Change Dump traces of a run, for GTKWave, Surfer and sigrok.
 //!
-//! Written after the run from what the bench recorded, so tracing costs the
-//! simulation nothing but the recording: the encoder lines as raised on the
+//! Written as the run makes it ([`VcdWriter`], given the bench's records as
+//! they are made: `hil run --vcd`) or after the run from what the bench
+//! recorded ([`write`]), the same bytes either way: the encoder lines as raised on the
 //! pins, each H-bridge input's duty as the PWM model produced it (and, on
 //! request, the 31 kHz waveform itself, generated from the timer model), the
 //! board's UARTs as the bit-level waveforms on their pins in both directions
@@ -22,6 +23,7 @@
 //! to the whole run, each wheel's drive beside its encoder.
 
 use std::fmt::Write as _;
+use std::io::Write;
 
 use crate::bench::{DriveEvent, PinEvent, Sample};
 use crate::board::Board;
@@ -46,47 +48,158 @@ pub struct VcdInput<'a> {
     pub pwm_edges: bool,
 }
 
+mod stream;
+
+pub use stream::VcdWriter;
+
+/// A variable of the trace, as declared.
 struct Var {
     id: String,
     name: String,
     kind: &'static str,
-    initial: String,
 }
 
-/// The variables of a trace, by scope, in the order they are declared.
-struct Vars {
+/// The variables of a trace: their identifiers and declarations by scope,
+/// and which variable is which line or value (indices into `ids`).
+struct Layout {
+    clock_hz: u32,
+    pwm_edges: bool,
     scopes: Vec<(&'static str, Vec<Var>)>,
-    count: usize,
+    ids: Vec<String>,
+    /// The encoder lines: left A, left B, right A, right B.
+    encoders: [u32; 4],
+    /// Per bridge input: (pin, duty, 1-bit trace).
+    pins: Vec<(u8, u32, u32)>,
+    /// Per UART: (USART, cycles per bit, [TX line, RX line, TX byte, RX
+    /// byte, TX text, RX text]).
+    uarts: Vec<(u8, f64, [u32; 6])>,
+    /// x, y, theta, left and right edge counts.
+    plant: [u32; 5],
 }
 
-impl Vars {
-    /// A new variable in `scope` (the last one opened): its identifier.
-    fn add(
-        &mut self,
-        scope: &'static str,
-        name: &str,
-        kind: &'static str,
-        initial: String,
-    ) -> String {
-        let n = self.count;
-        self.count += 1;
+impl Layout {
+    /// A new variable in `scope` (the last one opened): its index.
+    fn add(&mut self, scope: &'static str, name: &str, kind: &'static str) -> u32 {
+        let n = self.ids.len();
         let id = format!("!{}", char::from(b'a' + (n % 26) as u8)) + &"z".repeat(n / 26);
         if self.scopes.last().map(|s| s.0) != Some(scope) {
             self.scopes.push((scope, Vec::new()));
         }
-        let value = match kind {
-            "real" => format!("r{initial} {id}"),
-            "string" => format!("s{initial} {id}"),
-            _ => format!("{initial}{id}"),
-        };
         self.scopes.last_mut().expect("just pushed").1.push(Var {
             id: id.clone(),
             name: name.replace(' ', "_"),
             kind,
-            initial: value,
         });
-        id
+        self.ids.push(id);
+        n as u32
     }
+
+    /// The header, with each variable's value before its first change: the
+    /// encoder lines' `levels`, the plant's first sample (0 without one);
+    /// a UART line idles high, every other value is 0 (a text empty).
+    fn header(&self, levels: [bool; 4], sample: Option<[f64; 5]>) -> String {
+        let mut initial: Vec<String> = Vec::with_capacity(self.ids.len());
+        for (_, list) in &self.scopes {
+            for v in list {
+                initial.push(match v.kind {
+                    "real" => format!("r0 {}", v.id),
+                    "string" => format!("s {}", v.id),
+                    _ if v.name.starts_with("uart") => format!("1{}", v.id),
+                    _ => format!("0{}", v.id),
+                });
+            }
+        }
+        for (line, &var) in self.encoders.iter().enumerate() {
+            initial[var as usize] = format!("{}{}", u8::from(levels[line]), self.ids[var as usize]);
+        }
+        let sample = sample.unwrap_or_default();
+        for (v, &var) in sample.iter().zip(&self.plant) {
+            initial[var as usize] = format!("r{v} {}", self.ids[var as usize]);
+        }
+        let mut out = String::new();
+        let _ = writeln!(out, "$comment Henrytwo HIL bench trace $end");
+        if !self.pwm_edges {
+            let _ = writeln!(
+                out,
+                "$comment bridge.Dn_driven is a level (high while the input's duty is above 0), not the PWM waveform: hil run --vcd-pwm writes that as Dn_pwm $end"
+            );
+        }
+        let _ = writeln!(
+            out,
+            "$timescale {} ps $end",
+            1_000_000_000_000u64 / self.clock_hz as u64
+        );
+        for (scope, list) in &self.scopes {
+            let _ = writeln!(out, "$scope module {scope} $end");
+            for v in list {
+                let width = if v.kind == "real" { 64 } else { 1 };
+                // GTKWave reads a string variable's width as 1.
+                let _ = writeln!(out, "$var {} {width} {} {} $end", v.kind, v.id, v.name);
+            }
+            let _ = writeln!(out, "$upscope $end");
+        }
+        let _ = writeln!(out, "$enddefinitions $end");
+        let _ = writeln!(out, "#0\n$dumpvars");
+        for v in &initial {
+            let _ = writeln!(out, "{v}");
+        }
+        let _ = writeln!(out, "$end");
+        out
+    }
+}
+
+/// The variables of a trace of a run on `board`, in the order they are
+/// declared.
+fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
+    let mut l = Layout {
+        clock_hz,
+        pwm_edges,
+        scopes: Vec::new(),
+        ids: Vec::new(),
+        encoders: [0; 4],
+        pins: Vec::new(),
+        uarts: Vec::new(),
+        plant: [0; 5],
+    };
+    // The recorder's lines: left A, left B, right A, right B.
+    let mut line = 0;
+    for side in [Side::Left, Side::Right] {
+        let e = board.encoder(side);
+        let [a, b] = e.line_names();
+        let s = match side {
+            Side::Left => "left",
+            Side::Right => "right",
+        };
+        for (ch, pin) in [(a, e.a), (b, e.b)] {
+            l.encoders[line] = l.add("encoders", &format!("{s}_{ch}_{}", pin.name()), "wire");
+            line += 1;
+        }
+    }
+    for p in board.bridge_inputs().iter().map(|b| b.number()) {
+        let duty = l.add("bridge", &format!("D{p}_duty"), "real");
+        let wave = l.add("bridge", &wave_name(p, pwm_edges), "wire");
+        l.pins.push((p, duty, wave));
+    }
+    for (n, baud) in uarts(board) {
+        let ids = [
+            ("tx", "wire"),
+            ("rx", "wire"),
+            ("tx_byte", "real"),
+            ("rx_byte", "real"),
+            ("tx_text", "string"),
+            ("rx_text", "string"),
+        ]
+        .map(|(what, kind)| l.add("uart", &format!("uart{n}_{what}"), kind));
+        l.uarts
+            .push((n, f64::from(clock_hz) / f64::from(baud), ids));
+    }
+    for (i, n) in ["x_mm", "y_mm", "theta_rad", "left_edges", "right_edges"]
+        .iter()
+        .enumerate()
+    {
+        l.plant[i] = l.add("plant", n, "real");
+    }
+    l
 }
 
 /// The board's UARTs in USART order, each once: (USART, baud).
@@ -98,26 +211,41 @@ fn uarts(board: &Board) -> Vec<(u8, u32)> {
         .collect()
 }
 
-/// The level changes of 8N1 frames of `bytes` (start cycle, byte) at
-/// `cycles_per_bit`: start bit low, bits LSB first, stop bit high. A frame
-/// never starts before the one before it has ended.
-fn frames(bytes: impl Iterator<Item = (u64, u8)>, cycles_per_bit: f64) -> Vec<(u64, bool)> {
+/// The level changes of an 8N1 frame of `byte` logged at `cycle` at
+/// `cycles_per_bit`, the line at `level` and free from `free` on: start bit
+/// low, bits LSB first, stop bit high. A frame never starts before the one
+/// before it has ended. The changes, and when this frame ends.
+fn frame_bits(
+    cycle: u64,
+    byte: u8,
+    free: u64,
+    level: &mut bool,
+    cycles_per_bit: f64,
+) -> (Vec<(u64, bool)>, u64) {
     let mut out = Vec::new();
-    let mut free = 0u64;
-    let mut level = true;
-    for (cycle, byte) in bytes {
-        let start = cycle.max(free);
-        let at = |k: u32| start + (f64::from(k) * cycles_per_bit).round() as u64;
-        let bits = std::iter::once(false)
-            .chain((0..8).map(|i| byte >> i & 1 == 1))
-            .chain(std::iter::once(true));
-        for (k, bit) in (0u32..).zip(bits) {
-            if bit != level {
-                out.push((at(k), bit));
-                level = bit;
-            }
+    let start = cycle.max(free);
+    let at = |k: u32| start + (f64::from(k) * cycles_per_bit).round() as u64;
+    let bits = std::iter::once(false)
+        .chain((0..8).map(|i| byte >> i & 1 == 1))
+        .chain(std::iter::once(true));
+    for (k, bit) in (0u32..).zip(bits) {
+        if bit != *level {
+            out.push((at(k), bit));
+            *level = bit;
         }
-        free = at(10);
+    }
+    (out, at(10))
+}
+
+/// The level changes of 8N1 frames of `bytes` (start cycle, byte), the
+/// line idle (high) before the first.
+#[cfg(test)]
+fn frames(bytes: impl Iterator<Item = (u64, u8)>, cycles_per_bit: f64) -> Vec<(u64, bool)> {
+    let (mut free, mut level, mut out) = (0, true, Vec::new());
+    for (cycle, byte) in bytes {
+        let (edges, end) = frame_bits(cycle, byte, free, &mut level, cycles_per_bit);
+        out.extend(edges);
+        free = end;
     }
     out
 }
@@ -171,195 +299,32 @@ pub fn end_cycle(input: &VcdInput) -> u64 {
     .unwrap_or(0)
 }
 
-/// Render the VCD text.
-pub fn render(input: &VcdInput) -> String {
-    let mut vars = Vars {
-        scopes: Vec::new(),
-        count: 0,
-    };
-    // Each line's level before its first change (the recording starts with
-    // every line's level at its first cycle).
-    let first_level = |line: u8| {
-        input
-            .edges
-            .iter()
-            .find(|e| e.line == line)
-            .filter(|e| e.cycle == input.edges[0].cycle)
-            .is_some_and(|e| e.level)
-    };
-    // The recorder's lines: left A, left B, right A, right B.
-    let enc: Vec<String> = [Side::Left, Side::Right]
-        .iter()
-        .flat_map(|&side| {
-            let e = input.board.encoder(side);
-            let [a, b] = e.line_names();
-            [(a, e.a), (b, e.b)].map(|(ch, pin)| (side, ch, pin.name()))
-        })
-        .enumerate()
-        .map(|(line, (side, ch, pin))| {
-            let side = match side {
-                Side::Left => "left",
-                Side::Right => "right",
-            };
-            let initial = u8::from(first_level(line as u8)).to_string();
-            vars.add("encoders", &format!("{side}_{ch}_{pin}"), "wire", initial)
-        })
-        .collect();
-    let pins: Vec<(u8, String, String)> = input
-        .board
-        .bridge_inputs()
-        .iter()
-        .map(|b| b.number())
-        .map(|p| {
-            (
-                p,
-                vars.add("bridge", &format!("D{p}_duty"), "real", "0".into()),
-                vars.add("bridge", &wave_name(p, input.pwm_edges), "wire", "0".into()),
-            )
-        })
-        .collect();
-    // Per UART: (USART, cycles per bit, TX line, RX line, TX byte, RX byte,
-    // TX text, RX text).
-    let lines: Vec<(u8, f64, [String; 6])> = uarts(input.board)
-        .into_iter()
-        .map(|(n, baud)| {
-            let ids = [
-                ("tx", "wire"),
-                ("rx", "wire"),
-                ("tx_byte", "real"),
-                ("rx_byte", "real"),
-                ("tx_text", "string"),
-                ("rx_text", "string"),
-            ]
-            .map(|(what, kind)| {
-                let initial = match kind {
-                    "wire" => "1",
-                    "real" => "0",
-                    // An empty string: GTKWave shows nothing until the first byte.
-                    _ => "",
-                };
-                vars.add("uart", &format!("uart{n}_{what}"), kind, initial.into())
-            });
-            (n, f64::from(input.clock_hz) / f64::from(baud), ids)
-        })
-        .collect();
-    let pose = input.samples.first();
-    let plant: Vec<String> = [
-        ("x_mm", pose.map_or(0.0, |s| s.x_mm)),
-        ("y_mm", pose.map_or(0.0, |s| s.y_mm)),
-        ("theta_rad", pose.map_or(0.0, |s| s.theta_rad)),
-        ("left_edges", pose.map_or(0.0, |s| s.left_edges as f64)),
-        ("right_edges", pose.map_or(0.0, |s| s.right_edges as f64)),
-    ]
-    .iter()
-    .map(|(n, v)| vars.add("plant", n, "real", v.to_string()))
-    .collect();
-
-    let mut out = String::new();
-    let _ = writeln!(out, "$comment Henrytwo HIL bench trace $end");
-    if !input.pwm_edges {
-        let _ = writeln!(
-            out,
-            "$comment bridge.Dn_driven is a level (high while the input's duty is above 0), not the PWM waveform: hil run --vcd-pwm writes that as Dn_pwm $end"
-        );
-    }
-    let _ = writeln!(
-        out,
-        "$timescale {} ps $end",
-        1_000_000_000_000u64 / input.clock_hz as u64
-    );
-    for (scope, list) in &vars.scopes {
-        let _ = writeln!(out, "$scope module {scope} $end");
-        for v in list {
-            let width = if v.kind == "real" { 64 } else { 1 };
-            // GTKWave reads a string variable's width as 1.
-            let _ = writeln!(out, "$var {} {width} {} {} $end", v.kind, v.id, v.name);
-        }
-        let _ = writeln!(out, "$upscope $end");
-    }
-    let _ = writeln!(out, "$enddefinitions $end");
-    let _ = writeln!(out, "#0\n$dumpvars");
-    for v in vars.scopes.iter().flat_map(|s| &s.1) {
-        let _ = writeln!(out, "{}", v.initial);
-    }
-    let _ = writeln!(out, "$end");
-
-    // Changes: (cycle, text), sorted stably.
-    let mut changes: Vec<(u64, String)> = Vec::new();
+/// Write the trace of a run's records to `out` (the same bytes a
+/// [`VcdWriter`] writes when it is given them as the run makes them).
+pub fn write(input: &VcdInput, out: impl Write) -> std::io::Result<()> {
+    let mut w = VcdWriter::new(out, input.clock_hz, input.board, input.pwm_edges);
     for e in input.edges {
-        changes.push((
-            e.cycle,
-            format!("{}{}", u8::from(e.level), enc[e.line as usize]),
-        ));
+        w.pin(*e);
     }
-    // Duty per pin, and the waveform from the timer model when asked (mode
-    // 1 at clock/1: high for 2*OCR of every 510 cycles, centred on BOTTOM).
-    for (pin, duty_id, wave_id) in &pins {
-        let events: Vec<&DriveEvent> = input.drive.iter().filter(|e| e.pin == *pin).collect();
-        for (i, e) in events.iter().enumerate() {
-            changes.push((e.cycle, format!("r{} {duty_id}", e.duty)));
-            let until = events.get(i + 1).map_or(e.cycle, |n| n.cycle);
-            if e.duty <= 0.0 {
-                changes.push((e.cycle, format!("0{wave_id}")));
-            } else if e.duty >= 1.0 || !input.pwm_edges {
-                changes.push((e.cycle, format!("1{wave_id}")));
-            } else if let Some(wave) = e.wave {
-                changes.push((
-                    e.cycle,
-                    format!("{}{wave_id}", u8::from(wave.level(e.cycle))),
-                ));
-                for (c, level) in wave.edges(e.cycle, until) {
-                    changes.push((c, format!("{}{wave_id}", u8::from(level))));
-                }
-            }
-        }
+    for e in input.drive {
+        w.drive(e);
     }
-    for (n, cycles_per_bit, [tx, rx, tx_byte, rx_byte, tx_text, rx_text]) in &lines {
-        // A sent byte's frame starts when the USART takes it; a received
-        // byte's ends when the receiver has it.
-        let frame = (10.0 * cycles_per_bit).round() as u64;
-        for (log, line, value, text, back) in [
-            (input.uart_tx, tx, tx_byte, tx_text, 0),
-            (input.uart_rx, rx, rx_byte, rx_text, frame),
-        ] {
-            let bytes = || {
-                log.iter()
-                    .filter(|b| b.1 == *n)
-                    .map(move |b| (b.0.saturating_sub(back), b.2))
-            };
-            let mut so_far = String::new();
-            for (cycle, byte) in bytes() {
-                changes.push((cycle, format!("r{byte} {value}")));
-                changes.push((cycle, format!("s{} {text}", line_text(&mut so_far, byte))));
-            }
-            for (cycle, level) in frames(bytes(), *cycles_per_bit) {
-                changes.push((cycle, format!("{}{line}", u8::from(level))));
-            }
+    for (received, log) in [(false, input.uart_tx), (true, input.uart_rx)] {
+        for &(cycle, usart, byte) in log {
+            w.uart(received, cycle, usart, byte);
         }
     }
     for s in input.samples {
-        let c = (s.t_s * input.clock_hz as f64).round() as u64;
-        let vals = [
-            s.x_mm,
-            s.y_mm,
-            s.theta_rad,
-            s.left_edges as f64,
-            s.right_edges as f64,
-        ];
-        for (v, idv) in vals.iter().zip(&plant) {
-            changes.push((c, format!("r{v} {idv}")));
-        }
+        w.sample(s);
     }
-    changes.sort_by_key(|c| c.0);
-    let mut last = Some(0);
-    for (cycle, text) in changes {
-        if last != Some(cycle) {
-            let _ = writeln!(out, "#{cycle}");
-            last = Some(cycle);
-        }
-        let _ = writeln!(out, "{text}");
-    }
-    out
+    w.finish().map(drop)
+}
+
+/// Render the VCD text.
+pub fn render(input: &VcdInput) -> String {
+    let mut out = Vec::new();
+    write(input, &mut out).expect("writing to memory does not fail");
+    String::from_utf8(out).expect("the trace is ASCII")
 }
 
 /// GTKWave's wave pane, in pixels, as the save file sizes the window
@@ -386,10 +351,30 @@ pub fn gtkw_zoom(span_ps: f64) -> f64 {
 /// its encoder's lines, then each UART's text, bytes and bit lines, then the
 /// plant; a comment line heads each group.
 pub fn gtkw(vcd_name: &str, input: &VcdInput) -> String {
+    let trace = Traced {
+        clock_hz: input.clock_hz,
+        board: input.board,
+        pwm_edges: input.pwm_edges,
+        end_cycle: end_cycle(input),
+    };
+    gtkw_of(vcd_name, &trace)
+}
+
+/// What a GTKWave save file needs of a trace.
+pub struct Traced<'a> {
+    pub clock_hz: u32,
+    pub board: &'a Board,
+    pub pwm_edges: bool,
+    /// The last cycle anything changed at.
+    pub end_cycle: u64,
+}
+
+/// [`gtkw`] of a trace written as the run went ([`VcdWriter`]).
+pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
     let board = input.board;
     // GTKWave's time is the VCD's times the timescale's number (ps here).
     let ps_per_cycle = 1_000_000_000_000u64 / input.clock_hz as u64;
-    let span_ps = (end_cycle(input) * ps_per_cycle) as f64;
+    let span_ps = (input.end_cycle * ps_per_cycle) as f64;
     let mut out = String::new();
     let _ = writeln!(out, "[*] GTKWave save file of a Henrytwo HIL bench trace");
     let _ = writeln!(out, "[dumpfile] \"{vcd_name}\"");

@@ -2,6 +2,12 @@
 //! does its share, given the others (or the few values it needs of them).
 
 use super::*;
+use crate::bench::recorder::SharedTap;
+
+/// How far behind the run a tap is told it has settled: longer than any
+/// record is made after its cycle (a UART frame queued behind the one on
+/// the line starts up to a frame later; at 300 baud that is 33 ms).
+const TAP_SETTLE_S: f64 = 0.1;
 
 /// The callbacks' work that needs several parts: each part does its share,
 /// given the others (or the few values it needs of them).
@@ -64,11 +70,22 @@ impl BenchCore {
         self.recorder.start_pins(cycle, self.edges.levels_shown());
     }
 
-    /// A trace sample of the plant at `cycle`.
+    /// [`Self::start_recording`], the records given to `tap` as they are
+    /// made (see `Bench::stream_records`).
+    pub(in crate::bench) fn stream_records(&mut self, cycle: u64, tap: SharedTap) {
+        self.recorder
+            .stream_to(tap, cycle, self.edges.levels_shown());
+    }
+
+    /// A trace sample of the plant at `cycle`; a tap has the UART bytes so
+    /// far and is settled up to [`TAP_SETTLE_S`] before it.
     pub(super) fn sample(&mut self, cycle: u64) {
         let duty = Side::BOTH.map(|side| self.bridge.signed_duty(side));
         let t_s = self.clock.seconds(cycle).0;
         self.recorder.sample(t_s, &self.robot, duty);
+        let settled = cycle.saturating_sub(self.clock.cycles_in(Seconds(TAP_SETTLE_S)));
+        self.recorder
+            .feed_tap(self.uart.log(), self.uart.rx_log(), settled);
     }
 
     /// VCC and the brown-out detector (see `Power::update_supply`).

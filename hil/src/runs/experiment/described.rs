@@ -146,10 +146,7 @@ pub(crate) fn run_described_on(
     for f in &opts.faults {
         bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
     }
-    if opts.record {
-        bench.true_waveforms();
-        bench.start_recording();
-    }
+    super::record(bench, opts);
     let start_cycle = bench.cycle();
     let mark = Mark::now(bench);
     match &start {

@@ -70,6 +70,10 @@ pub struct TestOptions {
     /// where in the firmware's control period the run starts. A person starts runs at no
     /// particular phase of it; 0 (the default) starts at the same cycle every time.
     pub start_delay_s: f64,
+    /// With [`TestOptions::record`]: where the records go as the run makes
+    /// them (a trace written as the run goes, `Bench::stream_records`)
+    /// instead of the pin changes kept in the run.
+    pub tap: Option<crate::bench::SharedTap>,
 }
 
 impl Default for TestOptions {
@@ -86,6 +90,7 @@ impl Default for TestOptions {
             hang_after_s: None,
             description: None,
             start_delay_s: 0.0,
+            tap: None,
         }
     }
 }
@@ -357,10 +362,7 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
     for f in &opts.faults {
         bench.schedule(f.trigger, f.action.clone(), f.undo.clone());
     }
-    if opts.record {
-        bench.true_waveforms();
-        bench.start_recording();
-    }
+    record(bench, opts);
     let (params, believed, warning) = crate::firmware::params::plan(
         bench.firmware(),
         robot,
@@ -373,6 +375,18 @@ fn start(bench: &mut Bench, robot: &RobotConfig, test: Test, opts: &TestOptions)
         believed,
         warning,
         sent: params.len(),
+    }
+}
+
+/// Recording on when `opts` asks for it: the pin changes kept, or the
+/// records given to its tap as they are made.
+pub(crate) fn record(bench: &mut Bench, opts: &TestOptions) {
+    if opts.record {
+        bench.true_waveforms();
+        match &opts.tap {
+            Some(tap) => bench.stream_records(tap.clone()),
+            None => bench.start_recording(),
+        }
     }
 }
 

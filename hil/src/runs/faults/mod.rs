@@ -408,6 +408,7 @@ fn run_case(
         tell: Default::default(),
         description: options.description.clone(),
         start_delay_s: 0.0,
+        tap: None,
     };
     let run = run_test(fw.clone(), robot, case.test, &opts)?;
     Ok(Observed::from_run(

@@ -104,6 +104,7 @@ pub fn execute(
                 description: plan.description.clone(),
                 tell: crate::firmware::params::Tell::Keep,
                 start_delay_s: 0.0,
+                tap: None,
             };
             let run = run_test(firmware.clone(), robot, spec.test, &opts)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
