@@ -172,10 +172,10 @@ mod tests {
     /// degrees turned 90 from the origin's, -90 the other way.
     #[test]
     fn poses_measure_distance_and_turn_between_them() {
-        let a = Pose::<World>::origin();
+        let a = Pose::<World>::new(Millimetres(1.0), Millimetres(1.0), Radians::ZERO);
         let b = Pose::<World>::new(
-            Millimetres(3.0),
             Millimetres(4.0),
+            Millimetres(5.0),
             Radians::from_degrees(90.0),
         );
         assert_eq!(b.distance_to(&a), Millimetres(5.0));
