@@ -40,26 +40,23 @@ fn run_described(file: &str, test: impl Into<TestName>, seed: u64, record: bool)
 }
 
 /// A described sketch's run on a board of the fixtures (`board`, from the
-/// workspace root), the robot given.
+/// workspace root), the robot given: as its owner's test would run it,
+/// through the harness.
 fn run_on_board(
     file: &str,
     board: &str,
     robot: &plant_model::RobotConfig,
     test: impl Into<TestName>,
 ) -> TestRun {
-    let (d, fw) = described(file);
-    let board =
-        hil::board::Board::load(hil::paths::workspace_root().join(board)).expect("the board loads");
-    let opts = TestOptions {
-        leg_mm: d.leg_mm(None, 2000.0).unwrap(),
-        bench: BenchOptions {
-            board,
-            ..Default::default()
-        },
-        description: Some(d),
-        ..Default::default()
-    };
-    run_test(fw, robot, test, &opts).expect("the bench runs the sketch")
+    let root = hil::paths::workspace_root();
+    hil::clients::harness::Harness::builder()
+        .tests(root.join(file))
+        .board(root.join(board))
+        .robot(robot.clone())
+        .build()
+        .unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"))
+        .run_test(test.into(), None)
+        .expect("the bench runs the sketch")
 }
 
 /// The Rust port of the same listing, on the same robot, legs of the

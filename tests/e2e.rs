@@ -33,6 +33,8 @@ mod free_run;
 mod gdb;
 #[path = "golden.rs"]
 mod golden;
+#[path = "harness.rs"]
+mod harness;
 #[path = "hil_test.rs"]
 mod hil_test;
 #[path = "inputs.rs"]

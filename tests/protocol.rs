@@ -6,53 +6,41 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use hil::bench::{Action, Bench, BenchOptions, Trigger};
-use hil::firmware::link::{frame, replies, Command, Param, ProtoTest, Received};
-use hil::runs::start::wait_ready;
+use hil::bench::{Action, Trigger};
+use hil::clients::harness::{Harness, Param};
+use hil::firmware::link::{frame, replies, Command, ProtoTest, Received};
 
-fn bench(build: &str) -> Bench {
-    let mut b = Bench::new(
-        support::firmware(build),
-        &support::robot("henrytwo-ideal"),
-        BenchOptions::default(),
-    )
-    .unwrap();
-    wait_ready(&mut b, None).unwrap();
-    b
+/// The build `build` on the ideal Henrytwo, booted, as a user's test holds it.
+fn bench(build: &str) -> Harness {
+    let mut h = Harness::builder()
+        .firmware(support::firmware(build))
+        .robot(support::robot("henrytwo-ideal"))
+        .build()
+        .unwrap();
+    h.boot().unwrap();
+    h
 }
 
 /// Send `bytes`, let them arrive and be answered, return the new replies.
-fn exchange(b: &mut Bench, bytes: &[u8]) -> Vec<Received> {
-    let before = b.uart_output(1).len();
-    b.send(1, bytes);
+fn exchange(b: &mut Harness, bytes: &[u8]) -> Vec<Received> {
+    let before = b.output().len();
+    b.send(bytes);
     // ~1 ms per byte at 9600 baud, the reply as long again, and margin.
     b.run_for(0.1 + bytes.len() as f64 * 0.003).unwrap();
-    replies(&b.uart_output(1)[before..])
-}
-
-fn param(b: &mut Bench, p: Param) -> f32 {
-    let r = exchange(b, &frame(&Command::GetParam(p)));
-    assert_eq!(r.len(), 1, "{r:?}");
-    assert!(r[0].ok, "{r:?}");
-    f32::from_le_bytes(r[0].data[1..5].try_into().unwrap())
+    replies(&b.output()[before..])
 }
 
 /// The state the robot must keep through bad input: parameters, tests done,
 /// and where it stands.
-fn state(b: &mut Bench) -> (f32, f32, u16, f64, f64) {
-    let done = b.read_u16(
-        b.vars()
-            .expect("the robust build has the bench interface")
-            .done_count,
-    );
-    let pose = b.core().robot().pose();
-    let (x, y) = (pose.x().0, pose.y().0);
+fn state(b: &mut Harness) -> (f32, f32, u16, f64, f64) {
+    let done = b.var::<u16>("HT_DONE_COUNT").unwrap();
+    let pose = b.pose();
     (
-        param(b, Param::WheelbaseMm),
-        param(b, Param::CorrLeft),
+        b.param(Param::WheelbaseMm).unwrap(),
+        b.param(Param::CorrLeft).unwrap(),
         done,
-        x,
-        y,
+        pose.x().get(),
+        pose.y().get(),
     )
 }
 
@@ -71,7 +59,7 @@ fn every_command_and_parameter_round_trips() {
     ] {
         let r = exchange(&mut b, &frame(&Command::SetParam(p, v)));
         assert!(r.len() == 1 && r[0].ok, "{p:?}: {r:?}");
-        assert_eq!(param(&mut b, p), v, "{p:?}");
+        assert_eq!(b.param(p).unwrap(), v, "{p:?}");
     }
     for cmd in [Command::GetState, Command::GetTelemetry] {
         let r = exchange(&mut b, &frame(&cmd));
@@ -83,12 +71,11 @@ fn every_command_and_parameter_round_trips() {
     // A framed start runs the test with the parameters set: a 750 mm line.
     let r = exchange(&mut b, &frame(&Command::StartTest(ProtoTest::Line)));
     assert!(r[0].ok, "{r:?}");
-    let done = b
-        .vars()
-        .expect("the robust build has the bench interface")
-        .done_count;
-    assert!(b.run_until(30.0, |b| b.read_u16(done) == 1).unwrap());
-    let x = b.core().robot().pose().x().0;
+    b.assert_within(
+        &hil::clients::harness::Condition::var_eq("HT_DONE_COUNT", 1u16),
+        30.0,
+    );
+    let x = b.pose().x().get();
     assert!((x - 750.0).abs() < 60.0, "drove to x = {x} mm");
 }
 
@@ -138,13 +125,13 @@ fn battery_leds_follow_a0() {
         // battery volts -> expected LED bit (A0 = 0.55 x battery).
         for (i, (volts, bit)) in [(8.6, 5u8), (8.2, 4), (7.6, 6)].into_iter().enumerate() {
             let at = b.robot_time_s() + 0.01;
-            b.schedule(
-                Trigger::Time { s: at },
-                Action::BatteryVolts { volts: Some(volts) },
-                None,
-            );
+            b.schedule(hil::bench::ScheduledFault {
+                trigger: Trigger::Time { s: at },
+                action: Action::BatteryVolts { volts: Some(volts) },
+                undo: None,
+            });
             b.run_for(0.3).unwrap();
-            let portb = b.read_u8(0x25);
+            let portb = b.bench().read_u8(0x25);
             let leds = (portb >> 4) & 0b111;
             assert_eq!(
                 leds,

@@ -78,6 +78,17 @@ impl<F: Frame> Pose<F> {
         Millimetres(self.position_mm.norm())
     }
 
+    /// Distance between this pose's position and `other`'s (same frame).
+    pub fn distance_to(&self, other: &Pose<F>) -> Millimetres {
+        Millimetres((self.position_mm - other.position_mm).norm())
+    }
+
+    /// Heading change from `other` to this pose (this minus `other`), not
+    /// wrapped.
+    pub fn turned_from(&self, other: &Pose<F>) -> Radians {
+        Radians(self.theta_rad - other.theta_rad)
+    }
+
     /// Moves along a circular arc (or a straight line when `dtheta` is 0) that starts at this
     /// pose tangent to its heading, has length `ds` (negative: backwards) and turns the heading
     /// by `dtheta`. The chord of the arc has length `ds * sinc(dtheta / 2)` and points along
@@ -154,5 +165,24 @@ mod tests {
         let b = 1e-4 * (1.0 + 1e-12);
         assert_relative_eq!(sinc(a), sinc(b), epsilon = 1e-15);
         assert_eq!(sinc(0.0), 1.0);
+    }
+
+    /// The distance and turn between two poses, in their units: (3, 4) is
+    /// 5 mm from (0, 0) whichever is asked from, and a heading of 90
+    /// degrees turned 90 from the origin's, -90 the other way.
+    #[test]
+    fn poses_measure_distance_and_turn_between_them() {
+        let a = Pose::<World>::new(Millimetres(1.0), Millimetres(1.0), Radians::ZERO);
+        let b = Pose::<World>::new(
+            Millimetres(4.0),
+            Millimetres(5.0),
+            Radians::from_degrees(90.0),
+        );
+        assert_eq!(b.distance_to(&a), Millimetres(5.0));
+        assert_eq!(a.distance_to(&b), Millimetres(5.0));
+        assert_eq!(Millimetres(3.0).hypot(Millimetres(-4.0)), Millimetres(5.0));
+        assert_relative_eq!(b.turned_from(&a).to_degrees(), 90.0, epsilon = 1e-12);
+        assert_relative_eq!(a.turned_from(&b).to_degrees(), -90.0, epsilon = 1e-12);
+        assert_relative_eq!(Radians(PI).to_degrees(), 180.0);
     }
 }

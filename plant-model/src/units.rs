@@ -127,6 +127,27 @@ quantity!(
     "thesis RPM"
 );
 
+impl Radians {
+    /// An angle given in degrees.
+    pub fn from_degrees(deg: f64) -> Self {
+        Self(deg.to_radians())
+    }
+
+    /// The angle in degrees, as a plain number (reports and tests speak
+    /// degrees).
+    pub fn to_degrees(self) -> f64 {
+        self.0.to_degrees()
+    }
+}
+
+impl Millimetres {
+    /// The hypotenuse of a right triangle with legs `self` and `other`: a
+    /// distance from its x and y.
+    pub fn hypot(self, other: Self) -> Self {
+        Self(self.0.hypot(other.0))
+    }
+}
+
 /// True wheel RPM per thesis "RPM" (see [`ThesisRpm`]).
 pub const TRUE_RPM_PER_THESIS_RPM: f64 = 6.0;
 

@@ -4,8 +4,8 @@
 //! build, which has no encoder watchdog, to show the dropout test catches it.
 
 use hil::clients::harness::{
-    Action, Command, Condition, EncoderFault, Harness, HarnessError, Side, Test, VarType,
-    NOTIFY_TEST_DONE, REPLY_FLAG, VERSION,
+    Action, Command, CommandId, Condition, EncoderFault, FrameId, Harness, HarnessError,
+    Millimetres, Side, Test, VERSION,
 };
 
 /// The bench with one of this repository's firmware builds on Henrytwo,
@@ -28,12 +28,15 @@ fn a_ping_gets_its_reply() -> Result<(), HarnessError> {
     let mut h = bench("robust");
     h.boot()?;
     let sent_at = h.robot_time_s();
-    h.command(&Command::Ping);
-    let at = h.run_until(&Condition::frame(REPLY_FLAG | 0x01), 0.05)?;
-    let reply = h.frames().pop().expect("the reply just seen");
-    assert_eq!((reply.id, reply.ok), (0x81, true), "{reply:?}");
+    let reply = h.request(&Command::Ping, 0.05)?;
+    assert_eq!(
+        reply.frame_id(),
+        FrameId::Reply(CommandId::Ping),
+        "{reply:?}"
+    );
+    assert!(reply.ok, "{reply:?}");
     assert_eq!(reply.data, [VERSION]);
-    assert!(at - sent_at < 0.05);
+    assert!(h.robot_time_s() - sent_at < 0.05);
     Ok(())
 }
 
@@ -43,16 +46,11 @@ fn a_ping_gets_its_reply() -> Result<(), HarnessError> {
 fn a_300_mm_line_ends_within_1_percent() -> Result<(), HarnessError> {
     let mut h = bench("robust");
     h.start(Test::Line, 300.0)?;
-    h.run_until(&Condition::frame(NOTIFY_TEST_DONE), 10.0)?;
-    let pose = h.pose();
-    let (x, y) = (pose.x().0, pose.y().0);
-    let distance = x.hypot(y);
-    assert!(
-        (distance - 300.0).abs() <= 3.0,
-        "{distance:.1} mm from the start (x = {x:.1} mm, y = {y:.1} mm)"
-    );
+    h.assert_within(&Condition::frame(FrameId::TestDone), 10.0);
+    h.assert_distance(300.0, 3.0);
     // Ahead, not beside: the line's drift is a few millimetres.
-    assert!(x > 290.0, "x = {x:.1} mm, y = {y:.1} mm");
+    let pose = h.pose();
+    assert!(pose.x() > Millimetres(290.0), "{pose}");
     // The same check as a scenario file's pose expectation.
     h.run_until(&Condition::distance_within_pct(300.0, 1.0), 0.01)?;
     Ok(())
@@ -65,8 +63,8 @@ fn an_encoder_dropout_stops_the_motors_within_250_ms() -> Result<(), HarnessErro
     let mut h = bench("robust");
     let stopped = dropout_mid_line(&mut h)?;
     stopped?;
-    let code = h.var("HT_FAULT", VarType::U8)?;
-    assert_ne!(code, 0.0, "the firmware's fault code after the dropout");
+    let code = h.var::<u8>("HT_FAULT")?;
+    assert_ne!(code, 0, "the firmware's fault code after the dropout");
     assert_eq!(h.motor_duty(), [0.0, 0.0]);
     Ok(())
 }
@@ -135,7 +133,7 @@ fn bad_input_is_refused_with_its_range() {
         "give an Arduino Mega pin, D0-D69 or A0-A15",
     );
     refused(
-        h.run_until(&Condition::var_eq("NO_SUCH_SYMBOL", VarType::U8, 1.0), 1.0)
+        h.run_until(&Condition::var_eq("NO_SUCH_SYMBOL", 1u8), 1.0)
             .unwrap_err(),
         "NO_SUCH_SYMBOL",
     );

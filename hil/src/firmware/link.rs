@@ -3,8 +3,10 @@
 //! the firmware's bytes back to replies and notifications.
 
 use henrytwo_protocol::frame::{encode_frame, Event, Parser, MAX_FRAME, MAX_PAYLOAD};
-pub use henrytwo_protocol::message::{Command, Test as ProtoTest};
-use henrytwo_protocol::message::{Reply, Status};
+pub use henrytwo_protocol::message::{Command, CommandId, Test as ProtoTest};
+use henrytwo_protocol::message::{
+    Reply, Status, FRAME_ERROR_ID, NOTIFY_FAULT, NOTIFY_TEST_DONE, REPLY_FLAG,
+};
 pub use henrytwo_protocol::param::Param;
 
 /// The frame carrying `cmd`.
@@ -18,6 +20,78 @@ pub fn frame(cmd: &Command) -> Vec<u8> {
     out[..len].to_vec()
 }
 
+/// The id of a frame the firmware sends (`protocol/README.md`): the reply
+/// to a command, a notice, or the reply to a frame it could not read. Its
+/// byte is [`FrameId::byte`]; any byte is one ([`FrameId::Other`] for ids
+/// the protocol does not define), so `FrameId::from(0x81)` still reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FrameId {
+    /// The reply to this command (its id with [`REPLY_FLAG`]).
+    Reply(CommandId),
+    /// `NOTIFY_TEST_DONE`: a test ended.
+    TestDone,
+    /// `NOTIFY_FAULT`: the firmware stopped on a fault.
+    Fault,
+    /// The reply to a frame whose command the firmware could not tell.
+    FrameError,
+    /// An id the protocol does not define.
+    Other(u8),
+}
+
+impl FrameId {
+    /// The id byte on the wire.
+    pub const fn byte(self) -> u8 {
+        match self {
+            FrameId::Reply(c) => c.reply_id(),
+            FrameId::TestDone => NOTIFY_TEST_DONE,
+            FrameId::Fault => NOTIFY_FAULT,
+            FrameId::FrameError => FRAME_ERROR_ID,
+            FrameId::Other(b) => b,
+        }
+    }
+
+    /// The id `b` means.
+    pub const fn from_byte(b: u8) -> FrameId {
+        match b {
+            NOTIFY_TEST_DONE => FrameId::TestDone,
+            NOTIFY_FAULT => FrameId::Fault,
+            FRAME_ERROR_ID => FrameId::FrameError,
+            _ if b & REPLY_FLAG != 0 => match CommandId::from_u8(b & !REPLY_FLAG) {
+                Some(c) => FrameId::Reply(c),
+                None => FrameId::Other(b),
+            },
+            _ => FrameId::Other(b),
+        }
+    }
+}
+
+impl From<u8> for FrameId {
+    fn from(b: u8) -> Self {
+        FrameId::from_byte(b)
+    }
+}
+
+/// A command's id stands for the reply to it.
+impl From<CommandId> for FrameId {
+    fn from(c: CommandId) -> Self {
+        FrameId::Reply(c)
+    }
+}
+
+impl std::fmt::Display for FrameId {
+    /// `reply to Ping (0x81)`, `TEST_DONE (0xc0)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let b = self.byte();
+        match self {
+            FrameId::Reply(c) => write!(f, "reply to {c:?} (0x{b:02x})"),
+            FrameId::TestDone => write!(f, "TEST_DONE (0x{b:02x})"),
+            FrameId::Fault => write!(f, "FAULT (0x{b:02x})"),
+            FrameId::FrameError => write!(f, "frame error (0x{b:02x})"),
+            FrameId::Other(_) => write!(f, "0x{b:02x}"),
+        }
+    }
+}
+
 /// A reply or notification the firmware sent, owned.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 pub struct Received {
@@ -25,6 +99,13 @@ pub struct Received {
     pub status: String,
     pub ok: bool,
     pub data: Vec<u8>,
+}
+
+impl Received {
+    /// What its id means.
+    pub fn frame_id(&self) -> FrameId {
+        FrameId::from_byte(self.id)
+    }
 }
 
 /// Every frame in `bytes` (the firmware's output on the Bluetooth UART),
@@ -82,5 +163,26 @@ mod tests {
             assert_eq!(Test::from_u8(test.command_byte()), Some(test));
         }
         assert!("umbmark_cw".parse::<Test>().is_err());
+    }
+
+    /// Every byte is one frame id and back; the protocol's ids by name.
+    #[test]
+    fn frame_ids_name_every_byte_and_round_trip() {
+        use henrytwo_protocol::message::{FRAME_ERROR_ID, NOTIFY_FAULT, NOTIFY_TEST_DONE};
+        for b in 0..=255u8 {
+            assert_eq!(FrameId::from_byte(b).byte(), b, "{b:#04x}");
+        }
+        assert_eq!(FrameId::from(0x81), FrameId::Reply(CommandId::Ping));
+        assert_eq!(FrameId::from(0xB1), FrameId::Reply(CommandId::GetParam));
+        assert_eq!(FrameId::from(NOTIFY_TEST_DONE), FrameId::TestDone);
+        assert_eq!(FrameId::from(NOTIFY_FAULT), FrameId::Fault);
+        assert_eq!(FrameId::from(FRAME_ERROR_ID), FrameId::FrameError);
+        // A command id without the reply flag, and a reply to no command.
+        assert_eq!(FrameId::from(0x01), FrameId::Other(0x01));
+        assert_eq!(FrameId::from(0x82), FrameId::Other(0x82));
+        assert_eq!(FrameId::from(CommandId::Stop).byte(), 0x91);
+        assert_eq!(FrameId::TestDone.to_string(), "TEST_DONE (0xc0)");
+        let reply = replies(&frame(&Command::Ping)); // a command frame read as a reply
+        assert!(reply.iter().all(|r| r.frame_id() == FrameId::Other(0x01)));
     }
 }

@@ -1,19 +1,25 @@
 //! Short ways to write the scenario [`Condition`]s a test waits for, in Rust
 //! (a scenario file writes the same conditions in TOML: `hil::runs::scenario`).
 
-use crate::runs::scenario::{Condition, Direction, Level, MotorSides, MotorState, VarType};
+use crate::firmware::link::{CommandId, FrameId};
+use crate::runs::scenario::{Condition, Direction, Level, MotorSides, MotorState};
 
 impl Condition {
-    /// The firmware sent a frame with this `id` on the command link (a
-    /// reply `0x80 | command id`, or a notice such as
-    /// [`super::NOTIFY_TEST_DONE`]).
-    pub fn frame(id: u8) -> Self {
+    /// The firmware sent a frame with this id on the command link:
+    /// `Condition::frame(FrameId::TestDone)`, `Condition::frame(FrameId::Reply(CommandId::Ping))`
+    /// (a raw byte, `Condition::frame(0x81)`, is the same id).
+    pub fn frame(id: impl Into<FrameId>) -> Self {
         Condition::Frame {
             usart: None,
-            id,
+            id: id.into().byte(),
             status: None,
             data: None,
         }
+    }
+
+    /// The firmware replied to `command` on the command link, with any status.
+    pub fn reply_to(command: CommandId) -> Self {
+        Self::frame(FrameId::Reply(command))
     }
 
     /// The firmware sent these bytes, back to back, on the command link.
@@ -66,27 +72,6 @@ impl Condition {
         Condition::Pin {
             pin: name.into(),
             level,
-        }
-    }
-
-    /// The firmware variable `symbol`, read as `ty`, equals `value`.
-    pub fn var_eq(symbol: &str, ty: VarType, value: f64) -> Self {
-        Self::var(symbol, ty, Some(value), None)
-    }
-
-    /// The firmware variable `symbol`, read as `ty`, is not `value`.
-    pub fn var_ne(symbol: &str, ty: VarType, value: f64) -> Self {
-        Self::var(symbol, ty, None, Some(value))
-    }
-
-    fn var(symbol: &str, ty: VarType, eq: Option<f64>, ne: Option<f64>) -> Self {
-        Condition::Var {
-            symbol: symbol.into(),
-            ty,
-            eq,
-            ne,
-            min: None,
-            max: None,
         }
     }
 

@@ -5,6 +5,7 @@ use thiserror::Error;
 
 use crate::bench::BenchError;
 use crate::board::BoardError;
+use crate::firmware::description::DescriptionError;
 use crate::firmware::elf::ElfError;
 
 /// Debug prints the same line as Display: a test that ends in `?` or
@@ -12,15 +13,26 @@ use crate::firmware::elf::ElfError;
 #[derive(Error)]
 pub enum HarnessError {
     /// [`super::HarnessBuilder::build`] without [`super::HarnessBuilder::firmware`].
-    #[error("the harness has no firmware: give its ELF with .firmware(path) (e.g. hil::paths::firmware_elf(\"robust\"))")]
+    #[error("the harness has no firmware: give its ELF with .firmware(path) (e.g. hil::paths::firmware_elf(\"robust\")), or a test description that names it (.tests(path), its firmware.elf)")]
     NoFirmware,
     /// The robot config: its message names the file, the field and the range.
     #[error(transparent)]
-    Robot(plant_model::Error),
+    Robot(#[from] plant_model::Error),
     #[error(transparent)]
     Board(#[from] BoardError),
     #[error(transparent)]
     Firmware(#[from] ElfError),
+    /// The test description: its message names the file, the field and
+    /// what is allowed.
+    #[error(transparent)]
+    Description(#[from] DescriptionError),
+    /// A start the firmware cannot be given as asked (no bench interface
+    /// and no description, a pin the board's MCU does not have, ...).
+    #[error("start: {0}")]
+    Start(String),
+    /// The firmware answered a command with an error reply.
+    #[error("{command}: the firmware replied {reply}")]
+    Refused { command: String, reply: String },
     /// The bench stopped: the CPU crashed, a fault action was refused, the
     /// firmware hung, ...
     #[error(transparent)]

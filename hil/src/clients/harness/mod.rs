@@ -1,103 +1,79 @@
-//! The bench for a user's own `cargo test`: build it from a robot config, a
-//! board file and an ELF, talk to the firmware over its Bluetooth UART, run
-//! until a condition holds, inject a fault, look at the plant and assert.
+//! The bench for a user's own `cargo test`: build it from a robot, a board,
+//! an ELF and, for a firmware without the bench interface, its test
+//! description (each a file or a value), talk to the firmware over its
+//! serial links, start its tests, run until a condition holds, inject a
+//! fault, look at the plant and assert.
 //!
 //! The crate docs ([`crate`]) show a worked example; `examples/firmware-test/`
 //! is a crate of such tests.
 //!
 //! A [`Harness`] is a [`Bench`] with the host's side played by the test:
 //! nothing happens between calls, and every call runs in robot time (the
-//! same files and seed give the same run, bit for bit, however the test
+//! same inputs and seed give the same run, bit for bit, however the test
 //! splits it into calls). The conditions are a scenario file's
 //! ([`Condition`], the table in [`crate::runs::scenario`]), judged at the run
 //! loop's checks (every [`crate::bench::CHECK_PERIOD_S`] of robot time);
 //! the faults are the bench's [`Action`]s. Errors are [`HarnessError`]s,
 //! one line each, so a test can end in `?` or `.unwrap()` and still say
-//! what went wrong.
+//! what went wrong; the `assert_` methods panic at the test's line with
+//! what the bench saw.
 //!
 //! | file | part |
 //! |---|---|
 //! | `mod.rs` | [`Harness`]: running, the host's side, what the test looks at |
-//! | `builder.rs` | [`HarnessBuilder`]: the files, the seed |
+//! | `builder.rs` | [`HarnessBuilder`]: the inputs, files or values ([`Source`]), the seed |
+//! | `start.rs` | boot and start: through the description, the protocol or the thesis build's selector |
+//! | `asserts.rs` | `#[track_caller]` asserts naming what was seen |
 //! | `conditions.rs` | short constructors of [`Condition`] (`Condition::frame`, `Condition::motors_off`, ...) |
+//! | `vars.rs` | [`Var`]: firmware variables read as their Rust types |
 //! | `until.rs` | a condition judged live, for [`Harness::run_until`] |
 //! | `error.rs` | [`HarnessError`] |
 
-use plant_model::RobotConfig;
+use std::sync::Arc;
 
 use crate::bench::Bench;
 use crate::runs::scenario::judge::motor_state;
 
+mod asserts;
 mod builder;
 mod conditions;
 mod error;
+mod start;
 mod until;
+mod vars;
 
-pub use self::builder::HarnessBuilder;
+pub use self::builder::{HarnessBuilder, Source};
 pub use self::error::HarnessError;
+pub use self::start::IntoTestName;
+pub use self::vars::Var;
 // What a test names, re-exported from where each is defined, so that a
 // test crate needs `hil::clients::harness` alone.
 pub use crate::bench::inject::{Channel, EncoderFault, LinkFault};
 pub use crate::bench::{Action, ScheduledFault, Trigger};
-pub use crate::firmware::link::{frame, Command, Param, Received};
-pub use crate::runs::experiment::Test;
+pub use crate::board::Board;
+pub use crate::firmware::description::{Description, TestName};
+pub use crate::firmware::elf::Firmware;
+pub use crate::firmware::link::{frame, Command, CommandId, FrameId, Param, Received};
+pub use crate::runs::experiment::{Test, TestRun};
 pub use crate::runs::scenario::{Condition, Direction, Level, MotorSides, MotorState, VarType};
 pub use henrytwo_protocol::{NOTIFY_FAULT, NOTIFY_TEST_DONE, REPLY_FLAG, VERSION};
-pub use plant_model::{MotorFault, Pose, Side, World};
+pub use plant_model::{Millimetres, MotorFault, Pose, Radians, RobotConfig, Side, World};
 
 /// A bench under a test's control (see the module docs).
 pub struct Harness {
     bench: Bench,
     robot: RobotConfig,
+    description: Option<Arc<Description>>,
+    /// The test [`Harness::start`] started last, for [`Harness::run_until_done`].
+    started: Option<start::Started>,
+    /// Booted: ready for a test ([`Harness::boot`]).
+    ready: bool,
 }
 
 impl Harness {
     /// Start describing a harness: `Harness::builder().firmware(elf).build()?`.
     pub fn builder() -> HarnessBuilder {
         HarnessBuilder::default()
-    }
-
-    /// Run until the firmware reports idle after reset (`HT_STATE` = 1,
-    /// within 2 s of robot time): ready for a command. Needs the bench
-    /// interface of this repository's builds.
-    pub fn boot(&mut self) -> Result<(), HarnessError> {
-        if !self.bench.is_idle() {
-            crate::runs::start::wait_ready(&mut self.bench, None)?;
-        }
-        Ok(())
-    }
-
-    /// Start `test` as `hil run` does: boot if not yet idle, set the leg
-    /// length (10 to 5000 mm), tell a firmware that takes parameters the
-    /// robot's geometry over the protocol, then send the start command (a
-    /// framed START_TEST to a firmware that speaks the protocol, else the
-    /// thesis build's selector byte). Returns at once: run the test with
-    /// [`Harness::run_until`].
-    pub fn start(&mut self, test: Test, leg_mm: f64) -> Result<(), HarnessError> {
-        let r = Param::LegLengthMm.range();
-        if Param::LegLengthMm.check(leg_mm as f32).is_err() || !leg_mm.is_finite() {
-            return Err(HarnessError::Leg {
-                leg_mm,
-                min: r.min,
-                max: r.max,
-            });
-        }
-        self.boot()?;
-        let vars = *self.bench.vars()?;
-        self.bench.write_f32(vars.leg_length_mm, leg_mm as f32);
-        let (params, _, _) = crate::firmware::params::plan(
-            self.bench.firmware(),
-            &self.robot,
-            self.bench.board(),
-            crate::firmware::params::Tell::Robot,
-            &[],
-        );
-        // A firmware that speaks the framed protocol gets a framed start: its
-        // raw selector byte counts only after 50 ms of quiet on the line,
-        // which a test that just sent a command does not leave.
-        let framed = crate::firmware::params::takes_params(self.bench.firmware());
-        crate::runs::start::start_test(&mut self.bench, &params, framed, test);
-        Ok(())
     }
 
     /// Send bytes to the firmware on the board's command link (the
@@ -107,9 +83,64 @@ impl Harness {
         self.bench.send(uart, bytes);
     }
 
+    /// Send bytes (or text: `b"g"`) to the firmware on USART `usart` (0-3,
+    /// or [`crate::bench::USB_SERIAL`] on an MCU with USB), paced at the
+    /// board's baud rate for it.
+    pub fn send_to(&mut self, usart: u8, bytes: &[u8]) {
+        self.bench.send(usart, bytes);
+    }
+
+    /// What the firmware sent on USART `usart` since reset, as text (an
+    /// invalid byte as U+FFFD): a sketch's `Serial.print`s.
+    pub fn text(&self, usart: u8) -> String {
+        String::from_utf8_lossy(self.bench.uart_output(usart)).into_owned()
+    }
+
     /// Send a command of the framed protocol (`protocol/README.md`).
     pub fn command(&mut self, command: &Command) {
         self.send(&frame(command));
+    }
+
+    /// Send `command` and run until its reply comes, for at most
+    /// `within_s` of robot time: the reply, whatever its status (an error
+    /// reply is the firmware's answer, not the harness's error).
+    pub fn request(&mut self, command: &Command, within_s: f64) -> Result<Received, HarnessError> {
+        check_time("request within_s", within_s)?;
+        let before = self.output().len();
+        self.command(command);
+        let id = FrameId::Reply(command.id());
+        self.run_until(&Condition::frame(id), within_s)?;
+        Ok(crate::firmware::link::replies(&self.output()[before..])
+            .into_iter()
+            .find(|r| r.frame_id() == id)
+            .expect("the reply the wait just saw"))
+    }
+
+    /// The value of `param` in the firmware, by GET_PARAM (within 100 ms
+    /// of robot time); an error reply is [`HarnessError::Refused`].
+    pub fn param(&mut self, param: Param) -> Result<f32, HarnessError> {
+        let reply = self.request(&Command::GetParam(param), 0.1)?;
+        match reply.data.get(1..5) {
+            Some(b) if reply.ok => Ok(f32::from_le_bytes(b.try_into().expect("4 bytes"))),
+            _ => Err(HarnessError::Refused {
+                command: format!("GET_PARAM {param:?}"),
+                reply: format!("{reply:?}"),
+            }),
+        }
+    }
+
+    /// Set `param` to `value` by SET_PARAM (its reply within 100 ms of
+    /// robot time): the value the firmware stored; an error reply (out of
+    /// range, ...) is [`HarnessError::Refused`].
+    pub fn set_param(&mut self, param: Param, value: f32) -> Result<f32, HarnessError> {
+        let reply = self.request(&Command::SetParam(param, value), 0.1)?;
+        match reply.data.get(1..5) {
+            Some(b) if reply.ok => Ok(f32::from_le_bytes(b.try_into().expect("4 bytes"))),
+            _ => Err(HarnessError::Refused {
+                command: format!("SET_PARAM {param:?} = {value}"),
+                reply: format!("{reply:?}"),
+            }),
+        }
     }
 
     /// Run for `seconds` of robot time (more than 0, at most a day).
@@ -201,10 +232,16 @@ impl Harness {
             .uart_output(self.bench.board().command_uart.usart)
     }
 
-    /// The firmware variable `symbol` (an ELF data symbol of `ty`'s size).
-    pub fn var(&self, symbol: &str, ty: VarType) -> Result<f64, HarnessError> {
-        let addr = self.bench.firmware().variable(symbol, ty.size())?;
-        Ok(until::read_var(&self.bench, addr, ty))
+    /// The firmware variable `symbol` (an ELF data symbol of `T`'s size),
+    /// read as `T`: `h.var::<u8>("HT_FAULT")?`, `h.var::<i32>("leftCount")?`.
+    pub fn var<T: Var>(&self, symbol: &str) -> Result<T, HarnessError> {
+        let addr = self.bench.firmware().variable(symbol, T::TYPE.size())?;
+        Ok(T::from_bytes(until::read_bytes(&self.bench, addr, T::TYPE)))
+    }
+
+    /// The test description the harness runs the firmware by, if any.
+    pub fn description(&self) -> Option<&Description> {
+        self.description.as_deref()
     }
 
     /// The robot config the plant runs.

@@ -31,6 +31,16 @@ pub(super) struct Probe<'c> {
 impl<'c> Probe<'c> {
     /// `condition` checked and resolved on `bench`, the wait opening now.
     pub(super) fn new(condition: &'c Condition, bench: &Bench) -> Result<Self, String> {
+        Self::since(condition, bench, bench.cycle())
+    }
+
+    /// `condition` checked and resolved on `bench`, bytes and frames
+    /// counted from cycle `open`.
+    pub(super) fn since(
+        condition: &'c Condition,
+        bench: &Bench,
+        open: u64,
+    ) -> Result<Self, String> {
         condition.validate()?;
         let mut pin = None;
         let mut var = None;
@@ -51,7 +61,7 @@ impl<'c> Probe<'c> {
         }
         Ok(Self {
             condition,
-            open: bench.cycle(),
+            open,
             pin,
             var,
             logged: usize::MAX,
@@ -172,11 +182,16 @@ impl<'c> Probe<'c> {
 
 /// The firmware variable at `addr`, read as `ty`.
 pub(super) fn read_var(bench: &Bench, addr: u16, ty: VarType) -> f64 {
+    ty.value(read_bytes(bench, addr, ty))
+}
+
+/// The bytes of the variable at `addr` of type `ty`, the rest 0.
+pub(super) fn read_bytes(bench: &Bench, addr: u16, ty: VarType) -> [u8; 4] {
     let mut b = [0u8; 4];
     for (k, byte) in b.iter_mut().enumerate().take(ty.size() as usize) {
         *byte = bench.read_u8(addr + k as u16);
     }
-    ty.value(b)
+    b
 }
 
 /// A motor's signed drive duty (forward positive), from its bridge inputs.

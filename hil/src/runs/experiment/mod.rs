@@ -26,7 +26,7 @@ use crate::firmware::elf::Firmware;
 use crate::firmware::params::{Believed, Tell};
 
 mod analyse;
-mod described;
+pub(crate) mod described;
 mod fragments;
 pub mod uarts;
 
@@ -265,6 +265,20 @@ pub fn run_test_observed(
     Ok((run, bench.take_observer()))
 }
 
+/// [`run_test`]'s run of `test` on a bench fresh from reset (one a
+/// debugger or a test's harness drives: the same run, step for step).
+pub(crate) fn run_fresh(
+    bench: &mut Bench,
+    robot: &RobotConfig,
+    test: &TestName,
+    opts: &TestOptions,
+) -> Result<TestRun, BenchError> {
+    match &opts.description {
+        Some(d) => described::run_described_on(bench, test, opts, d, None),
+        None => thesis_only(test).and_then(|t| run_on(bench, robot, t, opts, None)),
+    }
+}
+
 /// [`run_test_observed`]'s run on a bench fresh from reset (one a debugger
 /// may drive: the same run, step for step).
 fn run_on(
@@ -433,10 +447,7 @@ pub fn run_test_debugged(
     }
     let mut bench = Bench::new(firmware, robot, opts.bench)?;
     server.attach(&mut bench)?;
-    let run = match &opts.description {
-        Some(d) => described::run_described_on(&mut bench, &test, opts, d, None),
-        None => thesis_only(&test).and_then(|t| run_on(&mut bench, robot, t, opts, None)),
-    };
+    let run = run_fresh(&mut bench, robot, &test, opts);
     let run = match run {
         Ok(run) => run,
         Err(BenchError::Debugger(why)) => return Err(crate::bench::gdb::GdbError::Ended(why)),

@@ -114,8 +114,11 @@ pub(crate) fn describe(c: &Condition) -> String {
             }
         }
         Condition::Frame { id, status, .. } => match status {
-            Some(s) => format!("a frame with id 0x{id:02x} and status {s}"),
-            None => format!("a frame with id 0x{id:02x}"),
+            Some(s) => format!(
+                "a frame {} with status {s}",
+                crate::firmware::link::FrameId::from_byte(*id)
+            ),
+            None => format!("a frame {}", crate::firmware::link::FrameId::from_byte(*id)),
         },
         Condition::Motor {
             side,
