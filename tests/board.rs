@@ -394,7 +394,10 @@ fn the_romi_board_names_xor_encoders_and_a_pin_without_a_number() {
 
 /// What a Romi-like board may not do, one line each: a motor-driver input
 /// without an Arduino number, an encoder with both `a` and `xor` (or
-/// neither), an xor line on a pin that cannot interrupt.
+/// neither), an encoder with one channel, an xor line on a pin that cannot
+/// interrupt, PWM on timer 4
+/// (the Leonardo's `analogWrite` on D6 and D13: simavr's 32U4 core has no
+/// timer 4, so the bench cannot run it exactly).
 #[rstest]
 #[case::driver_pin_without_a_number(
     r#"phase = "D16""#,
@@ -415,6 +418,24 @@ a = "D8""#,
     r#"xor = "A0""#,
     "encoders.left.xor",
     "D18 cannot interrupt (no INTn or PCINTn), so the firmware would miss the A xor B line's edges"
+)]
+#[case::timer_4_oc4a(
+    r#"enable = "D10""#,
+    r#"enable = "D13""#,
+    "motor_driver.left.enable",
+    "D13 is on timer 4: the atmega32u4's timer 4 (10-bit, high speed) is not emulated (simavr lacks it too)"
+)]
+#[case::timer_4_oc4d(
+    r#"enable = "D9""#,
+    r#"enable = "D6""#,
+    "motor_driver.right.enable",
+    "D6 is on timer 4: the atmega32u4's timer 4"
+)]
+#[case::one_channel(
+    r#"b = "PE2""#,
+    "",
+    "encoders.left.b",
+    "no `b`: a one-channel encoder (A alone, its direction taken from the motor command) is not modelled; give channel B's pin"
 )]
 #[case::pe2_twice(
     r#"xor = "D7""#,

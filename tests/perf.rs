@@ -148,31 +148,94 @@ fn edges_raised_from_the_plan_change_nothing() {
     }
 }
 
-/// `hil bench --tests` on the Uno robot's own sketch (a busy loop on the
-/// ATmega328P, its board's encoders and USART): the bench run and the raw
-/// simavr replay of the same ELF and inputs end in the same SRAM, and the
-/// ratio is printed. A benchmark: the ratio itself is not held to a bound.
-#[test]
-fn hil_bench_times_the_uno_robots_sketch_against_raw_simavr() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hil"))
-        .current_dir(hil::paths::workspace_root())
-        .args(["bench", "--tests", "fixtures/arduino/uno-l298n/tests.toml"])
-        .args(["--board", "fixtures/boards/uno-l298n.toml"])
-        .args(["--robot", "fixtures/robots/uno-l298n.toml"])
-        .args(["--repeats", "1", "--without-simavr-pwm"])
-        .output()
-        .unwrap();
+/// `hil bench --tests FILE --board BOARD [--robot ROBOT]`, once, without
+/// simavr's own PWM timers: its output.
+fn hil_bench(tests: &str, board: &str, robot: Option<&str>) -> std::process::Output {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_hil"));
+    cmd.current_dir(hil::paths::workspace_root())
+        .args(["bench", "--tests", tests, "--board", board])
+        .args(["--repeats", "1", "--without-simavr-pwm"]);
+    if let Some(robot) = robot {
+        cmd.args(["--robot", robot]);
+    }
+    cmd.output().unwrap()
+}
+
+/// `hil bench --tests` on a busy Arduino sketch of `name` on its board's
+/// MCU: the bench run and the raw simavr replay of the same ELF and inputs
+/// end in the same SRAM (or it exits 1), and the ratio is printed. A
+/// benchmark: the ratio itself is not held to a bound.
+#[track_caller]
+fn hil_bench_prints_a_ratio(name: &str, test: &str, board: &str, robot: Option<&str>) {
+    let tests = format!("fixtures/arduino/{name}/tests.toml");
+    let out = hil_bench(&tests, board, robot);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{stderr}");
-    assert!(stdout.starts_with("speed of leg-and-spin"), "{stdout}");
+    assert_eq!(out.status.code(), Some(0), "{name}: {stderr}");
+    assert!(stdout.starts_with(&format!("speed of {test}")), "{stdout}");
     let ratio = stdout
         .lines()
         .find_map(|l| {
             l.trim()
                 .strip_prefix("bench overhead over raw simavr (no PWM timers): ")
         })
-        .and_then(|l| l.strip_suffix("x uno-l298n"))
+        .and_then(|l| l.strip_suffix(&format!("x {name}")))
         .unwrap_or_else(|| panic!("no ratio: {stdout}"));
     assert!(ratio.parse::<f64>().unwrap() > 0.0, "{stdout}");
+}
+
+/// The Uno robot's own sketch (a busy loop on the ATmega328P, its board's
+/// encoders and USART).
+#[test]
+fn hil_bench_times_the_uno_robots_sketch_against_raw_simavr() {
+    hil_bench_prints_a_ratio(
+        "uno-l298n",
+        "leg-and-spin",
+        "fixtures/boards/uno-l298n.toml",
+        Some("fixtures/robots/uno-l298n.toml"),
+    );
+}
+
+/// The Romi's own sketch on the ATmega32U4: xor-wired encoders, timer 1's
+/// PWM, Serial1; its USB cable out, as `hil run` runs it (the replay has no
+/// USB host).
+#[test]
+fn hil_bench_times_the_romis_sketch_against_raw_simavr() {
+    hil_bench_prints_a_ratio(
+        "romi-32u4",
+        "leg-and-spin",
+        "fixtures/boards/romi-32u4.toml",
+        Some("fixtures/robots/romi-32u4.toml"),
+    );
+}
+
+/// A busy sketch on the ATmega2560 with INPUT_PULLUP encoders on a port it
+/// writes every control period.
+#[test]
+fn hil_bench_times_a_mega_sketch_against_raw_simavr() {
+    hil_bench_prints_a_ratio(
+        "pullup-encoders",
+        "line",
+        "fixtures/boards/mega-l298n.toml",
+        None,
+    );
+}
+
+/// A test talking over the USB serial cannot be replayed in raw simavr (no
+/// USB host): refused in one line before anything runs.
+#[test]
+fn hil_bench_refuses_a_test_on_the_usb_serial() {
+    let out = hil_bench(
+        "fixtures/arduino/usb-serial/tests.toml",
+        "fixtures/boards/leonardo-usb.toml",
+        None,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("ready.uart names the USB serial") && stderr.contains("no USB host"),
+        "{stderr}"
+    );
+    assert!(out.stdout.is_empty());
 }

@@ -72,6 +72,8 @@ pub enum ProblemKind {
     NoArduinoNumber { pin: String, mcu: Mcu },
     #[error("{} give channel A's pin (`a`, A/B quadrature) or the A xor B line's (`xor`, Pololu's boards), and `b`", if *given { "both `a` and `xor` given:" } else { "no `a` or `xor`:" })]
     EncoderLines { given: bool },
+    #[error("no `b`: a one-channel encoder (A alone, its direction taken from the motor command) is not modelled; give channel B's pin")]
+    OneChannel,
     #[error("no USART {usart}; the {mcu} has USART {}", mcu.chip().usart_range())]
     UartOutOfRange { usart: i64, mcu: Mcu },
     #[error("USART {usart} already carries {first}; each link needs a USART of its own ({})", mcu.chip().usart_range())]
@@ -353,7 +355,12 @@ impl Checker<'_> {
                 let (pin, mcu) = (a.name(), c.chip.mcu);
                 c.problem(&a_field, ProblemKind::CannotInterrupt { pin, line, mcu });
             }
-            let b = c.pin(&format!("encoders.{side}.b"), &e.b);
+            let b_field = format!("encoders.{side}.b");
+            let Some(b_name) = &e.b else {
+                c.problem(&b_field, ProblemKind::OneChannel);
+                return None;
+            };
+            let b = c.pin(&b_field, b_name);
             Some(EncoderWiring { kind, a: a?, b: b? })
         };
         let left = one(self, "left", &e.left);

@@ -105,13 +105,14 @@ pub(super) struct PwmDirFile {
 
 /// An encoder: `a` and `b` (A/B quadrature, A on an interrupt pin), or
 /// `xor` and `b` (Pololu's boards: A xor B on the interrupt pin, B on
-/// another).
+/// another). `b` left out (a one-channel encoder) is refused by the
+/// check, in its own words rather than serde's.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct EncoderFile {
     pub a: Option<String>,
     pub xor: Option<String>,
-    pub b: String,
+    pub b: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -74,6 +74,9 @@ impl Bench {
         // Said before anything runs: not a bench error after the reset.
         let test = super::timing::pick_test(described, self.test.clone(), Test::UmbmarkCw)
             .map_err(super::bad_input)?;
+        if let Some(d) = described {
+            hil::runs::perf::replayable_start(d, &test).map_err(super::bad_input)?;
+        }
         let (robot, firmware) = self.common.target.load()?;
         if self.diagnosis {
             return self.diagnosis(robot, firmware);

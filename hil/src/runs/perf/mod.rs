@@ -33,7 +33,7 @@ use crate::runs::experiment::TestName;
 mod record;
 mod replay;
 
-pub use record::{bench_run, bench_run_described, Recorded};
+pub use record::{bench_run, bench_run_described, replayable_start, Recorded};
 pub use replay::{raw_replay, Replayed};
 
 /// One measured run.

@@ -86,6 +86,31 @@ pub fn bench_run(
     Ok(recorded(&bench, wall, start, completed))
 }
 
+/// The one byte on a USART that starts `test` of `d`, which a raw simavr
+/// replay can give: refused otherwise (said before anything runs).
+pub fn replayable_start(d: &Description, test: &TestName) -> Result<(u8, u8), BenchError> {
+    // Raw simavr has no USB host to replay, so a test that talks over the
+    // USB serial cannot be timed against it; any other runs with the cable
+    // out, as `hil run` runs it (the host's frames would change its timing).
+    if let Some(field) = d.usb_field() {
+        return Err(BenchError::Description(format!(
+            "{}: {field} names the USB serial; hil bench replays the run in raw simavr, which \
+             has no USB host: time a test started and ended on a USART",
+            d.path
+        )));
+    }
+    match &d.test(test.clone())?.start {
+        crate::firmware::description::Start::Uart { usart, bytes } if bytes.len() == 1 => {
+            Ok((*usart, bytes[0]))
+        }
+        _ => Err(BenchError::Description(format!(
+            "{}: hil bench replays a test started by one byte on a USART; {} is not",
+            d.path,
+            test.name()
+        ))),
+    }
+}
+
 /// Run `test` of a firmware without the bench interface, as `d` describes
 /// it (started by one byte on a USART), on `board`, recording as
 /// [`bench_run`] does.
@@ -98,21 +123,11 @@ pub fn bench_run_described(
     record: bool,
 ) -> Result<Recorded, BenchError> {
     let described = d.test(test.clone())?;
-    let (usart, byte) = match &described.start {
-        crate::firmware::description::Start::Uart { usart, bytes } if bytes.len() == 1 => {
-            (*usart, bytes[0])
-        }
-        _ => {
-            return Err(BenchError::Description(format!(
-                "{}: hil bench replays a test started by one byte on a USART; {} is not",
-                d.path,
-                test.name()
-            )))
-        }
-    };
+    let (usart, byte) = replayable_start(d, test)?;
     let wall = Instant::now();
     let opts = BenchOptions {
         board: *board,
+        usb_cable: false, // see `replayable_start`
         ..Default::default()
     };
     let mut bench = crate::bench::Bench::new(fw.clone(), robot, opts)?;
