@@ -229,8 +229,8 @@ fn backward_branch(op: u16, pc: u32, to: u32) -> bool {
         // RJMP k: 12-bit signed word offset.
         let k = ((op & 0x0fff) as i16) << 4 >> 4;
         Some(pc as i64 + 2 + 2 * k as i64)
-    } else if op & 0xf800 == 0xf000 || op & 0xf800 == 0xf400 {
-        // BRBS / BRBC s, k: 7-bit signed word offset.
+    } else if op & 0xf800 == 0xf000 {
+        // BRBS (0xf000) and BRBC (0xf400) s, k: 7-bit signed word offset.
         let k = (((op >> 3) & 0x7f) as i16) << 9 >> 9;
         Some(pc as i64 + 2 + 2 * k as i64)
     } else {
