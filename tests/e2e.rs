@@ -65,6 +65,8 @@ mod robots;
 mod run_loop;
 #[path = "sharding.rs"]
 mod sharding;
+#[path = "skip.rs"]
+mod skip;
 #[path = "station.rs"]
 mod station;
 #[path = "station_ui.rs"]

@@ -103,6 +103,11 @@ pub struct BenchOptions {
     /// one instruction at a time as it does by default. The results are the
     /// same to the cycle and the bit (tests/free_run.rs); free is faster.
     pub free_run: bool,
+    /// Fast-forward over the repeats of a polling loop the bench proves
+    /// change nothing before the next event (the default; `--no-skip`
+    /// turns it off). The results are the same to the cycle and the bit
+    /// (tests/skip.rs); skipping is faster on busy firmware.
+    pub skip: bool,
     /// On an MCU with USB, the bench's USB host is on the cable (VBUS,
     /// enumeration, start of frame every millisecond). Off, the cable is
     /// out, as on a robot driving on the floor: the firmware's USB
@@ -123,6 +128,7 @@ impl Default for BenchOptions {
             board: Board::default(),
             supply: Supply::default(),
             free_run: true,
+            skip: true,
             usb_cable: true,
         }
     }
@@ -192,6 +198,12 @@ impl Bench {
 
     pub fn robot_time_s(&self) -> f64 {
         self.clock.seconds(self.avr.cycle()).0
+    }
+
+    /// Cycles the run fast-forwarded over polling loops
+    /// ([`BenchOptions::skip`]).
+    pub fn skipped_cycles(&self) -> u64 {
+        self.avr.skipped_cycles()
     }
 
     pub fn core(&self) -> &BenchCore {

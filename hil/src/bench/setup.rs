@@ -27,6 +27,7 @@ pub(super) fn build(
     // The board's MCU: the ELF's, checked where both are read (the CLI).
     let mut avr = Avr::new(wiring.mcu.chip().simavr_core, options.clock.hz(), core)?;
     avr.set_free_run(options.free_run);
+    avr.set_skip(options.skip);
     for (addr, bytes) in &firmware.segments {
         avr.load_flash(*addr, bytes)?;
     }

@@ -85,6 +85,11 @@ pub struct Target {
     /// seed mixed from it and the run's index).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Run every iteration of the firmware's polling loops: no fast-forward
+    /// over repeats the bench proves change nothing (the results are the
+    /// same to the bit; only slower).
+    #[arg(long)]
+    pub no_skip: bool,
     /// Do not tell the firmware the robot's geometry (distance per count,
     /// counts per wheel turn, wheelbase) before each run: it keeps its own
     /// (factory) values, and the report warns where they are not the robot's.
@@ -287,6 +292,7 @@ impl Target {
         BenchOptions {
             seed: self.seed,
             board: self.board.unwrap_or_default(),
+            skip: !self.no_skip,
             ..Default::default()
         }
     }

@@ -213,6 +213,7 @@ impl RunArgs {
                 .unwrap_or_default()
         };
         let mut target = Target {
+            no_skip: false,
             firmware,
             elf,
             description: None,

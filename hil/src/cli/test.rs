@@ -172,6 +172,7 @@ impl TestCmd {
         });
         let seed = self.seed.or(scenario.seed).unwrap_or(0);
         let target = Target {
+            no_skip: false,
             firmware: build,
             elf: self.elf.clone(),
             description: self.description.clone(),

@@ -32,6 +32,7 @@ pub struct Tune {
 impl Tune {
     pub fn run(self) -> Result<()> {
         let target = Target {
+            no_skip: false,
             firmware: Build::Robust,
             elf: None,
             description: None,

@@ -88,6 +88,7 @@ mod owner;
 mod pins;
 mod response;
 mod shared;
+mod skip;
 pub(crate) mod sys;
 #[cfg(test)]
 mod tests;
@@ -211,6 +212,8 @@ pub struct Avr<H: Handler> {
     /// Bursts and [`Avr::run_to`] let the core run free between cycle
     /// timers ([`Avr::set_free_run`]).
     free_run: bool,
+    /// Exact fast-forward of polling loops in bursts ([`Avr::set_skip`]).
+    skip: skip::Skip,
     chip: &'static crate::mcu::chip::Chip,
 }
 
@@ -254,6 +257,7 @@ impl<H: Handler> Avr<H> {
             code_end: 0,
             run,
             free_run: true,
+            skip: skip::Skip::new(),
             chip,
         })
     }
@@ -314,6 +318,19 @@ impl<H: Handler> Avr<H> {
 
     pub fn free_run(&self) -> bool {
         self.free_run
+    }
+
+    /// Whether [`Avr::run_burst`] fast-forwards over the repeats of a
+    /// polling loop that it proves change nothing before the next cycle
+    /// timer (`skip.rs`; off by default). The results are the same to the
+    /// cycle and the bit either way.
+    pub fn set_skip(&mut self, on: bool) {
+        self.skip.on = on;
+    }
+
+    /// Cycles fast-forwarded over polling loops so far.
+    pub fn skipped_cycles(&self) -> u64 {
+        self.skip.skipped
     }
 
     /// Set simavr's run-cycle bounds: `limit` cycles at most between two
@@ -388,11 +405,41 @@ impl<H: Handler> Avr<H> {
         let mut was_asleep = *sleeping;
         // SAFETY: plain field read.
         let mut before = unsafe { (*avr).cycle };
+        let (limit, stop) = self.run_limits(end);
+        let skip = &mut self.skip;
+        // The last step of a probe of the skip, judged here as any step. A
+        // burst that begins awake probes at once: the run loop's bursts are
+        // short (its checks' grid), and a loop is most often already
+        // running when one begins.
+        let awake = !was_asleep && {
+            // SAFETY: plain field read.
+            unsafe { (*avr).state == ffi::cpu_Running as i32 }
+        };
+        let mut probed: Option<skip::Last> = if awake && end != 0 && skip.due(before) {
+            // SAFETY: as below.
+            unsafe {
+                skip::probe(
+                    skip,
+                    avr,
+                    run,
+                    || (*shared).burst_end.get(),
+                    skip::Limits { limit, stop },
+                )
+            }
+        } else {
+            None
+        };
         let state = loop {
             // SAFETY: as in `step`; plain field reads between the steps.
-            let (state, now) = unsafe {
-                run(avr);
-                ((*avr).state, (*avr).cycle)
+            let (state, now) = match probed.take() {
+                Some(last) => {
+                    before = last.before;
+                    (last.state, last.now)
+                }
+                None => unsafe {
+                    run(avr);
+                    ((*avr).state, (*avr).cycle)
+                },
             };
             // SAFETY: as above (a failed callback sets it to 0).
             let end = unsafe { (*shared).burst_end.get() };
@@ -404,6 +451,19 @@ impl<H: Handler> Avr<H> {
                     break state;
                 }
                 before = now;
+                if skip.due(now) {
+                    // SAFETY: the MCU is between steps; the end is read as
+                    // above.
+                    probed = unsafe {
+                        skip::probe(
+                            skip,
+                            avr,
+                            run,
+                            || (*shared).burst_end.get(),
+                            skip::Limits { limit, stop },
+                        )
+                    };
+                }
                 continue;
             }
             // A step that began or ended asleep counts as slept: from the
@@ -461,12 +521,26 @@ impl<H: Handler> Avr<H> {
     /// do); otherwise one instruction per step. `end` 0: one instruction.
     #[inline]
     fn bound_run(&mut self, end: u64) {
-        if !self.free_run || end == 0 {
-            self.set_run_limit(STEP_LIMIT, 0);
-        } else if end == u64::MAX {
-            self.set_run_limit(FREE_RUN_LIMIT, 0);
+        let (limit, stop) = self.run_limits(end);
+        self.set_run_limit(limit, stop);
+    }
+
+    /// simavr's run limit and stop for [`Avr::bound_run`]. While skipping,
+    /// the free run returns every [`skip::WINDOW`] cycles at least, so
+    /// that a loop entered between two cycle timers gets probed.
+    #[inline]
+    fn run_limits(&self, end: u64) -> (u64, u64) {
+        let free = if self.skip.on {
+            skip::WINDOW
         } else {
-            self.set_run_limit(FREE_RUN_LIMIT, end);
+            FREE_RUN_LIMIT
+        };
+        if !self.free_run || end == 0 {
+            (STEP_LIMIT, 0)
+        } else if end == u64::MAX {
+            (free, 0)
+        } else {
+            (free, end)
         }
     }
 

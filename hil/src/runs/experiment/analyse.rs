@@ -162,6 +162,7 @@ pub(crate) fn analyse(
         y_cm: (end.y_mm - iy) / 10.0,
         robot_time_s: bench.robot_time_s(),
         awake_fraction: bench.awake_fraction(),
+        skipped_cycles: bench.skipped_cycles(),
         trace: core.trace().to_vec(),
         motions,
         applied: core.applied().to_vec(),

@@ -177,6 +177,10 @@ pub struct TestRun {
     pub y_cm: f64,
     pub robot_time_s: f64,
     pub awake_fraction: f64,
+    /// Cycles fast-forwarded over polling loops (not in the report: it
+    /// is the same with `--no-skip`, but for this).
+    #[serde(skip)]
+    pub skipped_cycles: u64,
     #[serde(skip)]
     pub trace: Vec<Sample>,
     /// What the motors did, from the start on, without stale levels (see

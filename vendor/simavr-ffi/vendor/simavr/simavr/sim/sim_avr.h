@@ -240,6 +240,15 @@ typedef struct avr_t {
 	// (as a cycle timer would bound it, without shortening the jump over a sleep)
 	avr_cycle_count_t	run_cycle_stop;
 
+	// if set, called before the core writes a data-space address above the general
+	// registers (write 1: an IO register through _avr_set_r, SRAM through _avr_set_ram,
+	// with the old value still in place) and before it reads an IO register (write 0),
+	// whether or not the register has a read or write callback. For a program that
+	// follows what an instruction touches (a co-simulation that proves a stretch of code
+	// changes nothing outside the data space before it fast-forwards over repeats of it).
+	void (*access_hook)(struct avr_t * avr, uint16_t addr, uint8_t write, void * param);
+	void *				access_hook_param;
+
 	/**
 	 * Sleep requests are accumulated in sleep_usec until the minimum sleep value
 	 * is reached, at which point sleep_usec is cleared and the sleep request

@@ -303,6 +303,8 @@ static inline void _avr_set_r(avr_t * avr, uint16_t r, uint8_t v)
 	}
 	if (r > 31) {
 		avr_io_addr_t io = AVR_DATA_TO_IO(r);
+		if (avr->access_hook)
+			avr->access_hook(avr, r, 1, avr->access_hook_param);
 		if (avr->io[io].w.c) {
 			avr->io[io].w.c(avr, r, v, avr->io[io].w.param);
 		} else {
@@ -360,8 +362,11 @@ static inline void _avr_set_ram(avr_t * avr, uint16_t addr, uint8_t v)
 {
 	if (addr <= avr->ioend)
 		_avr_set_r(avr, addr, v);
-	else
+	else {
+		if (avr->access_hook)
+			avr->access_hook(avr, addr, 1, avr->access_hook_param);
 		avr_core_watch_write(avr, addr, v);
+	}
 }
 
 /*
@@ -379,6 +384,8 @@ static inline uint8_t _avr_get_ram(avr_t * avr, uint16_t addr)
 	} else if (addr > 31 && addr < 31 + MAX_IOs) {
 		avr_io_addr_t io = AVR_DATA_TO_IO(addr);
 
+		if (avr->access_hook)
+			avr->access_hook(avr, addr, 0, avr->access_hook_param);
 		if (avr->io[io].r.c)
 			avr->data[addr] = avr->io[io].r.c(avr, addr, avr->io[io].r.param);
 #if 0
