@@ -8,26 +8,13 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use std::sync::Arc;
+#[path = "support/identity.rs"]
+mod identity;
 
 use hil::bench::BenchOptions;
-use hil::firmware::description::Description;
 use hil::firmware::elf::Firmware;
-use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
-use hil::runs::faults::library;
-
-/// Everything a run shows, as text: the report's JSON (results, the UARTs'
-/// bytes, the applied faults, the awake fraction), the trace and the
-/// motions with their cycles.
-fn everything(r: &TestRun) -> String {
-    format!(
-        "{}\n{:?}\n{:?}\n{:?}",
-        serde_json::to_string(r).expect("a run serialises"),
-        r.trace,
-        r.motions,
-        r.bluetooth_out
-    )
-}
+use hil::runs::experiment::{run_test, Test, TestOptions};
+use identity::{assert_same, described, fault_case};
 
 /// Runs `firmware` with `opts` twice, free and stepped, and fails naming
 /// the first line where the two part.
@@ -45,35 +32,7 @@ fn same_free_and_stepped(what: &str, firmware: &Firmware, test: Test, opts: &Tes
     };
     let stepped = run(false);
     let free = run(true);
-    assert!(!stepped.trace.is_empty(), "{what}: no trace to compare");
-    let (a, b) = (everything(&stepped), everything(&free));
-    if a != b {
-        let at = a
-            .lines()
-            .zip(b.lines())
-            .position(|(x, y)| x != y)
-            .unwrap_or(0);
-        let cut = |s: &str| {
-            s.lines()
-                .nth(at)
-                .unwrap_or("")
-                .chars()
-                .take(600)
-                .collect::<String>()
-        };
-        panic!(
-            "{what}: free run differs from stepping at line {at}\nstepped: {}\nfree:    {}",
-            cut(&a),
-            cut(&b)
-        );
-    }
-}
-
-fn described(file: &str) -> (Arc<Description>, Firmware) {
-    let d = Description::load(hil::paths::workspace_root().join(file)).expect("description loads");
-    let elf = d.elf.clone().expect("the description names its ELF");
-    let fw = Firmware::load(&elf).unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"));
-    (Arc::new(d), fw)
+    assert_same(what, ("stepped", &stepped), ("free   ", &free));
 }
 
 #[test]
@@ -101,19 +60,8 @@ fn the_robust_build_under_faults_runs_the_same_free_and_stepped() {
         "reset-mid-test",
         "link-corruption",
     ] {
-        let case = library()
-            .into_iter()
-            .find(|c| c.name == name)
-            .unwrap_or_else(|| panic!("no fault {name} in the library"));
-        let opts = TestOptions {
-            leg_mm: case.leg_mm,
-            limit_s: Some(case.limit_s),
-            faults: case.faults.clone(),
-            framed: case.framed,
-            record: true,
-            ..Default::default()
-        };
-        same_free_and_stepped(name, &robust, case.test, &opts);
+        let (test, opts) = fault_case(name);
+        same_free_and_stepped(name, &robust, test, &opts);
     }
 }
 

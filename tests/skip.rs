@@ -7,26 +7,13 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use std::sync::Arc;
+#[path = "support/identity.rs"]
+mod identity;
 
 use hil::bench::BenchOptions;
-use hil::firmware::description::Description;
 use hil::firmware::elf::Firmware;
-use hil::runs::experiment::{run_test, Test, TestOptions, TestRun};
-use hil::runs::faults::library;
-
-/// Everything a run shows, as text: the report's JSON (results, the UARTs'
-/// bytes, the applied faults, the awake fraction), the trace and the
-/// motions with their cycles.
-fn everything(r: &TestRun) -> String {
-    format!(
-        "{}\n{:?}\n{:?}\n{:?}",
-        serde_json::to_string(r).expect("a run serialises"),
-        r.trace,
-        r.motions,
-        r.bluetooth_out
-    )
-}
+use hil::runs::experiment::{run_test, Test, TestOptions};
+use identity::{assert_same, described, fault_case};
 
 /// Runs `firmware` with `opts` twice, without and with the skip, and fails
 /// naming the first line where the two part; returns the share of the
@@ -51,37 +38,9 @@ fn same_with_and_without_skip(
         stepped.skipped_cycles, 0,
         "{what}: skipped with the skip off"
     );
-    assert!(!stepped.trace.is_empty(), "{what}: no trace to compare");
-    let (a, b) = (everything(&stepped), everything(&free));
-    if a != b {
-        let at = a
-            .lines()
-            .zip(b.lines())
-            .position(|(x, y)| x != y)
-            .unwrap_or(0);
-        let cut = |s: &str| {
-            s.lines()
-                .nth(at)
-                .unwrap_or("")
-                .chars()
-                .take(600)
-                .collect::<String>()
-        };
-        panic!(
-            "{what}: the skip changed the run at line {at}\n--no-skip: {}\nskip:      {}",
-            cut(&a),
-            cut(&b)
-        );
-    }
+    assert_same(what, ("--no-skip", &stepped), ("skip     ", &free));
     // The Mega's 16 MHz: the builds these tests run.
     free.skipped_cycles as f64 / (free.robot_time_s * 16e6)
-}
-
-fn described(file: &str) -> (Arc<Description>, Firmware) {
-    let d = Description::load(hil::paths::workspace_root().join(file)).expect("description loads");
-    let elf = d.elf.clone().expect("the description names its ELF");
-    let fw = Firmware::load(&elf).unwrap_or_else(|e| panic!("{e} (run tools/setup.sh)"));
-    (Arc::new(d), fw)
 }
 
 #[test]
@@ -94,19 +53,8 @@ fn the_robust_build_runs_the_same_with_and_without_skip() {
     };
     same_with_and_without_skip("robust, UMBmark CW", &robust, Test::UmbmarkCw, &opts);
     for name in ["reset-mid-test", "link-corruption"] {
-        let case = library()
-            .into_iter()
-            .find(|c| c.name == name)
-            .unwrap_or_else(|| panic!("no fault {name} in the library"));
-        let opts = TestOptions {
-            leg_mm: case.leg_mm,
-            limit_s: Some(case.limit_s),
-            faults: case.faults.clone(),
-            framed: case.framed,
-            record: true,
-            ..Default::default()
-        };
-        same_with_and_without_skip(name, &robust, case.test, &opts);
+        let (test, opts) = fault_case(name);
+        same_with_and_without_skip(name, &robust, test, &opts);
     }
 }
 
