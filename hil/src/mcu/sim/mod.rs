@@ -53,11 +53,14 @@
 //! OS calls; the crate denies `unsafe_code` everywhere else). Here, every unsafe block has
 //! its `// SAFETY:` line and every unsafe fn its `# Safety` doc:
 //! - `mod.rs`: [`Avr::new`]'s setup of the MCU's fields, the step calls and
-//!   field reads of the run loops, the IO slot installs of the claims,
-//!   the notify registration of [`Avr::watch_irq`], `avr_reset`, the
+//!   field reads of the run loops, `avr_reset`, the
 //!   response's installation, and the
 //!   handler borrows of [`Avr::handler`], [`Avr::handler_mut`] and
 //!   [`Avr::with_core`];
+//! - `claims.rs`: the IO slot installs of the claims and the notify
+//!   registration of [`Avr::watch_irq`];
+//! - `skip.rs`: the access hook's installation and the core's state read
+//!   and moved on by a fast-forward over a polling loop;
 //! - `mcu.rs`: making, initialising and freeing the `avr_t`, and the raw
 //!   data-space reads and writes everything else uses;
 //! - `memory.rs`: field and flash accesses of the memory accessors, each
@@ -75,12 +78,13 @@
 //!   endpoint through simavr's read handlers;
 //! - `owner.rs`, `tests.rs`: none.
 
-use std::ffi::{c_void, CString};
+use std::ffi::CString;
 use std::ptr::NonNull;
 
 use simavr_ffi as ffi;
 use thiserror::Error;
 
+mod claims;
 mod irq;
 mod mcu;
 mod memory;
@@ -101,13 +105,10 @@ pub use pins::DrivenPin;
 pub use usb::{EndpointState, UsbAnswer, UsbPort};
 pub use view::Core;
 
-use mcu::{decode_state, io_slot, Mcu};
+use mcu::{decode_state, Mcu};
 use owner::Owner;
-use shared::{Flag, Shared, SharedBox, WriteSlot};
-use trampolines::{
-    io_read_observe_trampoline, io_read_trampoline, io_write_trampoline, irq_trampoline,
-    schedule_from_core, schedule_timer,
-};
+use shared::{Flag, Shared, SharedBox};
+use trampolines::{schedule_from_core, schedule_timer};
 
 /// simavr's `run_cycle_limit` while the core runs free: no bound of its own,
 /// only the next cycle timer's and the burst's end (`run_cycle_stop`).
@@ -610,78 +611,6 @@ impl<H: Handler> Avr<H> {
         };
         self.resume_failure();
         r
-    }
-
-    /// Call [`Handler::irq`] with `tag` whenever `irq` is raised.
-    ///
-    /// # Panics
-    /// When `irq` belongs to another `Avr`.
-    pub fn watch_irq(&mut self, irq: Irq, tag: u32) {
-        let raw = irq.raw_for(self.owner());
-        let param = self.shared.new_tag(tag).as_ptr() as *mut c_void;
-        // SAFETY: `raw` is an IRQ of this live MCU (checked above); the tag
-        // lives in `self.shared` until after the MCU is freed.
-        unsafe { ffi::avr_irq_register_notify(raw, Some(irq_trampoline::<H>), param) }
-    }
-
-    /// Take part in writes to IO register `addr` (a data-space address).
-    /// Claiming a slot again changes how it is claimed: simavr's own
-    /// handler, saved at the first claim, stays the one observed writes
-    /// forward to.
-    pub fn claim_io_write(&mut self, addr: u16, claim: IoClaim) -> Result<(), SimError> {
-        let slot = io_slot(addr)?;
-        let p = self.state_ptr();
-        // SAFETY: `slot` is within the IO table; outside callbacks (`&mut
-        // self`), so nothing reads `writes` meanwhile. We install our
-        // trampoline directly, which avoids simavr's 4-entry write
-        // multiplexer, and save what simavr had there the first time only:
-        // after that the slot holds our own trampoline, which must never be
-        // its own forward.
-        unsafe {
-            let io = &mut (*self.raw()).io[slot];
-            let writes = &mut (*p).writes;
-            let original = writes[slot].map_or((io.w.c, io.w.param), |s| s.original);
-            writes[slot] = Some(WriteSlot {
-                original,
-                observe: claim == IoClaim::Observe,
-            });
-            io.w.c = Some(io_write_trampoline::<H>);
-            io.w.param = p.cast();
-        }
-        Ok(())
-    }
-
-    /// Emulate reads of IO register `addr`: simavr's read handler no longer runs.
-    pub fn claim_io_read(&mut self, addr: u16) -> Result<(), SimError> {
-        let slot = io_slot(addr)?;
-        // SAFETY: `slot` is within the IO table.
-        unsafe {
-            let io = &mut (*self.raw()).io[slot];
-            io.r.c = Some(io_read_trampoline::<H>);
-            io.r.param = self.state_ptr().cast();
-        }
-        Ok(())
-    }
-
-    /// Be told before every read of IO register `addr` ([`Handler::before_io_read`]);
-    /// simavr's read handler still produces the value.
-    pub fn observe_io_read(&mut self, addr: u16) -> Result<(), SimError> {
-        let slot = io_slot(addr)?;
-        let p = self.state_ptr();
-        // SAFETY: `slot` is within the IO table; outside callbacks, so
-        // nothing reads `reads` meanwhile. We keep what simavr had there to
-        // call after the bench's hook.
-        unsafe {
-            let io = &mut (*self.raw()).io[slot];
-            let reads = &mut (*p).reads;
-            // Observing a slot twice keeps the first (simavr's) handler.
-            if reads[slot].is_none() {
-                reads[slot] = Some((io.r.c, io.r.param));
-            }
-            io.r.c = Some(io_read_observe_trampoline::<H>);
-            io.r.param = p.cast();
-        }
-        Ok(())
     }
 
     /// (Re)schedule the bench's cycle timer at absolute cycle `at` (a cycle
