@@ -111,13 +111,7 @@ impl StreamedFile {
         };
         let (file, tmp) = match kind {
             Kind::Replace => {
-                let dir = parent(path);
-                std::fs::create_dir_all(dir)?;
-                let name = path
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "output".into());
-                let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+                let tmp = super::temp_beside(path)?;
                 (std::fs::File::create(&tmp)?, Some(tmp))
             }
             Kind::InPlace => (std::fs::OpenOptions::new().write(true).open(path)?, None),

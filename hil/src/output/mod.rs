@@ -33,10 +33,9 @@ pub use file::{check_file, write_file, Kind, Refused, StreamedFile};
 pub use lock::{share, SharedLock};
 pub use set::OutputDir;
 
-/// Write `bytes` to `path` atomically: a temporary file in the same folder,
-/// flushed, then renamed over the target. A reader never sees half a file,
-/// and a crash leaves the old one.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// The temporary file a write of `path` goes to before its rename: in the
+/// same folder (created), so the rename stays on one file system.
+pub(crate) fn temp_beside(path: &Path) -> std::io::Result<std::path::PathBuf> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
@@ -46,7 +45,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "output".into());
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    Ok(dir.join(format!(".{name}.tmp{}", std::process::id())))
+}
+
+/// Write `bytes` to `path` atomically: a temporary file in the same folder,
+/// flushed, then renamed over the target. A reader never sees half a file,
+/// and a crash leaves the old one.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = temp_beside(path)?;
     {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
