@@ -416,8 +416,10 @@ impl<H: Handler> Avr<H> {
             // SAFETY: plain field read.
             unsafe { (*avr).state == ffi::cpu_Running as i32 }
         };
-        let mut probed: Option<skip::Last> = if awake && end != 0 && skip.due(before) {
-            // SAFETY: as below.
+        // A probe of the skip from where the MCU stands (between steps).
+        let probe = |skip: &mut skip::Skip| {
+            // SAFETY: called between steps of this live MCU; the burst's end
+            // is read as in the loop below.
             unsafe {
                 skip::probe(
                     skip,
@@ -427,6 +429,9 @@ impl<H: Handler> Avr<H> {
                     skip::Limits { limit, stop },
                 )
             }
+        };
+        let mut probed: Option<skip::Last> = if awake && end != 0 && skip.due(before) {
+            probe(skip)
         } else {
             None
         };
@@ -453,17 +458,7 @@ impl<H: Handler> Avr<H> {
                 }
                 before = now;
                 if skip.due(now) {
-                    // SAFETY: the MCU is between steps; the end is read as
-                    // above.
-                    probed = unsafe {
-                        skip::probe(
-                            skip,
-                            avr,
-                            run,
-                            || (*shared).burst_end.get(),
-                            skip::Limits { limit, stop },
-                        )
-                    };
+                    probed = probe(skip);
                 }
                 continue;
             }
