@@ -78,6 +78,12 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
         // Shards fit single effects only: the single-machine report to compare with too.
         "--max-effects",
         "1",
+        // The coarsest search: the numbers do not matter here, only that every machine
+        // computes the same ones.
+        "--grid",
+        "3",
+        "--refine",
+        "1",
     ];
 
     let json = hil(&[&common[..], &["--json"]].concat());
@@ -100,6 +106,10 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
         let v: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(f).unwrap()).unwrap();
         assert!(!v["candidates"].as_array().unwrap().is_empty(), "{f}");
+        // The search the plan says is the one asked for.
+        assert_eq!(v["plan"]["options"]["grid"], 3, "{f}");
+        assert_eq!(v["plan"]["options"]["refine"], 1, "{f}");
+        assert_eq!(v["plan"]["options"]["fold_refine"], 1, "{f}");
     }
 
     let merged = hil(&["gap", "--merge", &b, &a, "--json"]);

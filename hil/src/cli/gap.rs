@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use gap::selftest::{render_cases_with, CaseColumns};
 use gap::SplitRule;
 use hil::firmware::elf::Firmware;
-use hil::runs::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES};
+use hil::runs::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES, GRID_POINTS, REFINE_STEPS};
 use hil::runs::odometry::Shard;
 use plant_model::RobotConfig;
 
@@ -74,6 +74,17 @@ pub struct Gap {
     #[arg(long, requires = "bench", default_value_t = 300,
           value_parser = clap::value_parser!(u16).range(100..=5000))]
     leg_mm: u16,
+    /// With --bench: points of each candidate's search grid over its range
+    /// (3 to 15). Fewer points and --refine steps cost fewer bench runs and
+    /// find values only as finely: a first look, or a check that shards merge.
+    #[arg(long, requires = "bench", default_value_t = GRID_POINTS as u8,
+          value_parser = clap::value_parser!(u8).range(3..=15))]
+    grid: u8,
+    /// With --bench: golden-section steps of each fit after its grid (0 to
+    /// 12); each cross-validation fold refits with at most 2.
+    #[arg(long, requires = "bench", default_value_t = REFINE_STEPS as u8,
+          value_parser = clap::value_parser!(u8).range(0..=12))]
+    refine: u8,
     /// With --bench: leave the training groups' telemetry out of the
     /// diagnosis (end points only, as without telemetry).
     #[arg(long, requires = "bench")]
@@ -240,11 +251,15 @@ impl Gap {
     }
 
     fn select_options(&self) -> SelectOptions {
+        let default = SelectOptions::default();
         SelectOptions {
             shortlist: self.shortlist.into(),
             series: !self.no_series,
             max_effects: self.max_effects.into(),
-            ..SelectOptions::default()
+            grid: self.grid.into(),
+            refine: self.refine.into(),
+            fold_refine: default.fold_refine.min(self.refine.into()),
+            ..default
         }
     }
 

@@ -48,7 +48,7 @@ pub use params::{apply, bench_parameters};
 pub use select::{
     choose, diagnose_bench, fit_candidates, fit_effects_jointly, fit_nominal, kinematic_shortlist,
     third_starts, training_score, BenchCandidate, BenchDiagnosis, ChosenValue, FitPlan,
-    FittedCandidate, JointFit, NominalFit, SelectOptions, Surrogate,
+    FittedCandidate, JointFit, NominalFit, SelectOptions, Surrogate, GRID_POINTS, REFINE_STEPS,
 };
 pub use selftest::{
     bench_self_test, bench_self_test_of, self_test_split, BenchCase, BenchSelfTest, DEFAULT_CASES,

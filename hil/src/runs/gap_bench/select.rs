@@ -115,12 +115,17 @@ fn six() -> usize {
     6
 }
 
+/// Points of each candidate's grid, and golden-section steps after it, of the default
+/// search ([`SelectOptions::grid`], [`SelectOptions::refine`]).
+pub const GRID_POINTS: usize = 7;
+pub const REFINE_STEPS: usize = 8;
+
 impl Default for SelectOptions {
     fn default() -> Self {
         SelectOptions {
             shortlist: 7,
-            grid: 7,
-            refine: 8,
+            grid: GRID_POINTS,
+            refine: REFINE_STEPS,
             fold_refine: 2,
             fit: FitOptions {
                 centroid_runs: CENTROID_RUNS,
