@@ -66,8 +66,9 @@ struct Layout {
     pwm_edges: bool,
     scopes: Vec<(&'static str, Vec<Var>)>,
     ids: Vec<String>,
-    /// The encoder lines: left A, left B, right A, right B.
-    encoders: [u32; 4],
+    /// The encoder lines: left A, left B, right A, right B (None: a
+    /// one-channel encoder's B, on no pin).
+    encoders: [Option<u32>; 4],
     /// Per bridge input: (pin, duty, 1-bit trace).
     pins: Vec<(u8, u32, u32)>,
     /// Per UART: (USART, cycles per bit, [TX line, RX line, TX byte, RX
@@ -109,7 +110,8 @@ impl Layout {
                 });
             }
         }
-        for (line, &var) in self.encoders.iter().enumerate() {
+        for (line, var) in self.encoders.iter().enumerate() {
+            let Some(var) = *var else { continue };
             initial[var as usize] = format!("{}{}", u8::from(levels[line]), self.ids[var as usize]);
         }
         let sample = sample.unwrap_or_default();
@@ -156,23 +158,20 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
         pwm_edges,
         scopes: Vec::new(),
         ids: Vec::new(),
-        encoders: [0; 4],
+        encoders: [None; 4],
         pins: Vec::new(),
         uarts: Vec::new(),
         plant: [0; 5],
     };
     // The recorder's lines: left A, left B, right A, right B.
-    let mut line = 0;
     for side in [Side::Left, Side::Right] {
-        let e = board.encoder(side);
-        let [a, b] = e.line_names();
         let s = match side {
             Side::Left => "left",
             Side::Right => "right",
         };
-        for (ch, pin) in [(a, e.a), (b, e.b)] {
-            l.encoders[line] = l.add("encoders", &format!("{s}_{ch}_{}", pin.name()), "wire");
-            line += 1;
+        for (ch, (name, pin)) in board.encoder(side).lines().into_iter().enumerate() {
+            let var = l.add("encoders", &format!("{s}_{name}_{}", pin.name()), "wire");
+            l.encoders[2 * side.index() + ch] = Some(var);
         }
     }
     for p in board.bridge_inputs().iter().map(|b| b.number()) {
@@ -418,12 +417,13 @@ pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
                 &[format!("bridge.{}", wave_name(p, input.pwm_edges))],
             );
         }
-        let e = board.encoder(side);
-        let [a, b] = e.line_names();
-        bits(
-            &mut out,
-            &[(a, e.a), (b, e.b)].map(|(ch, pin)| format!("encoders.{s}_{ch}_{}", pin.name())),
-        );
+        let lines: Vec<String> = board
+            .encoder(side)
+            .lines()
+            .iter()
+            .map(|(ch, pin)| format!("encoders.{s}_{ch}_{}", pin.name()))
+            .collect();
+        bits(&mut out, &lines);
     }
     for (n, baud) in uarts(board) {
         comment(

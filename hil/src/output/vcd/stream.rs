@@ -156,8 +156,9 @@ impl<W: Write> VcdWriter<W> {
         if let Some(slot) = self.first_level.get_mut(e.line as usize) {
             slot.get_or_insert(e.cycle == first && e.level);
         }
-        let var = self.layout.encoders[e.line as usize];
-        self.push(e.cycle, 0, var, Change::Bit(e.level));
+        if let Some(var) = self.layout.encoders[e.line as usize] {
+            self.push(e.cycle, 0, var, Change::Bit(e.level));
+        }
     }
 
     /// A bridge input changed; the waveform of its last change, when the
