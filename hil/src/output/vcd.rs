@@ -7,7 +7,8 @@
 //! request, the 31 kHz waveform itself, generated from the timer model), the
 //! board's UARTs as the bit-level waveforms on their pins in both directions
 //! (8N1 at the board's baud rate: sigrok's `uart` decoder reads them), each
-//! byte's value beside them, and the plant's pose and edge counts at the
+//! byte's value beside them, the USB serial's bytes on an MCU with USB
+//! (values and text: USB has no 8N1 line to draw), and the plant's pose and edge counts at the
 //! trace samples. Time unit: one CPU cycle (62.5 ns).
 //!
 //! Every digital line is a 1-bit wire and every value a `real`: sigrok-cli's
@@ -74,6 +75,10 @@ struct Layout {
     /// Per UART: (USART, cycles per bit, [TX line, RX line, TX byte, RX
     /// byte, TX text, RX text]).
     uarts: Vec<(u8, f64, [u32; 6])>,
+    /// The USB serial, on an MCU with USB: [TX byte, RX byte, TX text, RX
+    /// text]. Its bytes travel in USB packets on D+/D-, not as 8N1 frames
+    /// on a pin: a trace has their values and text, and no line.
+    usb: Option<[u32; 4]>,
     /// x, y, theta, left and right edge counts.
     plant: [u32; 5],
 }
@@ -161,6 +166,7 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
         encoders: [None; 4],
         pins: Vec::new(),
         uarts: Vec::new(),
+        usb: None,
         plant: [0; 5],
     };
     // The recorder's lines: left A, left B, right A, right B.
@@ -192,6 +198,10 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
         l.uarts
             .push((n, f64::from(clock_hz) / f64::from(baud), ids));
     }
+    if board.mcu.chip().usb.is_some() {
+        let ids = USB_VARS.map(|(what, kind)| l.add("usb", &format!("usb_serial_{what}"), kind));
+        l.usb = Some(ids);
+    }
     for (i, n) in ["x_mm", "y_mm", "theta_rad", "left_edges", "right_edges"]
         .iter()
         .enumerate()
@@ -200,6 +210,14 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
     }
     l
 }
+
+/// The USB serial's variables, by name and kind, in [`Layout::usb`]'s order.
+const USB_VARS: [(&str, &str); 4] = [
+    ("tx_byte", "real"),
+    ("rx_byte", "real"),
+    ("tx_text", "string"),
+    ("rx_text", "string"),
+];
 
 /// The board's UARTs in USART order, each once: (USART, baud).
 fn uarts(board: &Board) -> Vec<(u8, u32)> {
@@ -384,7 +402,7 @@ pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
     // The zoom, then the primary marker and GTKWave's 26 named markers
     // (none set).
     let _ = writeln!(out, "*{:.6} -1{}", gtkw_zoom(span_ps), " -1".repeat(26));
-    for scope in ["encoders", "bridge", "uart", "plant"] {
+    for scope in ["encoders", "bridge", "uart", "usb", "plant"] {
         let _ = writeln!(out, "[treeopen] {scope}.");
     }
     let comment = |out: &mut String, text: &str| {
@@ -448,6 +466,17 @@ pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
         bits(
             &mut out,
             &[format!("uart.uart{n}_tx"), format!("uart.uart{n}_rx")],
+        );
+    }
+    if board.mcu.chip().usb.is_some() {
+        comment(&mut out, "USB serial (USB CDC): text, bytes");
+        bits(
+            &mut out,
+            &["tx_text", "rx_text"].map(|w| format!("usb.usb_serial_{w}")),
+        );
+        values(
+            &mut out,
+            &["tx_byte", "rx_byte"].map(|w| format!("usb.usb_serial_{w}")),
         );
     }
     comment(&mut out, "plant: pose, edge counts");
