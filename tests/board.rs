@@ -508,3 +508,49 @@ fn a_one_channel_encoder_is_channel_a_alone() {
         "{line}"
     );
 }
+
+/// Every pin a timer's compare output reaches has an Arduino number on each
+/// described MCU (the Arduino cores give every OCnx pin one), so a PWM input
+/// named by port and bit is never refused for lacking one: "PB5" on the
+/// Romi is its D9, OC1A, as the board's "D9" is. Only a direction input can
+/// be on a pin with no number (the 32U4's PE2), and that is refused.
+#[test]
+fn every_pwm_pin_has_an_arduino_number_and_may_be_named_by_port() {
+    for mcu in Mcu::ALL {
+        let chip = mcu.chip();
+        let mut pwm_pins = 0;
+        for port in chip.ports {
+            for bit in 0..port.bits {
+                let Some(pin) = hil::board::Pin::on_port(mcu, port.letter, bit) else {
+                    continue;
+                };
+                if !pin.pwm_sources().is_empty() {
+                    pwm_pins += 1;
+                    assert!(pin.arduino.is_some(), "{mcu} P{}{bit}", port.letter);
+                }
+            }
+        }
+        // ATmega2560: 15 OCnx pins (OC0A and OC1C share PB7); 328P: 6; 32U4: 7
+        // (PB7 OC0A/OC1C, PD0, PB5 OC1A, PB6 OC1B/OC4B, PC6, PC7, PD7; the
+        // complementary outputs are not described).
+        let expected = match mcu {
+            Mcu::Atmega2560 => 15,
+            Mcu::Atmega328p => 6,
+            Mcu::Atmega32u4 => 7,
+        };
+        assert_eq!(pwm_pins, expected, "{mcu}");
+    }
+    let text = std::fs::read_to_string(
+        hil::paths::workspace_root().join("fixtures/boards/romi-32u4.toml"),
+    )
+    .unwrap();
+    assert!(text.contains(r#"enable = "D9""#));
+    let by_port = Board::from_toml_str(
+        &text.replacen(r#"enable = "D9""#, r#"enable = "PB5""#, 1),
+        "r.toml",
+    )
+    .unwrap();
+    let by_number =
+        Board::load(hil::paths::workspace_root().join("fixtures/boards/romi-32u4.toml")).unwrap();
+    assert_eq!(by_port, by_number);
+}
