@@ -381,9 +381,10 @@ fn the_romi_board_names_xor_encoders_and_a_pin_without_a_number() {
     assert_eq!(b.pwm_timers(), vec![1]);
     let (l, r) = (b.left_encoder, b.right_encoder);
     assert_eq!((l.kind, r.kind), (EncoderKind::Xor, EncoderKind::Xor));
-    assert_eq!((l.a.name(), l.b.name()), ("D8".into(), "PE2".into()));
-    assert_eq!((l.b.port, l.b.bit, l.b.arduino), ('E', 2, None));
-    assert_eq!((r.a.name(), r.b.name()), ("D7".into(), "D23".into()));
+    let (lb, rb) = (l.b.unwrap(), r.b.unwrap());
+    assert_eq!((l.a.name(), lb.name()), ("D8".into(), "PE2".into()));
+    assert_eq!((lb.port, lb.bit, lb.arduino), ('E', 2, None));
+    assert_eq!((r.a.name(), rb.name()), ("D7".into(), "D23".into()));
     assert_eq!(l.a.interrupt_vector(), Some(9), "PCINT0");
     assert_eq!(r.a.interrupt_vector(), Some(7), "INT6");
     assert_eq!(l.line_names(), ["XOR", "B"]);
@@ -394,7 +395,7 @@ fn the_romi_board_names_xor_encoders_and_a_pin_without_a_number() {
 
 /// What a Romi-like board may not do, one line each: a motor-driver input
 /// without an Arduino number, an encoder with both `a` and `xor` (or
-/// neither), an encoder with one channel, an xor line on a pin that cannot
+/// neither), an xor line without B, an xor line on a pin that cannot
 /// interrupt, PWM on timer 4
 /// (the Leonardo's `analogWrite` on D6 and D13: simavr's 32U4 core has no
 /// timer 4, so the bench cannot run it exactly).
@@ -431,11 +432,11 @@ a = "D8""#,
     "motor_driver.right.enable",
     "D6 is on timer 4: the atmega32u4's timer 4"
 )]
-#[case::one_channel(
+#[case::xor_without_b(
     r#"b = "PE2""#,
     "",
     "encoders.left.b",
-    "no `b`: a one-channel encoder (A alone, its direction taken from the motor command) is not modelled; give channel B's pin"
+    "no `b`: an A xor B line is decoded with channel B; give B's pin"
 )]
 #[case::pe2_twice(
     r#"xor = "D7""#,
@@ -464,4 +465,92 @@ fn romi_board_rules(
     let line = p.iter().find(|p| p.field == field).unwrap().to_string();
     assert!(line.contains(message), "{line}");
     assert!(!line.contains('\n'), "{line}");
+}
+
+/// One-channel encoders (channel A alone, no `b`): A on INT0/INT1 or a
+/// pin-change pin, checked as quadrature A is (a pin that cannot interrupt
+/// is refused in one line naming channel A); B is on no pin.
+#[test]
+fn a_one_channel_encoder_is_channel_a_alone() {
+    let path = hil::paths::workspace_root().join("fixtures/boards/uno-one-channel.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let b = Board::load(&path).unwrap();
+    let (l, r) = (b.left_encoder, b.right_encoder);
+    assert_eq!(
+        (l.kind, r.kind),
+        (EncoderKind::OneChannel, EncoderKind::OneChannel)
+    );
+    assert_eq!((l.a.name(), l.b), ("D2".into(), None));
+    assert_eq!((r.a.name(), r.b), ("D3".into(), None));
+    assert_eq!(l.lines().len(), 1);
+    assert!(l.interrupt_line(true, false) && l.interrupt_line(true, true));
+    // A on a pin-change pin (D11, PCINT3) is as good as on INT1.
+    let pcint = text.replacen(r#"a = "D3""#, r#"a = "D11""#, 1);
+    let b = Board::from_toml_str(&pcint, "one.toml").unwrap();
+    assert_eq!(b.right_encoder.a.interrupt_vector(), Some(3), "PCINT0");
+    // The same pins on a Mega: its D4 (PG5) has no INTn or PCINTn.
+    let mega =
+        text.replacen("mcu = \"atmega328p\"", "", 1)
+            .replacen(r#"a = "D3""#, r#"a = "D4""#, 1);
+    let p = match Board::from_toml_str(&mega, "one.toml") {
+        Err(BoardError::Invalid(p)) => p,
+        other => panic!("{other:?}"),
+    };
+    let line = p
+        .iter()
+        .find(|p| p.field == "encoders.right.a")
+        .unwrap_or_else(|| panic!("{p:#?}"))
+        .to_string();
+    assert!(
+        line.contains(
+            "D4 cannot interrupt (no INTn or PCINTn), so the firmware would miss channel A's edges"
+        ),
+        "{line}"
+    );
+}
+
+/// Every pin a timer's compare output reaches has an Arduino number on each
+/// described MCU (the Arduino cores give every OCnx pin one), so a PWM input
+/// named by port and bit is never refused for lacking one: "PB5" on the
+/// Romi is its D9, OC1A, as the board's "D9" is. Only a direction input can
+/// be on a pin with no number (the 32U4's PE2), and that is refused.
+#[test]
+fn every_pwm_pin_has_an_arduino_number_and_may_be_named_by_port() {
+    for mcu in Mcu::ALL {
+        let chip = mcu.chip();
+        let mut pwm_pins = 0;
+        for port in chip.ports {
+            for bit in 0..port.bits {
+                let Some(pin) = hil::board::Pin::on_port(mcu, port.letter, bit) else {
+                    continue;
+                };
+                if !pin.pwm_sources().is_empty() {
+                    pwm_pins += 1;
+                    assert!(pin.arduino.is_some(), "{mcu} P{}{bit}", port.letter);
+                }
+            }
+        }
+        // ATmega2560: 15 OCnx pins (OC0A and OC1C share PB7); 328P: 6; 32U4: 7
+        // (PB7 OC0A/OC1C, PD0, PB5 OC1A, PB6 OC1B/OC4B, PC6, PC7, PD7; the
+        // complementary outputs are not described).
+        let expected = match mcu {
+            Mcu::Atmega2560 => 15,
+            Mcu::Atmega328p => 6,
+            Mcu::Atmega32u4 => 7,
+        };
+        assert_eq!(pwm_pins, expected, "{mcu}");
+    }
+    let text = std::fs::read_to_string(
+        hil::paths::workspace_root().join("fixtures/boards/romi-32u4.toml"),
+    )
+    .unwrap();
+    assert!(text.contains(r#"enable = "D9""#));
+    let by_port = Board::from_toml_str(
+        &text.replacen(r#"enable = "D9""#, r#"enable = "PB5""#, 1),
+        "r.toml",
+    )
+    .unwrap();
+    let by_number =
+        Board::load(hil::paths::workspace_root().join("fixtures/boards/romi-32u4.toml")).unwrap();
+    assert_eq!(by_port, by_number);
 }

@@ -25,6 +25,7 @@ sketches=(
   "fixtures/arduino/romi-32u4 $leonardo"
   "fixtures/arduino/uno-pcint $uno"
   "fixtures/arduino/usb-serial $leonardo"
+  "fixtures/arduino/uno-one-channel $uno"
 )
 out=firmware/target/arduino
 

@@ -86,3 +86,65 @@ fn the_romi_drives_its_leg_and_spin_counting_every_edge() {
     );
     assert_eq!(done, plant_edges_at(&r, u64::MAX), "at the end");
 }
+
+const ONE_CHANNEL_TESTS: &str = "fixtures/arduino/uno-one-channel/tests.toml";
+
+/// The Uno robot with one-channel encoders (channel A alone on INT0 and
+/// INT1, no B): its sketch counts the left A on both edges and the right A
+/// on its rising edges only, each in the direction it last commanded. It
+/// drives its leg and its spin, and the counts it prints after each are
+/// the plant's: the left one its net A edges (the left wheel goes forward,
+/// then back), the right one the rising edges the bench raised on D3 (the
+/// right wheel only goes forward; mirrored, so the plant counts it down).
+#[test]
+fn one_channel_encoders_count_the_plants_a_edges() {
+    let (d, fw) = described(ONE_CHANNEL_TESTS);
+    let root = hil::paths::workspace_root();
+    let board = hil::board::Board::load(root.join("fixtures/boards/uno-one-channel.toml")).unwrap();
+    let opts = TestOptions {
+        leg_mm: d.leg_mm(None, 1000.0).unwrap(),
+        bench: BenchOptions {
+            board,
+            ..Default::default()
+        },
+        record: true,
+        description: Some(d),
+        ..Default::default()
+    };
+    let test = TestName::parse("leg-and-spin").unwrap();
+    let r =
+        run_test(fw, &support::robot("uno-l298n"), test, &opts).expect("the bench runs the sketch");
+    assert!(r.completed, "{:?}", r.finding);
+    let leg = r.legs[0].plant_distance_mm;
+    assert!((leg - 1000.0).abs() <= 50.0, "leg {leg} mm");
+    let spin = r.turns[0].plant_angle_deg;
+    assert!((spin - 90.0).abs() <= 15.0, "spin {spin} deg");
+    // Only A's lines are on pins: left A (line 0) and right A (line 2).
+    assert!(r.edges.iter().all(|e| e.line == 0 || e.line == 2));
+    // D3's rising edges up to `cycle`, the first record being its level at
+    // the start.
+    let first = r.edges[0].cycle;
+    let rising_at = |cycle: u64| {
+        let mut level = None;
+        let mut n = 0;
+        for e in r.edges.iter().filter(|e| e.line == 2 && e.cycle <= cycle) {
+            if e.cycle > first && e.level && level == Some(false) {
+                n += 1;
+            }
+            level = Some(e.level);
+        }
+        n
+    };
+    let expected = |cycle| [plant_edges_at(&r, cycle)[0], rising_at(cycle)];
+    let (after_leg, done) = (printed_counts(&r, "leg"), printed_counts(&r, "spin"));
+    // The sketch stops at 2821 of the left wheel's counts (about 1410 of the right's).
+    assert!(after_leg[0] + 2 * after_leg[1] >= 2 * 2821, "{after_leg:?}");
+    let at_leg_end = r.turns[0].start_cycle;
+    assert_eq!(after_leg, expected(at_leg_end), "after the leg");
+    assert_eq!(done, expected(u64::MAX), "at the end");
+    // The spin turned the left wheel back: the plant's net A edges fell.
+    assert!(done[0] < after_leg[0] - 300, "{done:?} {after_leg:?}");
+    // The right wheel's A edges (both) are about twice its rising ones.
+    let right = -plant_edges_at(&r, u64::MAX)[1];
+    assert!((right - 2 * done[1]).abs() <= 1, "{right} {done:?}");
+}

@@ -1,7 +1,8 @@
 //! The ATmega32U4's USB serial, served by the bench as the USB host: a
 //! Leonardo sketch of our own (`fixtures/arduino/usb-serial`: `while
 //! (!Serial)`, a ready line, an answer to each byte) on a Leonardo board
-//! (`fixtures/boards/leonardo-usb.toml`).
+//! (`fixtures/boards/leonardo-usb.toml`); its bytes in a VCD and on
+//! `hil serve`'s USB pty, and `hil ui`'s refusal.
 
 use super::*;
 use hil::bench::{Bench, UsbState, USB_SERIAL};
@@ -191,5 +192,159 @@ fn usb_on_an_mcu_without_usb_is_refused() {
             "error: {}: end.uart = \"usb\": the board's atmega328p has no USB; give one of its USARTs (0)",
             file.display()
         )
+    );
+}
+
+/// `hil run --vcd` on the Leonardo: the USB serial's bytes are in the trace
+/// as a USART's are (each byte's value and the line's text, both ways; no
+/// 8N1 line: USB has none), the sketch's in the order it printed them and
+/// the test's "aq" the other way.
+#[test]
+fn the_usb_serials_bytes_are_in_the_vcd() {
+    let vcd = std::env::temp_dir().join(format!("hil-usb-{}-echo.vcd", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args(["run", "echo", "--tests", USB_TESTS, "--board", LEONARDO])
+        .args(["--robot", "fixtures/robots/uno-l298n.toml", "--vcd"])
+        .arg(&vcd)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&vcd).unwrap();
+    let _ = std::fs::remove_file(&vcd);
+    let _ = std::fs::remove_file(vcd.with_extension("gtkw"));
+    // A variable's id by its name, then its values after the header.
+    let id = |name: &str| -> String {
+        let decl = text
+            .lines()
+            .find(|l| l.starts_with("$var") && l.split_whitespace().nth(4) == Some(name))
+            .unwrap_or_else(|| panic!("no {name} in the VCD's header"));
+        decl.split_whitespace().nth(3).unwrap().to_string()
+    };
+    let body = text
+        .split("$dumpvars")
+        .nth(1)
+        .unwrap()
+        .split_once("$end")
+        .unwrap()
+        .1;
+    let bytes = |name: &str| -> Vec<u8> {
+        let id = id(name);
+        body.lines()
+            .filter_map(|l| l.strip_prefix('r')?.strip_suffix(&format!(" {id}")))
+            .map(|v| v.parse::<f64>().unwrap() as u8)
+            .collect()
+    };
+    assert_eq!(
+        String::from_utf8(bytes("usb_serial_tx_byte")).unwrap(),
+        "usb-serial ready\r\ngot a\r\ngot q\r\ndone\r\n"
+    );
+    assert_eq!(bytes("usb_serial_rx_byte"), b"aq");
+    let shown = id("usb_serial_tx_text");
+    let ready = format!("susb-serial\\x20ready\\r\\n {shown}");
+    assert!(
+        body.lines().any(|l| l == ready),
+        "no {ready:?} in the trace"
+    );
+}
+
+/// `hil serve --pty --tests` on the Leonardo: the USB pty is the USB
+/// serial itself (the bench its USB host), not a USART: the sketch's ready
+/// line comes on it, the command says the test starts there, and a byte
+/// written to it is answered on it.
+#[test]
+fn hil_serve_serves_the_usb_serial_on_the_usb_pty() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::os::unix::fs::OpenOptionsExt;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args([
+            "serve", "--pty", "--speed", "10", "--tests", USB_TESTS, "--board", LEONARDO,
+        ])
+        .args(["--robot", "fixtures/robots/uno-l298n.toml"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    struct Killed(std::process::Child);
+    impl Drop for Killed {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut err = BufReader::new(child.stderr.take().unwrap());
+    let _child = Killed(child);
+    let mut line = |prefix: &str| {
+        let mut l = String::new();
+        out.read_line(&mut l).unwrap();
+        l.trim()
+            .strip_prefix(prefix)
+            .unwrap_or_else(|| panic!("no {prefix:?} line in {l:?}"))
+            .to_string()
+    };
+    let (_pty, usb) = (line("pty: "), line("usb pty: "));
+    let mut said = String::new();
+    for _ in 0..2 {
+        err.read_line(&mut said).unwrap();
+    }
+    assert!(
+        said.contains("its USB serial (the MCU's USB CDC, the bench its USB host)"),
+        "{said}"
+    );
+    assert!(
+        said.contains(&format!(
+            "test echo ({USB_TESTS}) starts: send \"aq\" on the USB serial: the usb pty"
+        )),
+        "{said}"
+    );
+    let mut serial = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .custom_flags(nix::libc::O_NONBLOCK | nix::libc::O_NOCTTY)
+        .open(&usb)
+        .unwrap();
+    let read_until = |f: &mut std::fs::File, text: &str| {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        let mut got = Vec::new();
+        let mut buf = [0u8; 256];
+        while !String::from_utf8_lossy(&got).contains(text) && std::time::Instant::now() < deadline
+        {
+            match f.read(&mut buf) {
+                Ok(n) if n > 0 => got.extend_from_slice(&buf[..n]),
+                _ => std::thread::sleep(std::time::Duration::from_millis(20)),
+            }
+        }
+        String::from_utf8_lossy(&got).into_owned()
+    };
+    assert_eq!(read_until(&mut serial, "ready\r\n"), "usb-serial ready\r\n");
+    serial.write_all(b"a").unwrap();
+    assert_eq!(read_until(&mut serial, "got a\r\n"), "got a\r\n");
+}
+
+/// `hil ui` on the Leonardo's sketch: the station drives a robot by the
+/// bench protocol's framed commands, which a sketch of its own (on USB or
+/// a USART) does not speak: refused before anything runs, in one line
+/// naming why and what serves its USB serial instead (exit 2).
+#[test]
+fn hil_ui_refuses_a_usb_sketch_saying_why() {
+    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
+        .current_dir(hil::paths::workspace_root())
+        .args(["ui", "--tests", USB_TESTS, "--board", LEONARDO])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("framed START_TEST") && err.contains("hil serve --pty --tests FILE"),
+        "{err}"
     );
 }

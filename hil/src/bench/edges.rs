@@ -160,9 +160,18 @@ impl Encoders {
         self.next_edge.map(|c| c <= when)
     }
 
-    /// The levels shown on the pins, by side and channel.
-    pub(super) fn levels_shown(&self) -> [[bool; 2]; 2] {
-        self.level
+    /// The levels on the wired lines, by recorder line (left A, left B,
+    /// right A, right B; a one-channel encoder's B is on no pin).
+    pub(super) fn levels_shown(&self) -> Vec<(u8, bool)> {
+        let mut v = Vec::with_capacity(4);
+        for i in 0..2 {
+            for ch in 0..2 {
+                if self.irq[i][ch].is_some() {
+                    v.push(((2 * i + ch) as u8, self.level[i][ch]));
+                }
+            }
+        }
+        v
     }
 
     /// Bring the plant to every edge (see `Bench::advance_plant_at_every_edge`).
@@ -171,9 +180,10 @@ impl Encoders {
     }
 
     /// What the firmware can see change on encoder `i`: A alone while B is
-    /// raised lazily, both lines otherwise.
+    /// raised lazily or is on no pin (a one-channel encoder), both lines
+    /// otherwise.
     fn watch(&self, i: usize) -> Watch {
-        if self.lazy_b[i] {
+        if self.lazy_b[i] || self.wiring[i].kind == EncoderKind::OneChannel {
             Watch::A
         } else {
             Watch::Both
@@ -183,8 +193,13 @@ impl Encoders {
 
 impl Encoders {
     /// Connect the encoder lines to their pins, at the plant's levels.
-    pub(super) fn connect(&mut self, core: &mut Core, irq: [[DrivenPin; 2]; 2], robot: &Robot) {
-        self.irq = irq.map(|side| side.map(Some));
+    pub(super) fn connect(
+        &mut self,
+        core: &mut Core,
+        irq: [[Option<DrivenPin>; 2]; 2],
+        robot: &Robot,
+    ) {
+        self.irq = irq;
         for side in Side::BOTH {
             let i = side.index();
             let (a, b) = robot.encoder_levels(side);
@@ -436,7 +451,10 @@ impl Encoders {
         let mut lazy = [false; 2];
         for side in Side::BOTH {
             let i = side.index();
-            let b = self.wiring[i].b;
+            // A one-channel encoder's B is on no pin: never raised at all.
+            let Some(b) = self.wiring[i].b else {
+                continue;
+            };
             // On an xor wiring every B edge changes the interrupt pin.
             lazy[i] = self.lazy_b_allowed
                 && self.wiring[i].kind == EncoderKind::Quadrature
@@ -486,13 +504,17 @@ impl Encoders {
         let wiring = self.wiring[i];
         let (a, b) = (wiring.interrupt_line(base_a, base_b) ^ ga, base_b ^ gb);
         let [old_a, old_b] = self.level[i];
-        let [Some(irq_a), Some(irq_b)] = self.irq[i] else {
+        let [Some(irq_a), irq_b] = self.irq[i] else {
             return;
         };
         if b != old_b {
-            core.drive(irq_b, b);
+            // A one-channel encoder's B is kept (it signs the plant's A
+            // edges below) but shown on no pin.
+            if let Some(irq_b) = irq_b {
+                core.drive(irq_b, b);
+                recorder.pin(when, 2 * i as u8 + 1, b);
+            }
             self.level[i][1] = b;
-            recorder.pin(when, 2 * i as u8 + 1, b);
         }
         if a != old_a {
             core.drive(irq_a, a);
@@ -501,8 +523,10 @@ impl Encoders {
             self.last_a_edge[i] = when;
         }
         self.edges_raised[i] += match wiring.kind {
-            EncoderKind::Quadrature if a != old_a => decode_a_edge(a, b),
-            EncoderKind::Quadrature => 0,
+            // One channel: signed as the plant moves, which the firmware
+            // can only take from its own motor command.
+            EncoderKind::Quadrature | EncoderKind::OneChannel if a != old_a => decode_a_edge(a, b),
+            EncoderKind::Quadrature | EncoderKind::OneChannel => 0,
             // The channels the pins show: A is the xor line's level ^ B.
             EncoderKind::Xor => decode_step((old_a ^ old_b, old_b), (a ^ b, b)),
         };
@@ -572,7 +596,7 @@ impl Encoders {
         let cycle = core.cycle();
         for side in Side::BOTH {
             let i = side.index();
-            if !self.lazy_b[i] || self.wiring[i].b.pin_register() != addr {
+            if !self.lazy_b[i] || self.wiring[i].b.map(|b| b.pin_register()) != Some(addr) {
                 continue;
             }
             // Shortly after a planned A edge the plant's B is the one raised
@@ -622,8 +646,8 @@ mod tests {
         let henrytwo = Encoders::new(&HENRYTWO);
         assert_eq!(henrytwo.lazy_b_change(&inject), Some([true, true]));
         let mut board = HENRYTWO;
-        board.left_encoder.b = Pin::arduino(Mcu::Atmega2560, 21).unwrap();
-        board.right_encoder.b = Pin::arduino(Mcu::Atmega2560, 20).unwrap();
+        board.left_encoder.b = Pin::arduino(Mcu::Atmega2560, 21);
+        board.right_encoder.b = Pin::arduino(Mcu::Atmega2560, 20);
         let eager = Encoders::new(&board);
         assert_eq!(eager.lazy_b_change(&inject), None, "both stay eager");
         assert_eq!(eager.watch(0), Watch::Both);

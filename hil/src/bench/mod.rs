@@ -68,6 +68,7 @@ pub use self::recorder::{
     Retained, Sample, SharedTap, Snapshot, Tap,
 };
 pub use self::run::{Debugger, Observer, Step, CHECK_PERIOD_S};
+pub use self::setup::encoder_pins;
 pub use self::timers::emulated as emulated_timers;
 pub use self::uart::{serial_name, SERIALS, USB_SERIAL};
 pub use self::usb::{UsbEvents, UsbState, FRAME_S as USB_FRAME_S};

@@ -469,18 +469,12 @@ impl Recorder {
     }
 
     /// Record every encoder pin change from now on (see
-    /// `Bench::start_recording`), starting with the four lines' levels
+    /// `Bench::start_recording`), starting with the wired lines' levels
     /// `levels` at `cycle`.
-    pub(super) fn start_pins(&mut self, cycle: u64, levels: [[bool; 2]; 2]) {
+    pub(super) fn start_pins(&mut self, cycle: u64, levels: &[(u8, bool)]) {
         let levels = levels
             .iter()
-            .flatten()
-            .enumerate()
-            .map(|(line, &level)| PinEvent {
-                cycle,
-                line: line as u8,
-                level,
-            })
+            .map(|&(line, level)| PinEvent { cycle, line, level })
             .collect::<Vec<_>>();
         let mut log = Log::new(PIN_CAP);
         for e in levels {
@@ -494,9 +488,9 @@ impl Recorder {
 
     /// Give every record from now on to `tap` as it is made, starting with
     /// what the records hold now (the trace, the drive changes since reset)
-    /// and the four encoder lines' `levels` at `cycle`; the pin changes are
+    /// and the wired encoder lines' `levels` (by line) at `cycle`; the pin changes are
     /// not kept (see [`Tap`]).
-    pub(super) fn stream_to(&mut self, tap: SharedTap, cycle: u64, levels: [[bool; 2]; 2]) {
+    pub(super) fn stream_to(&mut self, tap: SharedTap, cycle: u64, levels: &[(u8, bool)]) {
         tap.with(|t| {
             for s in self.trace.as_slice() {
                 t.sample(s);
@@ -504,12 +498,8 @@ impl Recorder {
             for e in self.drive_log.as_slice() {
                 t.drive(e);
             }
-            for (line, &level) in levels.iter().flatten().enumerate() {
-                t.pin(PinEvent {
-                    cycle,
-                    line: line as u8,
-                    level,
-                });
+            for &(line, level) in levels {
+                t.pin(PinEvent { cycle, line, level });
             }
         });
         self.pins = None;

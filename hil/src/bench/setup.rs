@@ -12,7 +12,7 @@ use super::usb::UsbHost;
 use super::{BenchError, BenchOptions};
 use crate::board::Board;
 use crate::firmware::elf::Firmware;
-use crate::mcu::sim::{Avr, DrivenPin, IoClaim, SimError};
+use crate::mcu::sim::{Avr, DrivenPin, Handler, IoClaim, SimError};
 
 /// The MCU running `firmware`, its pins wired to `robot`'s parts as
 /// `options.board` says, the bench's first event scheduled.
@@ -75,21 +75,12 @@ pub(super) fn build(
     }
     // B lines may be raised lazily, before reads of their PIN registers;
     // the comparator's control register says when AIN1 is watched.
-    for side in Side::BOTH {
-        avr.observe_io_read(wiring.encoder(side).b.pin_register())?;
+    for b in Side::BOTH.iter().filter_map(|&side| wiring.encoder(side).b) {
+        avr.observe_io_read(b.pin_register())?;
     }
     avr.claim_io_write(ACSR, IoClaim::Observe)?;
-    // Driven from outside: the firmware's port writes (a pull-up switched
-    // on) leave their levels alone. Low until `connect_encoders` raises the
-    // plant's levels.
-    let mut encoder_pins = |side: Side| -> Result<[DrivenPin; 2], SimError> {
-        let e = wiring.encoder(side);
-        Ok([
-            avr.driven_pin(e.a.port, e.a.bit, false)?,
-            avr.driven_pin(e.b.port, e.b.bit, false)?,
-        ])
-    };
-    let encoders = [encoder_pins(Side::Left)?, encoder_pins(Side::Right)?];
+    // Low until `connect_encoders` raises the plant's levels.
+    let encoders = encoder_pins(&mut avr, wiring)?;
     for n in wiring.link_usarts() {
         let (input, output) = avr.uart(n)?;
         avr.watch_irq(output, TAG_UART_OUT + n as u32);
@@ -116,4 +107,26 @@ pub(super) fn build(
     let first = avr.handler().next_event();
     avr.schedule(first);
     Ok(avr)
+}
+
+/// The encoder lines of `board` as pins driven from outside (the
+/// firmware's port writes, a pull-up switched on, leave their levels
+/// alone), low: per side (left, right) the interrupt pin's and B's (None
+/// on a one-channel encoder, whose B is on no pin).
+pub fn encoder_pins<H: Handler>(
+    avr: &mut Avr<H>,
+    board: &Board,
+) -> Result<[[Option<DrivenPin>; 2]; 2], SimError> {
+    let mut pins = [[None; 2]; 2];
+    for side in Side::BOTH {
+        let e = board.encoder(side);
+        pins[side.index()] = [
+            Some(avr.driven_pin(e.a.port, e.a.bit, false)?),
+            match e.b {
+                Some(b) => Some(avr.driven_pin(b.port, b.bit, false)?),
+                None => None,
+            },
+        ];
+    }
+    Ok(pins)
 }

@@ -123,7 +123,7 @@ pub(super) fn foreign_channels(board: &Board, n: u8) -> [Option<String>; 3] {
         .collect();
     for side in plant_model::Side::BOTH {
         let e = board.encoder(side);
-        pins.extend([(e.a, None), (e.b, None)]);
+        pins.extend(e.lines().into_iter().map(|(_, p)| (p, None)));
     }
     pins.extend(board.bridge_inputs().iter().map(|b| (b.pin, b.pwm)));
     ['A', 'B', 'C'].map(|channel| {

@@ -70,10 +70,10 @@ pub enum ProblemKind {
     },
     #[error("{pin} has no Arduino number; a motor-driver input needs one (the drive log and the robust firmware's parameters number them): give a pin \"D0\"-\"D{}\"", mcu.chip().last_arduino_pin())]
     NoArduinoNumber { pin: String, mcu: Mcu },
-    #[error("{} give channel A's pin (`a`, A/B quadrature) or the A xor B line's (`xor`, Pololu's boards), and `b`", if *given { "both `a` and `xor` given:" } else { "no `a` or `xor`:" })]
+    #[error("{} give channel A's pin (`a`: with `b` A/B quadrature, alone a one-channel encoder) or the A xor B line's (`xor`, Pololu's boards, with `b`)", if *given { "both `a` and `xor` given:" } else { "no `a` or `xor`:" })]
     EncoderLines { given: bool },
-    #[error("no `b`: a one-channel encoder (A alone, its direction taken from the motor command) is not modelled; give channel B's pin")]
-    OneChannel,
+    #[error("no `b`: an A xor B line is decoded with channel B; give B's pin (an encoder with channel A alone is given as `a`)")]
+    XorWithoutB,
     #[error("no USART {usart}; the {mcu} has USART {}", mcu.chip().usart_range())]
     UartOutOfRange { usart: i64, mcu: Mcu },
     #[error("USART {usart} already carries {first}; each link needs a USART of its own ({})", mcu.chip().usart_range())]
@@ -337,9 +337,11 @@ impl Checker<'_> {
 
     fn encoders(&mut self, e: &Sides<EncoderFile>) -> Option<[EncoderWiring; 2]> {
         let one = |c: &mut Self, side: &str, e: &EncoderFile| {
-            let (kind, key, name, line) = match (&e.a, &e.xor) {
-                (Some(a), None) => (EncoderKind::Quadrature, "a", a, "channel A"),
-                (None, Some(x)) => (EncoderKind::Xor, "xor", x, "the A xor B line"),
+            let (kind, key, name, line) = match (&e.a, &e.xor, &e.b) {
+                (Some(a), None, Some(_)) => (EncoderKind::Quadrature, "a", a, "channel A"),
+                // Channel A alone: its pin is checked as quadrature A's.
+                (Some(a), None, None) => (EncoderKind::OneChannel, "a", a, "channel A"),
+                (None, Some(x), _) => (EncoderKind::Xor, "xor", x, "the A xor B line"),
                 _ => {
                     let given = e.a.is_some();
                     c.problem(
@@ -356,12 +358,15 @@ impl Checker<'_> {
                 c.problem(&a_field, ProblemKind::CannotInterrupt { pin, line, mcu });
             }
             let b_field = format!("encoders.{side}.b");
-            let Some(b_name) = &e.b else {
-                c.problem(&b_field, ProblemKind::OneChannel);
-                return None;
+            let b = match (&e.b, kind) {
+                (None, EncoderKind::OneChannel) => None,
+                (None, _) => {
+                    c.problem(&b_field, ProblemKind::XorWithoutB);
+                    return None;
+                }
+                (Some(b_name), _) => Some(c.pin(&b_field, b_name)?),
             };
-            let b = c.pin(&b_field, b_name);
-            Some(EncoderWiring { kind, a: a?, b: b? })
+            Some(EncoderWiring { kind, a: a?, b })
         };
         let left = one(self, "left", &e.left);
         let right = one(self, "right", &e.right);

@@ -103,10 +103,10 @@ pub(super) struct PwmDirFile {
     pub dir: String,
 }
 
-/// An encoder: `a` and `b` (A/B quadrature, A on an interrupt pin), or
-/// `xor` and `b` (Pololu's boards: A xor B on the interrupt pin, B on
-/// another). `b` left out (a one-channel encoder) is refused by the
-/// check, in its own words rather than serde's.
+/// An encoder: `a` and `b` (A/B quadrature, A on an interrupt pin), `a`
+/// alone (a one-channel encoder), or `xor` and `b` (Pololu's boards: A xor
+/// B on the interrupt pin, B on another). `xor` without `b` is refused by
+/// the check, in its own words rather than serde's.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct EncoderFile {

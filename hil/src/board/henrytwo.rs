@@ -82,9 +82,9 @@ fn board_rs_names_the_same_pins() {
     let leds = w.battery_leds.expect("Henrytwo has its battery LEDs");
     let pins = [
         ("left_encoder_a", w.left_encoder.a),
-        ("left_encoder_b", w.left_encoder.b),
+        ("left_encoder_b", w.left_encoder.b.unwrap()),
         ("right_encoder_a", w.right_encoder.a),
-        ("right_encoder_b", w.right_encoder.b),
+        ("right_encoder_b", w.right_encoder.b.unwrap()),
         ("right_forward", w.right_motor.pin1.pin),
         ("right_reverse", w.right_motor.pin2.pin),
         ("left_forward", w.left_motor.pin1.pin),

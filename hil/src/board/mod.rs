@@ -224,33 +224,46 @@ pub enum EncoderKind {
     /// every edge of either channel), B on another; the firmware recovers A
     /// as xor ^ B and counts all four edges of a cycle.
     Xor,
+    /// Channel A alone on an interrupt pin, no B wired: the firmware counts
+    /// A's edges and takes their direction from its own motor command.
+    OneChannel,
 }
 
-/// One encoder's two lines.
+/// One encoder's lines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct EncoderWiring {
     pub kind: EncoderKind,
     /// The interrupt pin: channel A's, or the A xor B line's
     /// ([`EncoderKind::Xor`]).
     pub a: Pin,
-    /// Channel B's pin.
-    pub b: Pin,
+    /// Channel B's pin: None exactly on a one-channel encoder
+    /// ([`EncoderKind::OneChannel`], the board check's rule).
+    pub b: Option<Pin>,
 }
 
 impl EncoderWiring {
     /// The lines' names, interrupt pin first, as traces name them: "A",
-    /// "B", or "XOR", "B".
+    /// "B", or "XOR", "B" (a one-channel encoder's B is on no pin).
     pub fn line_names(&self) -> [&'static str; 2] {
         match self.kind {
-            EncoderKind::Quadrature => ["A", "B"],
+            EncoderKind::Quadrature | EncoderKind::OneChannel => ["A", "B"],
             EncoderKind::Xor => ["XOR", "B"],
         }
+    }
+
+    /// The wired lines, interrupt pin first: (name, pin), B's only where
+    /// it is on a pin.
+    pub fn lines(&self) -> Vec<(&'static str, Pin)> {
+        let [a, b] = self.line_names();
+        std::iter::once((a, self.a))
+            .chain(self.b.map(|p| (b, p)))
+            .collect()
     }
 
     /// What the interrupt pin shows for channel levels `(a, b)`.
     pub fn interrupt_line(&self, a: bool, b: bool) -> bool {
         match self.kind {
-            EncoderKind::Quadrature => a,
+            EncoderKind::Quadrature | EncoderKind::OneChannel => a,
             EncoderKind::Xor => a ^ b,
         }
     }
@@ -337,12 +350,12 @@ pub const HENRYTWO: Board = Board {
     left_encoder: EncoderWiring {
         kind: EncoderKind::Quadrature,
         a: pin('E', 4, 2),
-        b: pin('G', 5, 4),
+        b: Some(pin('G', 5, 4)),
     },
     right_encoder: EncoderWiring {
         kind: EncoderKind::Quadrature,
         a: pin('E', 5, 3),
-        b: pin('E', 3, 5),
+        b: Some(pin('E', 3, 5)),
     },
     command_uart: UartWiring {
         usart: 1,
@@ -378,15 +391,17 @@ impl Default for Board {
 /// they cannot serve encoders wired elsewhere.
 pub const FIRMWARE_ENCODERS: [EncoderWiring; 2] = [HENRYTWO.left_encoder, HENRYTWO.right_encoder];
 
-/// "left A D2, B D4; right A D3, B D5".
+/// "left A D2, B D4; right A D3, B D5" (a one-channel encoder's "A D2"
+/// alone).
 fn encoder_pins(e: [EncoderWiring; 2]) -> String {
-    format!(
-        "left A {}, B {}; right A {}, B {}",
-        e[0].a.name(),
-        e[0].b.name(),
-        e[1].a.name(),
-        e[1].b.name()
-    )
+    let one = |e: &EncoderWiring| {
+        e.lines()
+            .iter()
+            .map(|(line, pin)| format!("{line} {}", pin.name()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!("left {}; right {}", one(&e[0]), one(&e[1]))
 }
 
 impl Board {
@@ -548,11 +563,12 @@ mod tests {
         for side in [Side::Left, Side::Right] {
             let e = HENRYTWO.encoder(side);
             assert!(e.a.can_interrupt(), "{side:?} A");
-            assert!(!e.b.can_interrupt(), "{side:?} B");
+            assert!(!e.b.unwrap().can_interrupt(), "{side:?} B");
         }
-        assert!(HENRYTWO.encoder(Side::Right).b.is_comparator_input());
-        assert_eq!(HENRYTWO.encoder(Side::Left).b.pin_register(), 0x32); // PING
-        assert_eq!(HENRYTWO.encoder(Side::Right).b.pin_register(), 0x2C); // PINE
+        let b = |side| HENRYTWO.encoder(side).b.unwrap();
+        assert!(b(Side::Right).is_comparator_input());
+        assert_eq!(b(Side::Left).pin_register(), 0x32); // PING
+        assert_eq!(b(Side::Right).pin_register(), 0x2C); // PINE
     }
 
     /// Henrytwo's board is what the robust firmware assumes when nobody

@@ -13,7 +13,8 @@ use super::args::Common;
 #[derive(clap::Args)]
 pub struct Serve {
     /// Expose the command USART (USART1, the HC-05's) on a pseudo-terminal
-    /// and the USB serial (USART0) on a second one; their paths are printed.
+    /// and the USB serial (USART0; a 32U4's own USB CDC) on a second one;
+    /// their paths are printed.
     #[arg(long, required = true)]
     pty: bool,
     /// Robot seconds per wall-clock second (0.001 to 1000).
@@ -113,13 +114,14 @@ fn serve(
 ) -> Result<()> {
     let speed = options.speed;
     let board = options.bench.board;
+    let usb_serial = hil::clients::station::emulated::usb_pty_serial(&options.bench);
     let name = match &description {
         Some(d) => d.firmware_name(&firmware),
         None => firmware.name(),
     };
     let starts = description
         .as_deref()
-        .map(|d| how_tests_start(d, &board))
+        .map(|d| how_tests_start(d, &board, usb_serial))
         .unwrap_or_default();
     let emu = EmulatedRobot::spawn_described(firmware, robot, options, description)
         .context("starting the emulated robot")?;
@@ -136,16 +138,22 @@ fn serve(
         .lock()
         .write_all(format!("pty: {pty}\nusb pty: {usb}\n").as_bytes());
     let _ = std::io::stdout().flush();
+    let usb_line = if usb_serial == hil::bench::USB_SERIAL {
+        "the MCU's USB CDC, the bench its USB host".to_string()
+    } else {
+        format!(
+            "USART{}, {} baud",
+            board.debug_uart.usart, board.debug_uart.baud
+        )
+    };
     eprintln!(
         "the emulated robot ({name} firmware) runs at {speed}x real time; its Bluetooth UART \
          (USART{}, {} baud 8N1) is {pty}: open it with a serial client (screen {pty} {}) or \
-         `hil ui --port {pty}`; its USB serial (USART{}, {} baud) is {usb}; one client at a \
+         `hil ui --port {pty}`; its USB serial ({usb_line}) is {usb}; one client at a \
          time on each, the robot's bytes kept for the next (up to {} KiB); Ctrl-C stops it",
         board.command_uart.usart,
         board.command_uart.baud,
         board.command_uart.baud,
-        board.debug_uart.usart,
-        board.debug_uart.baud,
         hil::clients::station::emulated::QUEUE_CAP / 1024,
     );
     eprint!("{starts}");
@@ -165,10 +173,12 @@ fn serve(
 }
 
 /// How a client of `hil serve` starts each of the description's tests, one
-/// line each: the bytes to send on which pty, or why a pty cannot.
+/// line each: the bytes to send on which pty (the USB pty serving serial
+/// channel `usb_serial`), or why a pty cannot.
 fn how_tests_start(
     d: &hil::firmware::description::Description,
     board: &hil::board::Board,
+    usb_serial: u8,
 ) -> String {
     use hil::firmware::description::Start;
     let mut s = String::new();
@@ -177,16 +187,25 @@ fn how_tests_start(
             Start::Uart { usart, bytes } => {
                 let pty = if *usart == board.command_uart.usart {
                     "the pty"
-                } else if *usart == board.debug_uart.usart {
+                } else if *usart == usb_serial {
                     "the usb pty"
                 } else {
-                    "no pty (only the board's command_uart and debug_uart are served)"
+                    if usb_serial == hil::bench::USB_SERIAL {
+                        "no pty (only the board's command_uart and the USB serial are served)"
+                    } else {
+                        "no pty (only the board's command_uart and debug_uart are served)"
+                    }
                 };
                 let shown = match std::str::from_utf8(bytes) {
                     Ok(t) if !t.chars().any(char::is_control) => format!("{t:?}"),
                     _ => format!("the bytes {bytes:?}"),
                 };
-                format!("send {shown} on USART{usart}: {pty}")
+                let on = if *usart == hil::bench::USB_SERIAL {
+                    "the USB serial".to_string()
+                } else {
+                    format!("USART{usart}")
+                };
+                format!("send {shown} on {on}: {pty}")
             }
             Start::Pin { pin, high } => format!(
                 "{} held {}: a pin no pty can hold; hil run {} --tests {} runs it",

@@ -7,7 +7,8 @@
 //! request, the 31 kHz waveform itself, generated from the timer model), the
 //! board's UARTs as the bit-level waveforms on their pins in both directions
 //! (8N1 at the board's baud rate: sigrok's `uart` decoder reads them), each
-//! byte's value beside them, and the plant's pose and edge counts at the
+//! byte's value beside them, the USB serial's bytes on an MCU with USB
+//! (values and text: USB has no 8N1 line to draw), and the plant's pose and edge counts at the
 //! trace samples. Time unit: one CPU cycle (62.5 ns).
 //!
 //! Every digital line is a 1-bit wire and every value a `real`: sigrok-cli's
@@ -66,13 +67,18 @@ struct Layout {
     pwm_edges: bool,
     scopes: Vec<(&'static str, Vec<Var>)>,
     ids: Vec<String>,
-    /// The encoder lines: left A, left B, right A, right B.
-    encoders: [u32; 4],
+    /// The encoder lines: left A, left B, right A, right B (None: a
+    /// one-channel encoder's B, on no pin).
+    encoders: [Option<u32>; 4],
     /// Per bridge input: (pin, duty, 1-bit trace).
     pins: Vec<(u8, u32, u32)>,
     /// Per UART: (USART, cycles per bit, [TX line, RX line, TX byte, RX
     /// byte, TX text, RX text]).
     uarts: Vec<(u8, f64, [u32; 6])>,
+    /// The USB serial, on an MCU with USB: [TX byte, RX byte, TX text, RX
+    /// text]. Its bytes travel in USB packets on D+/D-, not as 8N1 frames
+    /// on a pin: a trace has their values and text, and no line.
+    usb: Option<[u32; 4]>,
     /// x, y, theta, left and right edge counts.
     plant: [u32; 5],
 }
@@ -109,7 +115,8 @@ impl Layout {
                 });
             }
         }
-        for (line, &var) in self.encoders.iter().enumerate() {
+        for (line, var) in self.encoders.iter().enumerate() {
+            let Some(var) = *var else { continue };
             initial[var as usize] = format!("{}{}", u8::from(levels[line]), self.ids[var as usize]);
         }
         let sample = sample.unwrap_or_default();
@@ -156,23 +163,21 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
         pwm_edges,
         scopes: Vec::new(),
         ids: Vec::new(),
-        encoders: [0; 4],
+        encoders: [None; 4],
         pins: Vec::new(),
         uarts: Vec::new(),
+        usb: None,
         plant: [0; 5],
     };
     // The recorder's lines: left A, left B, right A, right B.
-    let mut line = 0;
     for side in [Side::Left, Side::Right] {
-        let e = board.encoder(side);
-        let [a, b] = e.line_names();
         let s = match side {
             Side::Left => "left",
             Side::Right => "right",
         };
-        for (ch, pin) in [(a, e.a), (b, e.b)] {
-            l.encoders[line] = l.add("encoders", &format!("{s}_{ch}_{}", pin.name()), "wire");
-            line += 1;
+        for (ch, (name, pin)) in board.encoder(side).lines().into_iter().enumerate() {
+            let var = l.add("encoders", &format!("{s}_{name}_{}", pin.name()), "wire");
+            l.encoders[2 * side.index() + ch] = Some(var);
         }
     }
     for p in board.bridge_inputs().iter().map(|b| b.number()) {
@@ -193,6 +198,10 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
         l.uarts
             .push((n, f64::from(clock_hz) / f64::from(baud), ids));
     }
+    if board.mcu.chip().usb.is_some() {
+        let ids = USB_VARS.map(|(what, kind)| l.add("usb", &format!("usb_serial_{what}"), kind));
+        l.usb = Some(ids);
+    }
     for (i, n) in ["x_mm", "y_mm", "theta_rad", "left_edges", "right_edges"]
         .iter()
         .enumerate()
@@ -201,6 +210,14 @@ fn layout(board: &Board, clock_hz: u32, pwm_edges: bool) -> Layout {
     }
     l
 }
+
+/// The USB serial's variables, by name and kind, in [`Layout::usb`]'s order.
+const USB_VARS: [(&str, &str); 4] = [
+    ("tx_byte", "real"),
+    ("rx_byte", "real"),
+    ("tx_text", "string"),
+    ("rx_text", "string"),
+];
 
 /// The board's UARTs in USART order, each once: (USART, baud).
 fn uarts(board: &Board) -> Vec<(u8, u32)> {
@@ -385,7 +402,7 @@ pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
     // The zoom, then the primary marker and GTKWave's 26 named markers
     // (none set).
     let _ = writeln!(out, "*{:.6} -1{}", gtkw_zoom(span_ps), " -1".repeat(26));
-    for scope in ["encoders", "bridge", "uart", "plant"] {
+    for scope in ["encoders", "bridge", "uart", "usb", "plant"] {
         let _ = writeln!(out, "[treeopen] {scope}.");
     }
     let comment = |out: &mut String, text: &str| {
@@ -418,12 +435,13 @@ pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
                 &[format!("bridge.{}", wave_name(p, input.pwm_edges))],
             );
         }
-        let e = board.encoder(side);
-        let [a, b] = e.line_names();
-        bits(
-            &mut out,
-            &[(a, e.a), (b, e.b)].map(|(ch, pin)| format!("encoders.{s}_{ch}_{}", pin.name())),
-        );
+        let lines: Vec<String> = board
+            .encoder(side)
+            .lines()
+            .iter()
+            .map(|(ch, pin)| format!("encoders.{s}_{ch}_{}", pin.name()))
+            .collect();
+        bits(&mut out, &lines);
     }
     for (n, baud) in uarts(board) {
         comment(
@@ -448,6 +466,17 @@ pub fn gtkw_of(vcd_name: &str, input: &Traced) -> String {
         bits(
             &mut out,
             &[format!("uart.uart{n}_tx"), format!("uart.uart{n}_rx")],
+        );
+    }
+    if board.mcu.chip().usb.is_some() {
+        comment(&mut out, "USB serial (USB CDC): text, bytes");
+        bits(
+            &mut out,
+            &["tx_text", "rx_text"].map(|w| format!("usb.usb_serial_{w}")),
+        );
+        values(
+            &mut out,
+            &["tx_byte", "rx_byte"].map(|w| format!("usb.usb_serial_{w}")),
         );
     }
     comment(&mut out, "plant: pose, edge counts");

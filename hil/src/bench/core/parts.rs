@@ -12,7 +12,11 @@ const TAP_SETTLE_S: f64 = 0.1;
 /// The callbacks' work that needs several parts: each part does its share,
 /// given the others (or the few values it needs of them).
 impl BenchCore {
-    pub(in crate::bench) fn connect_encoders(&mut self, core: &mut Core, irq: [[DrivenPin; 2]; 2]) {
+    pub(in crate::bench) fn connect_encoders(
+        &mut self,
+        core: &mut Core,
+        irq: [[Option<DrivenPin>; 2]; 2],
+    ) {
         self.edges.connect(core, irq, &self.robot);
     }
 
@@ -65,16 +69,16 @@ impl BenchCore {
     }
 
     /// Record every encoder pin change from now on (see
-    /// `Bench::start_recording`), starting with the four lines' levels.
+    /// `Bench::start_recording`), starting with the wired lines' levels.
     pub(in crate::bench) fn start_recording(&mut self, cycle: u64) {
-        self.recorder.start_pins(cycle, self.edges.levels_shown());
+        self.recorder.start_pins(cycle, &self.edges.levels_shown());
     }
 
     /// [`Self::start_recording`], the records given to `tap` as they are
     /// made (see `Bench::stream_records`).
     pub(in crate::bench) fn stream_records(&mut self, cycle: u64, tap: SharedTap) {
         self.recorder
-            .stream_to(tap, cycle, self.edges.levels_shown());
+            .stream_to(tap, cycle, &self.edges.levels_shown());
     }
 
     /// A trace sample of the plant at `cycle`; a tap has the UART bytes so

@@ -14,7 +14,7 @@ use std::fmt::Write as _;
 use std::io::Write;
 
 use super::{frame_bits, layout, line_text, Layout};
-use crate::bench::{DriveEvent, PinEvent, Sample, Tap};
+use crate::bench::{DriveEvent, PinEvent, Sample, Tap, USB_SERIAL};
 use crate::board::Board;
 
 /// One change of one variable.
@@ -81,6 +81,8 @@ pub struct VcdWriter<W: Write> {
     last_drive: Vec<Option<DriveEvent>>,
     /// Per UART in the layout's order: sent, received.
     directions: Vec<[Direction; 2]>,
+    /// The USB serial's line of text so far: sent, received.
+    usb_text: [String; 2],
     queue: BinaryHeap<Reverse<Pending>>,
     seq: u64,
     header: bool,
@@ -104,6 +106,7 @@ impl<W: Write> VcdWriter<W> {
             pwm_edges,
             last_drive: vec![None; layout.pins.len()],
             directions: layout.uarts.iter().map(|_| Default::default()).collect(),
+            usb_text: Default::default(),
             layout,
             first_pin: None,
             first_level: [None; 4],
@@ -156,8 +159,9 @@ impl<W: Write> VcdWriter<W> {
         if let Some(slot) = self.first_level.get_mut(e.line as usize) {
             slot.get_or_insert(e.cycle == first && e.level);
         }
-        let var = self.layout.encoders[e.line as usize];
-        self.push(e.cycle, 0, var, Change::Bit(e.level));
+        if let Some(var) = self.layout.encoders[e.line as usize] {
+            self.push(e.cycle, 0, var, Change::Bit(e.level));
+        }
     }
 
     /// A bridge input changed; the waveform of its last change, when the
@@ -202,6 +206,10 @@ impl<W: Write> VcdWriter<W> {
     /// or received (the receiver had it at `cycle`, its frame done).
     pub fn uart(&mut self, received: bool, cycle: u64, usart: u8, byte: u8) {
         self.end = self.end.max(cycle);
+        if usart == USB_SERIAL {
+            self.usb(received, cycle, byte);
+            return;
+        }
         let base = 1 + self.layout.pins.len() as u32;
         for j in 0..self.layout.uarts.len() {
             let (n, cycles_per_bit, ids) = self.layout.uarts[j];
@@ -230,6 +238,24 @@ impl<W: Write> VcdWriter<W> {
                 self.push(c, source + 1, line, Change::Bit(bit));
             }
         }
+    }
+
+    /// A byte on the USB serial at `cycle`, as the host had it (sent) or
+    /// gave it to the device (received): its value and the line's text.
+    fn usb(&mut self, received: bool, cycle: u64, byte: u8) {
+        let Some(ids) = self.layout.usb else {
+            return;
+        };
+        let d = usize::from(received);
+        let source = 2 + self.layout.pins.len() as u32 + 4 * self.layout.uarts.len() as u32;
+        let text = line_text(&mut self.usb_text[d], byte);
+        self.push(
+            cycle,
+            source + d as u32,
+            ids[d],
+            Change::Real(f64::from(byte)),
+        );
+        self.push(cycle, source + d as u32, ids[2 + d], Change::Text(text));
     }
 
     /// A trace sample of the plant.

@@ -144,12 +144,7 @@ pub fn raw_replay(
         }
     }
     // Driven from outside, as the bench drives them (see `DrivenPin`).
-    let pins = [
-        avr.driven_pin(w.left_encoder.a.port, w.left_encoder.a.bit, false)?,
-        avr.driven_pin(w.left_encoder.b.port, w.left_encoder.b.bit, false)?,
-        avr.driven_pin(w.right_encoder.a.port, w.right_encoder.a.bit, false)?,
-        avr.driven_pin(w.right_encoder.b.port, w.right_encoder.b.bit, false)?,
-    ];
+    let [[left_a, left_b], [right_a, right_b]] = crate::bench::encoder_pins(&mut avr, w)?;
     let (uart_in, _) = avr.uart(rec.command_usart)?;
     for n in w.link_usarts() {
         if n != rec.command_usart {
@@ -164,7 +159,7 @@ pub fn raw_replay(
     };
     {
         let h = avr.handler_mut();
-        h.pins = pins.map(Some);
+        h.pins = [left_a, left_b, right_a, right_b];
         h.uart = Some(uart_in);
         h.adc0 = adc0;
     }

@@ -5,7 +5,8 @@
 //! seed: it runs in slices of robot time, and only [`Pacer`], outside it,
 //! looks at the host clock and sleeps between slices. What the host writes
 //! to a pty reaches its USART (the board's command USART, Henrytwo's USART1
-//! to the HC-05; on a second pty, its USB serial, USART0) at the start of
+//! to the HC-05; on a second pty, its USB serial: the Mega's USART0, a
+//! 32U4's own USB CDC served by the bench as the host) at the start of
 //! the next slice, at the line's baud in robot time; what the firmware sends
 //! goes out on the pty after each slice. Which slice a host byte lands in
 //! depends on the wall clock, so a served session is not reproducible bit
@@ -25,7 +26,7 @@ use std::time::{Duration, Instant};
 use plant_model::RobotConfig;
 use thiserror::Error;
 
-use crate::bench::{Bench, BenchError, BenchOptions};
+use crate::bench::{Bench, BenchError, BenchOptions, SERIALS, USB_SERIAL};
 use crate::firmware::description::Description;
 use crate::firmware::elf::Firmware;
 use crate::runs::start::wait_ready;
@@ -84,8 +85,7 @@ pub struct ServeOptions {
     /// inter-byte timeout, so a frame written in two pieces is not torn.
     pub slice_s: f64,
     pub bench: BenchOptions,
-    /// Serve the USB serial (the board's debug USART, where the thesis
-    /// build prints) on a second pty.
+    /// Serve the USB serial on a second pty (see [`usb_pty_serial`]).
     pub usb_pty: bool,
 }
 
@@ -146,6 +146,18 @@ impl Pacer {
     }
 }
 
+/// The serial channel the USB pty serves: on an MCU with USB, the cable
+/// in, the USB serial itself ([`USB_SERIAL`], the bench as the USB host);
+/// else the board's debug USART (where the thesis build prints, through
+/// the Mega's USB-serial converter).
+pub fn usb_pty_serial(bench: &BenchOptions) -> u8 {
+    if bench.board.mcu.chip().usb.is_some() && bench.usb_cable {
+        USB_SERIAL
+    } else {
+        bench.board.debug_uart.usart
+    }
+}
+
 /// An emulated robot running on its own thread (the simulator is not
 /// `Send`), its USARTs on pseudo-terminals. Stops when dropped.
 pub struct EmulatedRobot {
@@ -188,7 +200,7 @@ impl EmulatedRobot {
         let path = command.path().to_path_buf();
         let usb_path = usb.as_ref().map(|p| p.path().to_path_buf());
         let mut ports = vec![(board.command_uart.usart, command)];
-        ports.extend(usb.map(|p| (board.debug_uart.usart, p)));
+        ports.extend(usb.map(|p| (usb_pty_serial(&options.bench), p)));
         let view = Arc::new(Mutex::new(EmulatorView::default()));
         let stop = Arc::new(AtomicBool::new(false));
         let (ready_tx, ready_rx) = std::sync::mpsc::channel();
@@ -257,7 +269,7 @@ impl EmulatedRobot {
         &self.path
     }
 
-    /// The pty of the USB serial (the board's debug USART), when served.
+    /// The pty of the USB serial ([`usb_pty_serial`]), when served.
     pub fn usb_path(&self) -> Option<&std::path::Path> {
         self.usb_path.as_deref()
     }
@@ -309,7 +321,7 @@ fn serve_loop(
     // USB serial's (a greeting, a menu) are what a terminal user opens it
     // for: kept.
     let command = bench.board().command_uart.usart;
-    for n in 0..4 {
+    for n in 0..SERIALS as u8 {
         let bytes = bench.take_uart_output(n);
         if n == command && told {
             continue;
@@ -332,7 +344,7 @@ fn serve_loop(
             }
         }
         bench.run_for(options.slice_s)?;
-        for n in 0..4 {
+        for n in 0..SERIALS as u8 {
             let bytes = bench.take_uart_output(n);
             // A USART not served (a debug port of `hil ui`'s robot) has no
             // listener here.
