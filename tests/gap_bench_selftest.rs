@@ -4,7 +4,7 @@
 //! line for training, the triangle held out. The hidden effect must be named first and the
 //! held-out gap beyond noise cut by 80 % at least; the dead band fitted within 10 %. Gear
 //! play, taken up in a spin and given back after it, leaves no trace in these tests: the
-//! report must take no effect. One case per test, so that the harness runs two side by
+//! report must take no effect; nor may it for a robot whose error no candidate holds. One case per test, so that the harness runs two side by
 //! side; only the dead band's is the full default diagnosis (joint fits of up to three
 //! effects), the others fit single effects. Every case of the library, and cases of two
 //! effects: `hil gap --self-test --bench --cases 14` (docs/guide/diagnose.md).
@@ -195,6 +195,47 @@ fn a_failed_case_fails_the_command() {
     assert_eq!(
         stderr.lines().last(),
         Some("error: self-test: 1 of 1 cases failed: wheelbase_ratio"),
+        "{stderr}"
+    );
+}
+
+/// "Real" data from a robot config whose error the candidates do not hold (a wheelbase 5 %
+/// wide, `fixtures/robots/henrytwo-wide.toml`, with only the effects the kinematic model
+/// cannot represent as candidates): the report takes no effect and says so, with no model
+/// line, and the case passes (exit 0). Kept small for CI: 100 mm legs, single effects.
+#[test]
+fn a_robot_whose_error_no_candidate_holds_gets_no_effect() {
+    let real = hil::paths::robot_config("henrytwo-wide");
+    let out = support::hil(&[
+        "gap",
+        "--self-test",
+        "--bench",
+        "--real-robot",
+        real.to_str().unwrap(),
+        "--shortlist",
+        "0",
+        "--max-effects",
+        "1",
+        "--leg-mm",
+        "100",
+        "--jobs",
+        "2",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
+    let row = stdout
+        .lines()
+        .find(|l| {
+            l.trim_start()
+                .starts_with(hil::runs::gap_bench::REAL_ROBOT_CASE)
+        })
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(row.contains("(none)") && row.ends_with("pass"), "{row}");
+    // The case's report, printed with the progress: no model line.
+    assert!(stderr.contains("  no effect taken: "), "{stderr}");
+    assert!(
+        !stderr.contains("chosen model:") && !stderr.contains("best model found"),
         "{stderr}"
     );
 }

@@ -70,6 +70,12 @@ pub struct Gap {
         value_delimiter = ','
     )]
     hidden: Vec<String>,
+    /// With --bench --self-test: make the "real" data with this robot config
+    /// (same geometry as the nominal robot) instead of the nominal robot;
+    /// without --hidden, one case that hides nothing else. A robot whose
+    /// differences no candidate holds passes when the report takes no effect.
+    #[arg(long, requires = "self_test", requires = "bench", value_name = "FILE")]
+    real_robot: Option<PathBuf>,
     /// With --bench --self-test: leg of every test, mm (100 to 5000).
     #[arg(long, requires = "bench", default_value_t = 300,
           value_parser = clap::value_parser!(u16).range(100..=5000))]
@@ -420,7 +426,36 @@ impl Gap {
             }
             hidden.push(set);
         }
-        let cases: Vec<Vec<(&str, f64)>> = if hidden.is_empty() {
+        let real = match &self.real_robot {
+            Some(path) => {
+                let cfg = RobotConfig::load(path)
+                    .with_context(|| format!("--real-robot {}", path.display()))
+                    .map_err(super::bad_input)?;
+                super::args::check_firmware_settings(path, &cfg)?;
+                let (ours, theirs) = (
+                    bench.reference(),
+                    self.bench_model(cfg.clone())?.reference(),
+                );
+                if ours != theirs {
+                    return Err(super::BadInput(format!(
+                        "--real-robot {}: its geometry ({} mm wheelbase, {} mm per count) is \
+                         not the nominal robot's ({} mm, {} mm per count): the self-test's \
+                         data are recorded against the nominal robot",
+                        path.display(),
+                        theirs.wheelbase_mm,
+                        theirs.mm_per_count,
+                        ours.wheelbase_mm,
+                        ours.mm_per_count
+                    ))
+                    .into());
+                }
+                Some(self.bench_model(cfg)?)
+            }
+            None => None,
+        };
+        let cases: Vec<Vec<(&str, f64)>> = if hidden.is_empty() && real.is_some() {
+            vec![Vec::new()]
+        } else if hidden.is_empty() {
             DEFAULT_CASES[..usize::from(self.cases)]
                 .iter()
                 .map(|&c| vec![c])
@@ -431,8 +466,9 @@ impl Gap {
                 .map(|set| set.iter().map(|(n, v)| (n.as_str(), *v)).collect())
                 .collect()
         };
-        let t = hil::runs::gap_bench::bench_self_test_of(
+        let t = hil::runs::gap_bench::bench_self_test_on(
             &bench,
+            real.as_ref().unwrap_or(&bench),
             &cases,
             f64::from(self.leg_mm),
             self.seed,
