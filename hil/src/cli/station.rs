@@ -67,17 +67,11 @@ pub struct Ui {
 impl Ui {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("ui")?;
-        if let Some(d) = &self.common.target.description {
-            return Err(super::BadInput(format!(
-                "--tests {}: hil ui's station starts each test with the bench protocol's framed \
-                 START_TEST and follows it by the firmware's replies, which a firmware run from \
-                 a test description does not send; serve it with hil serve --pty --tests FILE and \
-                 start its tests as the description says, or run them with hil run TEST --tests FILE",
-                d.path
-            ))
-            .into());
+        // A described firmware's tests are started by the station itself,
+        // as the description says (hil run's start, end and report).
+        if self.common.target.description.is_none() {
+            self.common.refuse_run_params("ui")?;
         }
-        self.common.refuse_run_params("ui")?;
         self.common
             .refuse_result_format("ui", "it serves the station's page until stopped")?;
         let target = &self.common.target;
@@ -91,6 +85,7 @@ impl Ui {
             port: self.port,
             baud: self.baud,
             bench: target.bench(),
+            description: target.description.clone(),
         };
         ui(options, self.listen_port)
     }
