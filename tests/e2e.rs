@@ -69,6 +69,8 @@ mod sharding;
 mod skip;
 #[path = "station.rs"]
 mod station;
+#[path = "station_described.rs"]
+mod station_described;
 #[path = "station_ui.rs"]
 mod station_ui;
 #[path = "timer_modes.rs"]

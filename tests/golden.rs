@@ -3,7 +3,8 @@
 //! larger than the firmware knows, a changed firmware parameter and another
 //! ELF are reported with what moved (exit 1); a corrupted golden file and a
 //! golden run of one test checked as another are refused on one line
-//! (exit 2).
+//! (exit 2). A described firmware's own test (square-demo's half-square) is
+//! recorded and checked by its name.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -245,4 +246,68 @@ fn a_golden_run_of_one_test_checked_as_another_is_refused() {
         "the golden run is of line with legs of 300 mm; a run of umbmark-cw",
     );
     check_refused(line(), &["--leg-mm", "600"], "with legs of 600 mm");
+}
+
+/// A described firmware's own test, by its name (square-demo's half-square,
+/// `--tests`): its golden run records the legs and turns and the description
+/// it ran by; the same run checks within every tolerance (exit 0); on another
+/// robot the legs' ends move (exit 1), the description is still the golden's.
+#[test]
+fn a_described_firmwares_own_test_is_recorded_and_checked_by_name() {
+    const DEMO: &str = "fixtures/arduino/square-demo/tests.toml";
+    let golden = dir().join("half-square.json").display().to_string();
+    let out = hil(&[
+        "golden",
+        "record",
+        "half-square",
+        "--tests",
+        DEMO,
+        "--out",
+        &golden,
+    ]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&golden).unwrap()).unwrap();
+    assert_eq!(file["test"], "half-square");
+    // The sketch's own leg, as hil run takes it.
+    assert_eq!(file["leg_mm"], 501.0);
+    let with = &file["recorded_with"];
+    assert_eq!(with["tests"], DEMO, "{with}");
+    assert_eq!(with["firmware"], "square-demo", "{with}");
+    let names: Vec<&str> = file["quantities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|q| q["name"].as_str().unwrap())
+        .collect();
+    for q in [
+        "leg 2 end x (mm)",
+        "leg 2 duty right (mean)",
+        "turn 2 angle (deg)",
+    ] {
+        assert!(names.contains(&q), "{q} not in {names:?}");
+    }
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with("leg 3") || n.starts_with("turn 3")),
+        "{names:?}"
+    );
+
+    // Checked as recorded (the description read from the golden file).
+    let out = hil(&["golden", "check", &golden]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
+    assert!(!stdout.contains("MOVED"), "{stdout}");
+
+    let table = check_moved(
+        &golden,
+        &["--robot", "fixtures/robots/henrytwo-ideal.toml"],
+        &["leg 1 end x (mm)", "turn 1 angle (deg)"],
+    );
+    assert!(
+        !table.contains("tests"),
+        "the description is the golden's:\n{table}"
+    );
 }

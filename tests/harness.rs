@@ -47,6 +47,50 @@ fn panic_message(f: impl FnOnce()) -> String {
         .unwrap_or_default()
 }
 
+thread_local! {
+    /// Where this thread's last panic was raised.
+    static PANICKED_AT: std::cell::RefCell<Option<(String, u32)>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Where `f` panics: file and line, as the panic reports them (a hook
+/// records them for the thread that panicked, then hands the panic on to
+/// the hook before it, so other tests' panics are as they were).
+fn panic_at<R>(f: impl FnOnce() -> R) -> (String, u32) {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let before = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if let Some(l) = info.location() {
+                PANICKED_AT.with(|p| *p.borrow_mut() = Some((l.file().to_string(), l.line())));
+            }
+            before(info);
+        }));
+    });
+    PANICKED_AT.with(|p| *p.borrow_mut() = None);
+    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    assert!(r.is_err(), "it panics");
+    PANICKED_AT
+        .with(|p| p.borrow_mut().take())
+        .expect("the panic hook saw where")
+}
+
+/// Each assert's panic names the test's own line (`#[track_caller]`), not
+/// the harness' source: a failing test points at itself.
+#[test]
+fn asserts_panic_at_the_callers_line() {
+    let mut h = robust();
+    let done = Condition::frame(FrameId::TestDone);
+    let forward = Condition::driving_forward(0.05);
+    let at = panic_at(|| h.assert_var("HT_STATE", 2u8));
+    assert_eq!(at, (file!().to_string(), line!() - 1));
+    let at = panic_at(|| h.assert_holds(&forward));
+    assert_eq!(at, (file!().to_string(), line!() - 1));
+    let at = panic_at(|| h.assert_distance(300.0, 3.0));
+    assert_eq!(at, (file!().to_string(), line!() - 1));
+    let at = panic_at(|| h.assert_within(&done, 0.1));
+    assert_eq!(at, (file!().to_string(), line!() - 1));
+}
+
 /// An Arduino sketch with no bench variables starts through its
 /// description: ready on its text, `leg-and-spin` started by its byte on
 /// Serial, ended by its text; its 1 m leg and quarter spin are on the

@@ -494,6 +494,24 @@ fn run_parameters_are_refused_where_no_run_is_started() {
     }
 }
 
+/// With `--tests`, `hil serve` and `hil ui` take the description but refuse
+/// `--param` and `--keep-firmware-params`: the firmware has no protocol for
+/// parameters, so they would be dropped without a word.
+#[test]
+fn a_described_firmware_served_refuses_run_parameters() {
+    let tests = hil::paths::workspace_root().join("fixtures/arduino/square-demo/tests.toml");
+    let tests = tests.to_str().unwrap();
+    for cmd in [&["serve", "--pty"][..], &["ui"]] {
+        for args in [&["--param", "kp_left=1.5"][..], &["--keep-firmware-params"]] {
+            let out = hil_within(
+                &[cmd, &["--tests", tests], args].concat(),
+                Duration::from_secs(20),
+            );
+            assert_refused(&out, "has no protocol for parameters");
+        }
+    }
+}
+
 /// `hil serve` and `hil ui` print no result: `--json` (and
 /// `--deterministic`) are refused, not ignored.
 #[test]

@@ -1,6 +1,6 @@
 //! The commands with a described firmware (`--tests`): `hil test`'s serial
-//! text in its reports, `hil line`, `--gdb`, `hil serve`, `hil ui`'s refusal,
-//! `hil bench` and `hil faults`.
+//! text in its reports, `hil line`, `--gdb`, `hil serve`, `hil bench`
+//! and `hil faults` (`hil ui`: tests/station_described.rs).
 
 use super::*;
 
@@ -248,19 +248,6 @@ fn hil_serve_serves_a_described_firmware() {
 
 fn contains(hay: &[u8], needle: &[u8]) -> bool {
     hay.windows(needle.len()).any(|w| w == needle)
-}
-
-/// `hil ui --tests` says plainly why the station cannot drive a described
-/// firmware, and what can, before anything runs.
-#[test]
-fn hil_ui_says_why_it_cannot_drive_a_described_firmware() {
-    let (code, _, err) = hil_cli(&["ui", "--tests", THESIS_TESTS]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("framed START_TEST") && err.contains("hil serve --pty --tests FILE"),
-        "{err}"
-    );
-    assert_eq!(err.lines().count(), 1, "{err}");
 }
 
 /// `hil bench --tests` times the described firmware against raw simavr on

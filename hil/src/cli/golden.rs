@@ -49,7 +49,8 @@ impl GoldenCmd {
 
 #[derive(clap::Args)]
 struct Record {
-    /// umbmark-cw, umbmark-ccw, line or triangle.
+    /// umbmark-cw, umbmark-ccw, line or triangle; with --tests, a test the
+    /// description names.
     test: TestName,
     #[command(flatten)]
     leg: Leg,
@@ -116,6 +117,11 @@ struct RunArgs {
     /// Inject the faults of a scenario file [check: as recorded].
     #[arg(long, value_name = "FILE")]
     scenario: Option<PathBuf>,
+    /// Test description of a firmware that knows nothing of the bench
+    /// (docs/reference/test-description.md): its tests by their names, its
+    /// `elf` unless --elf is given [check: as recorded].
+    #[arg(long = "tests", value_name = "FILE")]
+    tests: Option<PathBuf>,
 }
 
 /// Tolerances: a record's are stored in the file, a check's override the
@@ -167,6 +173,8 @@ struct Conditions {
     /// The board's file (the target holds it decoded), for what is in force.
     board: Option<PathBuf>,
     scenario: Option<PathBuf>,
+    /// The test description's file (the target holds it decoded).
+    tests: Option<PathBuf>,
 }
 
 impl RunArgs {
@@ -180,9 +188,19 @@ impl RunArgs {
                 .then(|| recorded.and_then(|r| r.elf.as_ref().map(path)))
                 .flatten()
         });
+        let tests = self
+            .tests
+            .clone()
+            .or_else(|| recorded.and_then(|r| r.tests.as_ref().map(path)));
+        let description = tests
+            .as_ref()
+            .map(|p| super::args::parse_description(&p.display().to_string()))
+            .transpose()
+            .map_err(|e| super::bad_input(anyhow::anyhow!("{e}")))?;
         let firmware = match (self.firmware, recorded) {
             (Some(b), _) => b,
-            (None, Some(r)) if r.elf.is_none() => {
+            // A described firmware's name is its own, no build's.
+            (None, Some(r)) if r.elf.is_none() && description.is_none() => {
                 Build::from_str(&r.firmware, false).map_err(|_| {
                     super::bad_input(anyhow::anyhow!(
                         "firmware {:?} of the golden file is no build: robust or thesis",
@@ -216,7 +234,7 @@ impl RunArgs {
             no_skip: false,
             firmware,
             elf,
-            description: None,
+            description,
             robot: self
                 .robot
                 .clone()
@@ -238,6 +256,7 @@ impl RunArgs {
             target,
             board: board_path,
             scenario,
+            tests,
         })
     }
 }
@@ -286,6 +305,7 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
         bench: target.bench(),
         tell: target.tell(),
         params: target.params.clone(),
+        description: target.description.clone(),
         ..Default::default()
     };
     if let Some(path) = &c.scenario {
@@ -296,8 +316,16 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
     let clock = BenchOptions::default().clock;
     // The nominal period only sets the probe's jitter figure, unused here.
     let period = clock.cycles_in(plant_model::Seconds(15e-3));
-    let probe = TimingProbe::new(&firmware, Some(CONTROL_FUNCTION), period, &opts.bench.board)
-        .ok()
+    // A described firmware's control function is the one it names, if any.
+    let control = match &target.description {
+        Some(d) => d
+            .control_function(&firmware)
+            .transpose()
+            .map_err(super::bad_input)?,
+        None => Some(CONTROL_FUNCTION.to_string()),
+    };
+    let probe = control
+        .and_then(|f| TimingProbe::new(&firmware, Some(&f), period, &opts.bench.board).ok())
         .map(|p| Box::new(p) as Box<dyn Observer>);
     let (run, observer) = run_test_observed(firmware.clone(), &robot, test, &opts, probe)?;
     let report = observer
@@ -306,9 +334,10 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
     let quantities = hil::runs::golden::measure(&run, report.as_ref(), clock);
     let shown = |p: &Path| for_golden(p);
     let in_force = InForce {
-        firmware: match &target.elf {
-            Some(_) => firmware.name(),
-            None => Build::to_possible_value(&target.firmware)
+        firmware: match (&target.description, &target.elf) {
+            (Some(d), _) => d.firmware_name(&firmware),
+            (None, Some(_)) => firmware.name(),
+            (None, None) => Build::to_possible_value(&target.firmware)
                 .map(|v| v.get_name().to_string())
                 .unwrap_or_default(),
         },
@@ -325,6 +354,7 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
             .collect(),
         keep_firmware_params: target.keep_firmware_params,
         scenario: c.scenario.as_deref().map(shown),
+        tests: c.tests.as_deref().map(shown),
     };
     Ok(Measured {
         run,
@@ -335,9 +365,16 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
 
 impl Record {
     fn run(self) -> Result<()> {
-        let leg_mm = self.leg.leg_mm.unwrap_or(DEFAULT_LEG_MM);
         super::check_output("--out", &self.out)?;
         let c = self.run.resolve(None)?;
+        // A described firmware's leg is its own (or refused when asked of
+        // one that fixes it), as hil run takes it.
+        let leg_mm = match &c.target.description {
+            Some(d) => d
+                .leg_mm(self.leg.leg_mm, DEFAULT_LEG_MM)
+                .map_err(super::bad_input)?,
+            None => self.leg.leg_mm.unwrap_or(DEFAULT_LEG_MM),
+        };
         let m = measure(&c, self.test.clone(), leg_mm)?;
         if !m.run.completed {
             return Err(super::Incomplete(format!(

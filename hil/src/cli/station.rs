@@ -29,9 +29,7 @@ impl Serve {
         self.common.refuse_trace("serve")?;
         // A described firmware is served as it is: its client starts its
         // tests as the description says (printed below).
-        if self.common.target.description.is_none() {
-            self.common.refuse_run_params("serve")?;
-        }
+        refuse_params(&self.common, "serve")?;
         self.common
             .refuse_result_format("serve", "it serves the emulated robot until stopped")?;
         let target = &self.common.target;
@@ -68,17 +66,9 @@ pub struct Ui {
 impl Ui {
     pub fn run(self) -> Result<()> {
         self.common.refuse_trace("ui")?;
-        if let Some(d) = &self.common.target.description {
-            return Err(super::BadInput(format!(
-                "--tests {}: hil ui's station starts each test with the bench protocol's framed \
-                 START_TEST and follows it by the firmware's replies, which a firmware run from \
-                 a test description does not send; serve it with hil serve --pty --tests FILE and \
-                 start its tests as the description says, or run them with hil run TEST --tests FILE",
-                d.path
-            ))
-            .into());
-        }
-        self.common.refuse_run_params("ui")?;
+        // A described firmware's tests are started by the station itself,
+        // as the description says (hil run's start, end and report).
+        refuse_params(&self.common, "ui")?;
         self.common
             .refuse_result_format("ui", "it serves the station's page until stopped")?;
         let target = &self.common.target;
@@ -92,8 +82,26 @@ impl Ui {
             port: self.port,
             baud: self.baud,
             bench: target.bench(),
+            description: target.description.clone(),
         };
         ui(options, self.listen_port)
+    }
+}
+
+/// `--param` and `--keep-firmware-params` refused (exit 2): without `--tests`
+/// the client sets the parameters over the link; with it, the firmware has
+/// no protocol for them. `--tests` itself is taken.
+fn refuse_params(common: &Common, command: &str) -> Result<()> {
+    let t = &common.target;
+    match &t.description {
+        None => common.refuse_run_params(command),
+        Some(d) if !t.params.is_empty() || t.keep_firmware_params => Err(super::BadInput(format!(
+            "{}: --param and --keep-firmware-params: the firmware it describes has no \
+                 protocol for parameters; drop them",
+            d.path
+        ))
+        .into()),
+        Some(_) => Ok(()),
     }
 }
 

@@ -28,6 +28,7 @@ use super::client::{Link, LinkError, LinkOptions};
 use super::emulated::{EmulatedRobot, EmulatorError, ServeOptions};
 use super::session::{self, Evaluation, Params, RoundEntry, Session, SessionError};
 use crate::bench::BenchOptions;
+use crate::firmware::description::Description;
 use crate::firmware::elf::Firmware;
 use crate::runs::experiment::Test;
 
@@ -35,6 +36,7 @@ const INDEX_HTML: &str = include_str!("ui/index.html");
 const APP_JS: &str = include_str!("ui/app.js");
 const CHARTS_JS: &str = include_str!("ui/charts.js");
 
+mod described;
 mod floor;
 mod poll;
 
@@ -55,6 +57,8 @@ pub enum UiError {
     #[error("no robot connected: pick one and press Connect")]
     NotConnected,
     #[error("{0}")]
+    Busy(String),
+    #[error("{0}")]
     Input(String),
     #[error("cannot listen on 127.0.0.1:{port}: {source}; pick another port with --listen-port")]
     Listen { port: u16, source: std::io::Error },
@@ -67,7 +71,7 @@ impl IntoResponse for UiError {
             UiError::Session(
                 SessionError::WhichExperiment { .. } | SessionError::LegChanged { .. },
             ) => StatusCode::BAD_REQUEST,
-            UiError::NotConnected => StatusCode::CONFLICT,
+            UiError::NotConnected | UiError::Busy(_) => StatusCode::CONFLICT,
             UiError::Link(LinkError::Refused { .. } | LinkError::OutOfRange { .. }) => {
                 StatusCode::CONFLICT
             }
@@ -94,6 +98,9 @@ pub struct UiOptions {
     pub baud: u32,
     /// The emulated robots' board (their wiring and links) and plant seed.
     pub bench: BenchOptions,
+    /// How the firmware is run when it knows nothing of the bench (`--tests
+    /// FILE`): the station runs the tests it describes, as `hil run` does.
+    pub description: Option<Arc<Description>>,
 }
 
 impl UiOptions {
@@ -143,14 +150,20 @@ struct Connection {
     label: String,
     /// What the page asked for, shown again by a tab opened later.
     selection: ConnectRequest,
-    link: Arc<Mutex<Link>>,
+    /// The bench protocol's link; None for a described firmware (it speaks
+    /// none).
+    link: Option<Arc<Mutex<Link>>>,
     emulator: Option<Arc<EmulatedRobot>>,
-    poller: tokio::task::JoinHandle<()>,
+    poller: Option<tokio::task::JoinHandle<()>>,
+    /// The robot a described firmware's tests run on.
+    described: Option<described::Target>,
 }
 
 impl Drop for Connection {
     fn drop(&mut self) {
-        self.poller.abort();
+        if let Some(p) = &self.poller {
+            p.abort();
+        }
     }
 }
 
@@ -162,6 +175,8 @@ struct App {
     start: std::sync::Mutex<Option<StartPose>>,
     runs: std::sync::atomic::AtomicU64,
     events: broadcast::Sender<String>,
+    /// The described test running, if any.
+    live: std::sync::Mutex<Option<described::LiveRun>>,
 }
 
 type Shared = Arc<App>;
@@ -187,6 +202,7 @@ pub async fn serve(
         start: std::sync::Mutex::new(None),
         runs: std::sync::atomic::AtomicU64::new(0),
         events,
+        live: std::sync::Mutex::new(None),
     });
     let router = Router::new()
         .route("/", get(index))
@@ -240,6 +256,9 @@ struct Robots {
     /// The robot connected as the page selects it: its config and speed,
     /// or its port and baud.
     selection: Option<ConnectRequest>,
+    /// A described firmware's tests (`hil ui --tests FILE`), by name.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tests: Option<Vec<String>>,
 }
 
 async fn robots(State(app): State<Shared>) -> Json<Robots> {
@@ -261,6 +280,11 @@ async fn robots(State(app): State<Shared>) -> Json<Robots> {
         baud: app.options.baud,
         connected,
         selection,
+        tests: app
+            .options
+            .description
+            .as_deref()
+            .map(described::test_names),
     })
 }
 
@@ -286,23 +310,16 @@ async fn connect(
 ) -> Result<Json<serde_json::Value>, UiError> {
     // One robot at a time: the previous link and emulator go first.
     *app.conn.lock().await = None;
+    if let Ok(mut live) = app.live.lock() {
+        *live = None;
+    }
+    if let Some(d) = app.options.description.clone() {
+        return described::connect(&app, &d, req).await;
+    }
     let selection = req.clone();
     let (key, label, path, baud, emulator) = match req {
         ConnectRequest::Emulated { config, speed } => {
-            // Only the configs offered: the page names no files.
-            let file = app
-                .options
-                .robots
-                .iter()
-                .find(|(n, _)| *n == config)
-                .map(|(_, f)| f.clone())
-                .ok_or_else(|| {
-                    UiError::Input(format!(
-                        "{config:?} is not one of the robot configs offered"
-                    ))
-                })?;
-            let robot = plant_model::RobotConfig::load(&file)
-                .map_err(|e| UiError::Input(format!("robot config {}: {e}", file.display())))?;
+            let (_, robot) = offered_robot(&app, &config)?;
             let options = app.options.serve_options(speed);
             let baud = options.bench.board.command_uart.baud;
             let firmware = app.options.firmware.clone();
@@ -381,22 +398,54 @@ async fn connect(
     *app.conn.lock().await = Some(Connection {
         label,
         selection,
-        link,
+        link: Some(link),
         emulator,
-        poller,
+        poller: Some(poller),
+        described: None,
     });
     Ok(Json(body))
 }
 
+/// The robot config offered as `config`, and the file it came from: only
+/// those offered, the page names no files.
+fn offered_robot(app: &App, config: &str) -> Result<(PathBuf, plant_model::RobotConfig), UiError> {
+    let file = app
+        .options
+        .robots
+        .iter()
+        .find(|(n, _)| *n == config)
+        .map(|(_, f)| f.clone())
+        .ok_or_else(|| {
+            UiError::Input(format!(
+                "{config:?} is not one of the robot configs offered"
+            ))
+        })?;
+    let robot = plant_model::RobotConfig::load(&file)
+        .map_err(|e| UiError::Input(format!("robot config {}: {e}", file.display())))?;
+    Ok((file, robot))
+}
+
 async fn disconnect(State(app): State<Shared>) -> Json<serde_json::Value> {
     *app.conn.lock().await = None;
+    if let Ok(mut live) = app.live.lock() {
+        *live = None;
+    }
     Json(json!({ "ok": true }))
 }
 
 async fn link_of(app: &App) -> Result<(Arc<Mutex<Link>>, Option<Arc<EmulatedRobot>>), UiError> {
     let conn = app.conn.lock().await;
     let c = conn.as_ref().ok_or(UiError::NotConnected)?;
-    Ok((c.link.clone(), c.emulator.clone()))
+    let link = c.link.clone().ok_or_else(|| {
+        UiError::Input(format!(
+            "{}: the firmware speaks no bench protocol: it has no parameters to read or send",
+            app.options
+                .description
+                .as_ref()
+                .map_or("the test description", |d| d.path.as_str())
+        ))
+    })?;
+    Ok((link, c.emulator.clone()))
 }
 
 #[derive(Deserialize)]
@@ -407,8 +456,16 @@ struct StartRequest {
 
 async fn start(
     State(app): State<Shared>,
-    Json(req): Json<StartRequest>,
+    Json(req): Json<serde_json::Value>,
 ) -> Result<Json<serde_json::Value>, UiError> {
+    if let Some(d) = app.options.description.clone() {
+        return described::start(&app, &d, req).await;
+    }
+    let req: StartRequest = serde_json::from_value(req).map_err(|e| {
+        UiError::Input(format!(
+            "{e}: give {{\"test\": one of umbmark-cw, umbmark-ccw, line, triangle, \"leg_mm\": a length}}"
+        ))
+    })?;
     let (link, emulator) = link_of(&app).await?;
     // The session before the link, as `apply` takes them.
     let mut guard = app.session.lock().await;
@@ -457,6 +514,9 @@ async fn start(
 
 /// Stop the robot; a test it was running gives no end point.
 async fn stop(State(app): State<Shared>) -> Result<Json<serde_json::Value>, UiError> {
+    if app.options.description.is_some() {
+        return Ok(described::stop(&app));
+    }
     let (link, _) = link_of(&app).await?;
     link.lock().await.stop().await?;
     if let Ok(mut s) = app.start.lock() {

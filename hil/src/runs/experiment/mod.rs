@@ -238,6 +238,28 @@ impl TestRun {
     }
 }
 
+/// The legs and turns `bench` drove from `since_cycle` on, counted as a run's
+/// end counts them ([`TestRun::legs`], [`TestRun::turns`]): a test's progress
+/// while it still runs (the station's live view).
+pub(crate) fn legs_and_turns_so_far(
+    bench: &Bench,
+    test: &TestName,
+    opts: &TestOptions,
+    since_cycle: u64,
+) -> (Vec<Leg>, Vec<Turn>) {
+    let run = analyse(
+        bench,
+        test.clone(),
+        None,
+        String::new(),
+        opts,
+        since_cycle..u64::MAX,
+        false,
+        None,
+    );
+    (run.legs, run.turns)
+}
+
 /// Run `test` from a fresh reset (a test of the firmware's own needs its
 /// description, [`TestOptions::description`]).
 pub fn run_test(

@@ -108,6 +108,7 @@ pub fn differences(golden: &InForce, now: &InForce) -> Vec<Difference> {
             opt(&golden.scenario, "none"),
             opt(&now.scenario, "none"),
         ),
+        ("tests", opt(&golden.tests, "none"), opt(&now.tests, "none")),
     ];
     fields
         .into_iter()

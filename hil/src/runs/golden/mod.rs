@@ -73,6 +73,10 @@ pub struct InForce {
     pub keep_firmware_params: bool,
     /// The scenario file whose faults were injected.
     pub scenario: Option<String>,
+    /// The test description the firmware ran by (`--tests FILE`; None: the
+    /// bench's own build and its interface).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tests: Option<String>,
 }
 
 /// What a quantity is, and so which tolerance holds it.

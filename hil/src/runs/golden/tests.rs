@@ -23,6 +23,7 @@ fn in_force() -> InForce {
         params: vec![],
         keep_firmware_params: false,
         scenario: None,
+        tests: None,
     }
 }
 

@@ -88,6 +88,7 @@ async function connect() {
   $("connect").disabled = true;
   try {
     const r = await api("POST", "/api/connect", req);
+    if (r.described) return showDescribed(r);
     status("connected: " + r.robot + ", protocol " + r.protocol_version);
     $("session-file").textContent = r.session_file;
     $("leg-mm").value = r.leg_mm;
@@ -398,9 +399,52 @@ function onEvent(ev) {
     } else {
       $("notice").textContent = `FAULT ${n.fault} in test ${n.test}, segment ${n.segment}`;
     }
+  } else if (ev.kind === "described" || ev.kind === "described_end") {
+    onDescribed(ev);
   } else if (ev.kind === "error") {
     status(ev.message, true);
   }
+}
+
+// --- a described firmware (hil ui --tests FILE) ---------------------------------
+// Its tests are the description's, run by the server as hil run runs them;
+// the page shows their progress and report.
+
+function showDescribed(r) {
+  status(`connected: ${r.robot}, firmware ${r.described.firmware}, tests of ${r.described.file}`);
+  const box = $("test-buttons");
+  box.innerHTML = "";
+  for (const name of r.described.tests) {
+    const b = document.createElement("button");
+    b.dataset.test = name;
+    b.textContent = name;
+    b.onclick = () => startTest(name);
+    box.append(b, " ");
+  }
+  $("leg-mm").disabled = true;
+  $("described").hidden = false;
+  $("pose").textContent = "";
+}
+
+const legsText = (legs) => `${legs.length}` + (legs.length ? ` (${legs.map((l) => fmt(l.plant_distance_mm, 0)).join(", ")} mm)` : "");
+const turnsText = (turns) => `${turns.length}` + (turns.length ? ` (${turns.map((t) => fmt(t.plant_angle_deg, 1)).join(", ")}°)` : "");
+
+function onDescribed(ev) {
+  if (ev.kind === "described") {
+    $("state").textContent = `${ev.test} running, ${fmt(ev.time_s, 2)} s`;
+    $("described-legs").textContent = legsText(ev.legs);
+    $("described-turns").textContent = turnsText(ev.turns);
+    $("described-pose").textContent = `x ${fmt(ev.pose.x_mm, 1)} mm, y ${fmt(ev.pose.y_mm, 1)} mm, θ ${fmt(wrapDeg(ev.pose.theta_deg), 1)}°`;
+    for (const u of ev.uarts) $("uart-text").textContent += u.text;
+    return;
+  }
+  const run = ev.run;
+  $("state").textContent = `${ev.test} ${run.completed ? "completed" : "did not complete"}, ${fmt(run.robot_time_s, 2)} s`;
+  $("notice").textContent = run.finding || "";
+  $("described-legs").textContent = legsText(run.legs);
+  $("described-turns").textContent = turnsText(run.turns);
+  const p = run.final_pose;
+  $("described-pose").textContent = `x ${fmt(p.x_mm, 1)} mm, y ${fmt(p.y_mm, 1)} mm, θ ${fmt(wrapDeg(p.theta_deg), 1)}°`;
 }
 
 // A run is drawn from the origin of its start frame, where the server's
@@ -489,6 +533,7 @@ function listen() {
 async function startTest(test) {
   try {
     const leg = Number($("leg-mm").value);
+    $("uart-text").textContent = "";
     const r = await api("POST", "/api/start", { test, leg_mm: leg });
     $("notice").textContent = `${r.started} started, ${r.leg_mm} mm legs`;
     // The round recorded the leg, and the side follows it.

@@ -23,6 +23,7 @@ fn emulated_robots_are_served_on_the_board_asked_for() {
             board,
             ..Default::default()
         },
+        description: None,
     };
     let served = options.serve_options(2.5);
     assert_eq!(served.speed, 2.5);
