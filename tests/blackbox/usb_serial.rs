@@ -328,23 +328,3 @@ fn hil_serve_serves_the_usb_serial_on_the_usb_pty() {
     serial.write_all(b"a").unwrap();
     assert_eq!(read_until(&mut serial, "got a\r\n"), "got a\r\n");
 }
-
-/// `hil ui` on the Leonardo's sketch: the station drives a robot by the
-/// bench protocol's framed commands, which a sketch of its own (on USB or
-/// a USART) does not speak: refused before anything runs, in one line
-/// naming why and what serves its USB serial instead (exit 2).
-#[test]
-fn hil_ui_refuses_a_usb_sketch_saying_why() {
-    let out = Command::new(env!("CARGO_BIN_EXE_hil"))
-        .current_dir(hil::paths::workspace_root())
-        .args(["ui", "--tests", USB_TESTS, "--board", LEONARDO])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(
-        err.contains("framed START_TEST") && err.contains("hil serve --pty --tests FILE"),
-        "{err}"
-    );
-}

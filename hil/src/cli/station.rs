@@ -69,9 +69,22 @@ impl Ui {
         // A described firmware's tests are started by the station itself,
         // as the description says (hil run's start, end and report).
         refuse_params(&self.common, "ui")?;
+        let target = &self.common.target;
+        if let Some((d, field)) = target
+            .description
+            .as_ref()
+            .and_then(|d| Some((d, d.usb_field()?)))
+        {
+            return Err(super::BadInput(format!(
+                "{}: {field} = \"usb\": the station does not bridge the MCU's USB serial; run \
+                 its tests with hil run TEST --tests FILE, or serve them with hil serve --pty \
+                 --tests FILE",
+                d.path
+            ))
+            .into());
+        }
         self.common
             .refuse_result_format("ui", "it serves the station's page until stopped")?;
-        let target = &self.common.target;
         let options = hil::clients::station::ui::UiOptions {
             sessions_dir: self.sessions,
             robots: hil::clients::station::ui::robot_configs(
