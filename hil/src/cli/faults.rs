@@ -52,11 +52,12 @@ impl Faults {
             description: self.common.target.description.clone(),
         };
         let library = match &self.scenario {
-            Some(path) => vec![hil::runs::faults::from_scenario(
-                path,
-                &hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?,
-            )
-            .map_err(|e| super::bad_input(anyhow::anyhow!(e)))?],
+            Some(path) => {
+                let s = hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?;
+                super::check_scenario_wiring(path, &s, &options.board)?;
+                vec![hil::runs::faults::from_scenario(path, &s)
+                    .map_err(|e| super::bad_input(anyhow::anyhow!(e)))?]
+            }
             None => hil::runs::faults::library(),
         };
         if self.list {

@@ -310,6 +310,7 @@ fn measure(c: &Conditions, test: TestName, leg_mm: f64) -> Result<Measured> {
     };
     if let Some(path) = &c.scenario {
         let s = hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?;
+        super::check_scenario_wiring(path, &s, &opts.bench.board)?;
         opts.faults = s.scheduled();
         opts.framed = s.framed;
     }

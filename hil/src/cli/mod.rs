@@ -1,6 +1,7 @@
 //! The `hil` command line: one module per family of commands, each command an
 //! argument struct with its `run`; the groups several share are in [`args`].
 
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Result;
@@ -146,6 +147,18 @@ impl std::fmt::Display for BadInput {
 }
 
 impl std::error::Error for BadInput {}
+
+/// A scenario's faults checked against the board's wiring before anything
+/// runs (exit 2, naming the file and the fault).
+pub fn check_scenario_wiring(
+    path: &Path,
+    scenario: &hil::runs::scenario::Scenario,
+    board: &hil::board::Board,
+) -> Result<()> {
+    scenario
+        .check_wiring(board)
+        .map_err(|e| BadInput(format!("{}: {e}", path.display())).into())
+}
 
 /// `e` (with its causes, on one line) as a [`BadInput`].
 pub fn bad_input(e: impl Into<anyhow::Error>) -> anyhow::Error {

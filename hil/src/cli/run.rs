@@ -75,6 +75,7 @@ impl Run {
         opts.hang_after_s = hang_after;
         if let Some(path) = &scenario {
             let s = hil::runs::scenario::Scenario::load(path).map_err(super::bad_input)?;
+            super::check_scenario_wiring(path, &s, &opts.bench.board)?;
             opts.faults = s.scheduled();
             opts.framed = s.framed;
         }

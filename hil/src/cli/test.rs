@@ -185,6 +185,7 @@ impl TestCmd {
         };
         let (robot, firmware) = target.load()?;
         let bench = target.bench();
+        super::check_scenario_wiring(file, &scenario, &bench.board)?;
         let watch = Watch::new(&scenario, &firmware, bench.clock).map_err(|e| {
             super::bad_input(anyhow::anyhow!("the scenario {}, {e}", file.display()))
         })?;

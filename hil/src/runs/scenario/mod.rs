@@ -77,7 +77,8 @@ use std::path::PathBuf;
 use serde::Deserialize;
 use thiserror::Error;
 
-use crate::bench::ScheduledFault;
+use crate::bench::inject::EncoderFault;
+use crate::bench::{Action, ScheduledFault};
 use crate::runs::experiment::TestName;
 
 pub mod eval;
@@ -158,5 +159,41 @@ impl Scenario {
     /// The faults, as the bench schedules them.
     pub fn scheduled(&self) -> Vec<ScheduledFault> {
         self.faults.iter().map(FaultEntry::scheduled).collect()
+    }
+
+    /// Refuses a fault on a line `board` does not wire, naming the fault:
+    /// channel B of a one-channel encoder, stuck, swapped with A or
+    /// glitched, is on no pin, so the run would change nothing the firmware
+    /// sees and read as if it had shrugged the fault off.
+    pub fn check_wiring(&self, board: &crate::board::Board) -> Result<(), String> {
+        for (k, f) in self.faults.iter().enumerate() {
+            let on_b = match &f.action {
+                Action::Encoder {
+                    side,
+                    fault: EncoderFault::StuckB { .. } | EncoderFault::Swapped,
+                } => Some(*side),
+                Action::EncoderGlitch {
+                    side,
+                    channel: crate::bench::inject::Channel::B,
+                    ..
+                } => Some(*side),
+                _ => None,
+            };
+            let Some(side) = on_b else { continue };
+            let (wiring, name) = match side {
+                plant_model::Side::Left => (board.left_encoder, "left"),
+                plant_model::Side::Right => (board.right_encoder, "right"),
+            };
+            if wiring.b.is_none() {
+                return Err(format!(
+                    "[[fault]] {} ({}): the board's {name} encoder has channel A alone (a \
+                     one-channel encoder), its channel B on no pin; give a fault of channel A \
+                     (stuck_a, dropout, miss_pairs, a glitch on A)",
+                    k + 1,
+                    f.action.name()
+                ));
+            }
+        }
+        Ok(())
     }
 }
