@@ -115,8 +115,7 @@ fn six() -> usize {
     6
 }
 
-/// Points of each candidate's grid, and golden-section steps after it, of the default
-/// search ([`SelectOptions::grid`], [`SelectOptions::refine`]).
+/// The default search's grid points and golden-section steps ([`SelectOptions::grid`], `refine`).
 pub const GRID_POINTS: usize = 7;
 pub const REFINE_STEPS: usize = 8;
 
