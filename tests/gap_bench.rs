@@ -126,3 +126,30 @@ fn the_nominal_robot_is_in_the_model() {
         "the kinematic model's χ² is only {kin_chi2:.1} over {n} residuals"
     );
 }
+
+/// A model's clones share their answers: a question asked again, of the model or of a clone,
+/// runs nothing and is answered the same to the bit as by a model that runs it; a question
+/// whose series are asked for after its end points alone runs again, once; a builder that
+/// changes what a run depends on starts with no answers.
+#[test]
+fn a_question_asked_again_is_not_run_again() {
+    let b = bench(2);
+    let noisy = EffectParams::new().with(FLOOR_NOISE, 2.0);
+    let exp = experiment(&b, TestKind::Line, 2, 21);
+    let first = b.predict(&noisy, &exp).unwrap();
+    assert_eq!(b.runs_made(), 2);
+    let clone = b.clone();
+    assert_eq!(clone.predict(&noisy, &exp).unwrap(), first);
+    assert_eq!(b.runs_made(), 2, "the clone ran the question again");
+    assert_eq!(bench(2).predict(&noisy, &exp).unwrap(), first);
+    let ask = |m: &BenchModel| m.run_many(&[(noisy.clone(), exp.clone())], true);
+    let with_series = ask(&b).remove(0).unwrap();
+    assert_eq!((with_series.0, with_series.1.len()), (first.clone(), 2));
+    assert_eq!(b.runs_made(), 4, "the series were run");
+    assert_eq!(ask(&clone).remove(0).unwrap().1.len(), 2);
+    assert_eq!(b.runs_made(), 4, "the series were run again");
+    let other = b.clone().with_params(Vec::new());
+    assert_eq!(other.runs_made(), 0);
+    assert_eq!(other.predict(&noisy, &exp).unwrap(), first);
+    assert_eq!(other.runs_made(), 2);
+}

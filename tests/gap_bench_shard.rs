@@ -78,11 +78,14 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
         // Shards fit single effects only: the single-machine report to compare with too.
         "--max-effects",
         "1",
-        // The coarsest search: the numbers do not matter here, only that every machine
-        // computes the same ones.
+        // The coarsest search and the fewest runs: the numbers do not matter here, only
+        // that every machine computes the same ones.
         "--grid",
         "3",
         "--refine",
+        "1",
+        // One run per centroid: a third of the runs.
+        "--centroid-runs",
         "1",
     ];
 
@@ -110,6 +113,7 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
         assert_eq!(v["plan"]["options"]["grid"], 3, "{f}");
         assert_eq!(v["plan"]["options"]["refine"], 1, "{f}");
         assert_eq!(v["plan"]["options"]["fold_refine"], 1, "{f}");
+        assert_eq!(v["plan"]["options"]["fit"]["centroid_runs"], 1, "{f}");
     }
 
     let merged = hil(&["gap", "--merge", &b, &a, "--json"]);
@@ -160,17 +164,27 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
 }
 
 /// `hil bench --diagnosis`'s measurement on a tiny dataset (one run per test, 100 mm legs,
-/// a 3-point grid): both job counts timed, their runs counted alike, the ratio and the
+/// a 3-point grid, one run per centroid): both job counts timed, their runs counted alike, the ratio and the
 /// budget's verdict there.
 #[test]
 fn the_diagnosis_benchmark_produces_its_numbers() {
     let bench = BenchModel::new(support::firmware("robust"), RobotConfig::default(), 1);
+    // The fewest runs that still take every kind of fit: one run per centroid, one pair
+    // and one iteration of each joint fit.
+    let default = SelectOptions::default();
     let opts = SelectOptions {
         shortlist: 0,
         grid: 3,
         refine: 1,
         fold_refine: 1,
-        ..SelectOptions::default()
+        fit: gap::FitOptions {
+            centroid_runs: 1,
+            ..default.fit.clone()
+        },
+        joint_pairs: 1,
+        joint_iterations: 1,
+        joint_fold_iterations: 1,
+        ..default
     };
     let speed = measure_diagnosis(&SpeedPlan {
         bench: &bench,
@@ -203,6 +217,7 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
     // diagnosis' and their wall times its share of the 2-job timing.
     let kinds: Vec<&str> = speed.costs.iter().map(|c| c.kind).collect();
     assert_eq!(kinds, ["single", "pair", "triple"], "{text}");
+    assert!(speed.costs[1].fits > 0, "no joint fit was measured: {text}");
     let sum: usize = speed.costs.iter().map(|c| c.bench_runs).sum();
     assert_eq!(sum, runs, "{text}");
     assert_eq!(speed.costs[1].fits + speed.costs[2].fits, speed.joint_fits);

@@ -7,7 +7,9 @@ use anyhow::{Context, Result};
 use gap::selftest::{render_cases_with, CaseColumns};
 use gap::SplitRule;
 use hil::firmware::elf::Firmware;
-use hil::runs::gap_bench::{BenchModel, SelectOptions, DEFAULT_CASES, GRID_POINTS, REFINE_STEPS};
+use hil::runs::gap_bench::{
+    BenchModel, SelectOptions, CENTROID_RUNS, DEFAULT_CASES, GRID_POINTS, REFINE_STEPS,
+};
 use hil::runs::odometry::Shard;
 use plant_model::RobotConfig;
 
@@ -91,6 +93,14 @@ pub struct Gap {
     #[arg(long, requires = "bench", default_value_t = REFINE_STEPS as u8,
           value_parser = clap::value_parser!(u8).range(0..=12))]
     refine: u8,
+    /// With --bench: bench runs each predicted centroid is the mean of, each
+    /// from its own start phase within the control period (1 to 9). Fewer
+    /// cost fewer runs and leave the firmware's discrete decisions (the count
+    /// a leg stops on) in the prediction: a first look, or a check that
+    /// shards merge.
+    #[arg(long, requires = "bench", default_value_t = CENTROID_RUNS as u8,
+          value_parser = clap::value_parser!(u8).range(1..=9))]
+    centroid_runs: u8,
     /// With --bench: leave the training groups' telemetry out of the
     /// diagnosis (end points only, as without telemetry).
     #[arg(long, requires = "bench")]
@@ -265,6 +275,10 @@ impl Gap {
             grid: self.grid.into(),
             refine: self.refine.into(),
             fold_refine: default.fold_refine.min(self.refine.into()),
+            fit: gap::FitOptions {
+                centroid_runs: self.centroid_runs.into(),
+                ..default.fit.clone()
+            },
             ..default
         }
     }

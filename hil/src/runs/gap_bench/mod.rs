@@ -12,6 +12,7 @@
 //! | `batch.rs` | many predictions asked for at once, run in one parallel batch |
 //! | `select.rs` | the bench-backed diagnosis: 1-D fits, cross-validation, held-out gap |
 //! | `shard.rs` | the diagnosis' candidates split over machines, and the merge of the shards |
+//! | `store.rs` | the answers run, shared by a model's clones and threads |
 //! | `speed.rs` | the diagnosis timed with one job and with N (`hil bench --diagnosis`) |
 //! | `select/choose.rs` | the choice over fitted candidates, the alike set, the notes |
 //! | `select/render.rs` | the diagnosis' report as text |
@@ -21,6 +22,7 @@
 //! | `series.rs` | the telemetry of a run, one row per control period, and its residual score |
 
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 
 use gap::model::{check_params, Experiment, Model, ModelError, RunEndpoint, TestKind};
 use gap::{EffectParams, ParamSpec};
@@ -33,6 +35,7 @@ use crate::firmware::link::Param;
 use crate::firmware::params::Tell;
 use crate::runs::experiment::{run_test_observed, Test, TestOptions};
 use crate::runs::odometry::run_seed;
+use store::Store;
 
 mod batch;
 mod params;
@@ -42,13 +45,15 @@ mod selftest;
 mod series;
 mod shard;
 mod speed;
+mod store;
 
 pub use batch::Batched;
 pub use params::{apply, bench_parameters};
 pub use select::{
     choose, diagnose_bench, fit_candidates, fit_effects_jointly, fit_nominal, kinematic_shortlist,
     third_starts, training_score, BenchCandidate, BenchDiagnosis, ChosenValue, FitPlan,
-    FittedCandidate, JointFit, NominalFit, SelectOptions, Surrogate, GRID_POINTS, REFINE_STEPS,
+    FittedCandidate, JointFit, NominalFit, SelectOptions, Surrogate, CENTROID_RUNS, GRID_POINTS,
+    REFINE_STEPS,
 };
 pub use selftest::{
     bench_self_test, bench_self_test_of, bench_self_test_on, self_test_split, BenchCase,
@@ -90,6 +95,8 @@ pub struct BenchModel {
     jobs: usize,
     /// Parameters sent after each experiment's own (`--param`: theirs win).
     params: Vec<(Param, f32)>,
+    /// The answers of this model and its clones (`store.rs`).
+    store: Arc<Store>,
 }
 
 /// One run to make: the robot with its effects, the test, the firmware's parameters and
@@ -120,12 +127,14 @@ impl BenchModel {
             bench: BenchOptions::default(),
             jobs: jobs.max(1),
             params: Vec::new(),
+            store: Arc::default(),
         }
     }
 
     /// The same model on the robot wired by `board` (default Henrytwo's).
     pub fn on_board(mut self, board: crate::board::Board) -> Self {
         self.bench.board = board;
+        self.store = Arc::default();
         self
     }
 
@@ -133,7 +142,22 @@ impl BenchModel {
     /// config's settings and each experiment's parameters (a later value wins).
     pub fn with_params(mut self, params: Vec<(Param, f32)>) -> Self {
         self.params = params;
+        self.store = Arc::default();
         self
+    }
+
+    /// Runs this model and its clones have made on the bench (an answer kept is not run
+    /// again, nor counted again).
+    pub fn runs_made(&self) -> usize {
+        self.store.runs()
+    }
+
+    /// The same model with no answers kept from before (for timing it).
+    pub(crate) fn without_answers(&self) -> Self {
+        BenchModel {
+            store: Arc::default(),
+            ..self.clone()
+        }
     }
 
     /// The nominal robot.
@@ -253,7 +277,34 @@ impl BenchModel {
 
     /// [`BenchModel::predict_many`], with the telemetry of each request's run 0 when
     /// `series` (the same runs: recording the telemetry changes nothing in them).
+    /// Answers kept from an earlier question (of this model or a clone) are not run again.
     pub fn run_many(
+        &self,
+        requests: &[(EffectParams, Experiment)],
+        series: bool,
+    ) -> Vec<Result<Runs, ModelError>> {
+        let keys: Vec<String> = requests
+            .iter()
+            .map(|(p, e)| serde_json::to_string(&(p, e)).expect("params and experiments serialise"))
+            .collect();
+        let runs: Vec<usize> = requests.iter().map(|(_, e)| e.runs).collect();
+        let claims = self.store.claim(&keys, &runs, series);
+        let asked: Vec<(EffectParams, Experiment)> =
+            claims.mine.iter().map(|&i| requests[i].clone()).collect();
+        let got = if asked.is_empty() {
+            Vec::new()
+        } else {
+            self.run_fresh(&asked, series)
+        };
+        let made = asked.iter().map(|(_, e)| e.runs).sum();
+        self.store.fill(claims, got, made, series, &runs, |i| {
+            self.run_fresh(std::slice::from_ref(&requests[i]), series)
+                .remove(0)
+        })
+    }
+
+    /// [`BenchModel::run_many`] without the store: every request run now.
+    fn run_fresh(
         &self,
         requests: &[(EffectParams, Experiment)],
         series: bool,

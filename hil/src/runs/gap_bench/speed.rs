@@ -124,9 +124,10 @@ pub fn measure_diagnosis(plan: &SpeedPlan) -> Result<DiagnosisSpeed, GapError> {
             jobs.push(j.max(1));
         }
     }
+    // Each timing starts with no answers kept: every run of it is run.
     let with_jobs = |n: usize| BenchModel {
         jobs: n,
-        ..plan.bench.clone()
+        ..plan.bench.without_answers()
     };
     let mut hidden = EffectParams::new();
     for &(effect, value) in plan.hidden {
