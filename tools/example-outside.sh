@@ -22,8 +22,8 @@ grep -q "^hil = { path = \"$repo/hil\" }$" "$crate/Cargo.toml" || {
 # (a profile of a workspace is not seen from outside it: a config file is).
 cp "$repo/Cargo.lock" "$crate/"
 mkdir -p "$crate/.cargo"
-# (The repository's release profile's debug line, which its ci profile
-# inherits; its link-time settings apply to neither.)
+# (The repository's ci profile, as written there; the release profile's
+# link-time settings do not apply to it.)
 cat > "$crate/.cargo/config.toml" <<'TOML'
 [profile.release]
 debug = 1
@@ -31,6 +31,9 @@ debug = 1
 inherits = "release"
 lto = false
 codegen-units = 16
+debug = "line-tables-only"
+[profile.ci.package."*"]
+debug = 0
 TOML
 # The bench's own crates are compiled again here whatever the profile: a path
 # dependency's fingerprint names the workspace it was built in. Unoptimised,

@@ -42,7 +42,9 @@ fw_pid=$!
 # A failed stage below ends the script: the firmware's checks end with it.
 trap 'kill "$fw_pid" 2>/dev/null || true; rm -f "$fw_log"' EXIT
 
-stage "workspace tests" cargo test --workspace --profile ci
+stage "workspace build" cargo test --workspace --profile ci --no-run --quiet
+# The test binaries two at a time, longest first (tools/test-lanes.sh).
+stage "workspace tests" tools/test-lanes.sh ci 2
 # The example crate copied out of the repository, as a user has it.
 stage "example crate outside" tools/example-outside.sh
 

@@ -14,6 +14,7 @@
 //! | `shard.rs` | the diagnosis' candidates split over machines, and the merge of the shards |
 //! | `store.rs` | the answers run, shared by a model's clones and threads |
 //! | `speed.rs` | the diagnosis timed with one job and with N (`hil bench --diagnosis`) |
+//! | `select/options.rs` | its options: candidates, the searches' resolution, runs per centroid, joint fits |
 //! | `select/choose.rs` | the choice over fitted candidates, the alike set, the notes |
 //! | `select/render.rs` | the diagnosis' report as text |
 //! | `select/telemetry.rs` | its telemetry part: the series score of a candidate's runs, its report |
