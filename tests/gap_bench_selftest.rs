@@ -164,37 +164,47 @@ fn the_series_gives_the_gain_asymmetry_its_sign() {
     );
 }
 
-/// A case the diagnosis does not pass fails the command: with only the effects the
-/// kinematic model cannot represent as candidates (`--shortlist 0`), a hidden wheelbase
-/// error has no candidate to be named by. The table prints, then one line names the failed
-/// case, and the exit code is 1.
-#[test]
-fn a_failed_case_fails_the_command() {
-    let out = support::hil(&[
+/// `hil gap --self-test --bench` as CI can afford it (the effects the kinematic model cannot
+/// represent as the only candidates, single effects, 100 mm legs) with `extra`: its output
+/// and its stdout and stderr as text.
+fn small_self_test(extra: &[&str]) -> (std::process::Output, String, String) {
+    let common = [
         "gap",
         "--self-test",
         "--bench",
-        "--hidden",
-        "wheelbase_ratio=1.05",
         "--shortlist",
         "0",
         "--max-effects",
         "1",
         "--leg-mm",
         "100",
-        // No candidate can name it however fine the search or many the runs: the coarsest
-        // and fewest are enough.
+        "--jobs",
+        "2",
+    ];
+    let out = support::hil(&[&common[..], extra].concat());
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out, stdout, stderr)
+}
+
+/// A case the diagnosis does not pass fails the command: with only the effects the
+/// kinematic model cannot represent as candidates (`--shortlist 0`), a hidden wheelbase
+/// error has no candidate to be named by. The table prints, then one line names the failed
+/// case, and the exit code is 1.
+#[test]
+fn a_failed_case_fails_the_command() {
+    // No candidate can name it however fine the search or many the runs: the coarsest and
+    // fewest are enough.
+    let (out, stdout, stderr) = small_self_test(&[
+        "--hidden",
+        "wheelbase_ratio=1.05",
         "--grid",
         "3",
         "--refine",
         "1",
         "--centroid-runs",
         "1",
-        "--jobs",
-        "2",
     ]);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     let row = stdout
         .lines()
@@ -215,23 +225,7 @@ fn a_failed_case_fails_the_command() {
 #[test]
 fn a_robot_whose_error_no_candidate_holds_gets_no_effect() {
     let real = hil::paths::robot_config("henrytwo-wide");
-    let out = support::hil(&[
-        "gap",
-        "--self-test",
-        "--bench",
-        "--real-robot",
-        real.to_str().unwrap(),
-        "--shortlist",
-        "0",
-        "--max-effects",
-        "1",
-        "--leg-mm",
-        "100",
-        "--jobs",
-        "2",
-    ]);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let (out, stdout, stderr) = small_self_test(&["--real-robot", real.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
     let row = stdout
         .lines()
