@@ -18,6 +18,9 @@ mod support;
 #[path = "station_ui/charts.rs"]
 mod charts;
 
+#[path = "station_ui/page.rs"]
+mod page;
+
 #[path = "station_ui/serial.rs"]
 mod serial;
 
@@ -32,6 +35,7 @@ use calib::{
 };
 use charts::{axis, data, legend, legend_overflow, wait_count};
 use fantoccini::{Client, ClientBuilder, Locator};
+use page::{attr, data_of, prop, text, value_of, wait_text, wait_value};
 
 /// How many times longer than on a quiet machine a wait may take: the waits are liveness
 /// deadlines, not timings, and this binary shares the cores with other tests' bench runs.
@@ -85,61 +89,6 @@ const TRIANGLE: [(f64, f64); 5] = [
     (-9.1, 22.0),
     (-6.5, 4.7),
 ];
-
-/// Wait until `id`'s exact value is `want`.
-async fn wait_value(c: &Client, id: &str, want: f64) {
-    let until = Instant::now() + Duration::from_secs(10 * SLACK);
-    while value_of(c, id).await != Some(want) {
-        assert!(
-            Instant::now() < until,
-            "#{id} shows {:?}, library {want}",
-            value_of(c, id).await
-        );
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
-}
-
-async fn text(c: &Client, id: &str) -> String {
-    c.find(Locator::Id(id)).await.unwrap().text().await.unwrap()
-}
-
-async fn value_of(c: &Client, id: &str) -> Option<f64> {
-    c.find(Locator::Id(id))
-        .await
-        .unwrap()
-        .attr("data-value")
-        .await
-        .unwrap()
-        .map(|v| v.parse().unwrap())
-}
-
-/// The property `name` of the element `id` (a form field's value).
-async fn prop(c: &Client, id: &str, name: &str) -> String {
-    c.find(Locator::Id(id))
-        .await
-        .unwrap()
-        .prop(name)
-        .await
-        .unwrap()
-        .unwrap_or_default()
-}
-
-/// Poll `id`'s text until `ok` holds, for up to `secs` seconds.
-async fn wait_text(c: &Client, id: &str, secs: u64, ok: impl Fn(&str) -> bool) -> String {
-    let until = Instant::now() + Duration::from_secs(secs * SLACK);
-    loop {
-        let t = text(c, id).await;
-        if ok(&t) {
-            return t;
-        }
-        assert!(
-            Instant::now() < until,
-            "#{id} still {t:?} after {} s",
-            secs * SLACK
-        );
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
-}
 
 /// Click the element `at` (it must exist).
 async fn click(c: &Client, at: Locator<'_>) {
@@ -260,24 +209,10 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     let done = wait_text(&c, "notice", 60, |t| t.contains("umbmark-cw done")).await;
     assert!(done.contains("floor says"), "{done}");
     // The emulator's end point went into the first CW row, as typed.
-    let first = c
-        .find(Locator::Id("r0-cw-1-x"))
-        .await
-        .unwrap()
-        .prop("value")
-        .await
-        .unwrap()
-        .unwrap_or_default();
+    let first = prop(&c, "r0-cw-1-x", "value").await;
     assert!(first.parse::<f64>().is_ok(), "{first:?}");
     // The round ran with 300 mm legs: the side of the formulas follows.
-    let side = c
-        .find(Locator::Id("side_cm"))
-        .await
-        .unwrap()
-        .prop("value")
-        .await
-        .unwrap();
-    assert_eq!(side.as_deref(), Some("30"));
+    assert_eq!(prop(&c, "side_cm", "value").await, "30");
 
     // Stop ends a running test: the notice says so, and the live values
     // (the firmware's last duty and speed) are gone and stay gone.
@@ -404,14 +339,7 @@ async fn the_operator_calibrates_the_emulated_robot_from_the_page() {
     type_into(&c, "r1-cw-1-x", "12,5x").await;
     let errors = wait_text(&c, "field-errors", 10, |t| t.contains("r1-cw-1-x")).await;
     assert!(errors.contains("not a number"), "{errors}");
-    let class = c
-        .find(Locator::Id("r1-cw-1-x"))
-        .await
-        .unwrap()
-        .attr("class")
-        .await
-        .unwrap()
-        .unwrap_or_default();
+    let class = attr(&c, "#r1-cw-1-x", "class").await.unwrap_or_default();
     assert!(class.contains("invalid"), "{class}");
     let apply = c.find(Locator::Id("apply")).await.unwrap();
     assert!(!apply.is_enabled().await.unwrap());
@@ -644,26 +572,16 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
     for want in ["left", "right", "set-point"] {
         assert!(entries.iter().any(|e| e == want), "{entries:?}");
     }
-    let trace = c
-        .find(Locator::Css("#speeds path.series.speed_left"))
+    let trace = attr(&c, "#speeds path.series.speed_left", "d")
         .await
-        .unwrap()
-        .attr("d")
-        .await
-        .unwrap()
         .unwrap_or_default();
     assert!(trace.contains('L'), "the left speed drawn: {trace:?}");
     screenshot(&c, "station-ui-charts.png").await;
 
     // At the fastest pace the page offers, a UMBmark's speed chart still
     // has samples inside each of its four turns (segments 1, 3, 5, 7).
-    let max = c
-        .find(Locator::Id("speed"))
+    let max = attr(&c, "#speed", "max")
         .await
-        .unwrap()
-        .attr("max")
-        .await
-        .unwrap()
         .expect("the speed field states its maximum");
     type_into(&c, "speed", &max).await;
     click(&c, Locator::Id("connect")).await;
@@ -674,8 +592,7 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
     const TURN: u8 = 2;
     let until = Instant::now() + Duration::from_secs(5);
     let turns = loop {
-        let speeds = c.find(Locator::Id("speeds")).await.unwrap();
-        let samples: Vec<(f64, u8, u8)> = data(&speeds, "data-samples").await;
+        let samples: Vec<(f64, u8, u8)> = data_of(&c, "#speeds", "data-samples").await;
         let mut turns: Vec<u8> = samples
             .iter()
             .filter(|s| s.1 == TURN)
