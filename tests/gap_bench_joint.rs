@@ -94,6 +94,12 @@ fn a_large_right_wheel_and_a_narrow_wheelbase_are_both_found() {
 /// though the fit scores the training data below the hidden truth itself: not asserted.
 /// A 180° shuttle in the training data and more starts were measured and not kept
 /// (docs/guide/diagnose.md#joint-fits): the cut reached 68 % with the wheelbase 20 % off.
+/// These values hang on the runs' start phases: a firmware that booted 0.7 ms sooner (every
+/// phase shifted) gave Eb 28 % and coasting 13 % off; phases spread evenly over the period,
+/// coasting 16.5 % off with a cut of 81 %; with 4 or 5 runs per centroid Eb 37 % and 71 %
+/// off. On those data the hidden truth scored worse than the fit (training score 81.5
+/// against 66.7): along the ridge where a wider wheelbase and a longer coast give the same
+/// turns the data do not yet tell them apart, and this test passes on the phases it has.
 #[test]
 fn a_coasting_robot_with_both_errors_is_found_with_all_three() {
     hidden_case(&THREE_EFFECT_CASE, 46);
