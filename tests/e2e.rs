@@ -73,6 +73,8 @@ mod station;
 mod station_described;
 #[path = "station_ui.rs"]
 mod station_ui;
+#[path = "stop_timing.rs"]
+mod stop_timing;
 #[path = "timer_modes.rs"]
 mod timer_modes;
 #[path = "timing.rs"]

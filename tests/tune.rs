@@ -6,24 +6,9 @@
 
 mod support;
 
-use support::{hil_at_root as hil, json_report as json};
+use support::{assert_umbmark_square as assert_square, hil_at_root as hil, json_report as json};
 
 const COARSE: &str = "fixtures/robots/coarse65.toml";
-
-/// The bar: 4 legs each within 1 % of 2 m, 4 turns within 10 degrees of 90.
-fn assert_square(v: &serde_json::Value, what: &str) {
-    let legs = v["legs"].as_array().unwrap();
-    let turns = v["turns"].as_array().unwrap();
-    assert_eq!((legs.len(), turns.len()), (4, 4), "{what}: {v:#}");
-    for l in legs {
-        let d = l["plant_distance_mm"].as_f64().unwrap();
-        assert!((d - 2000.0).abs() <= 20.0, "{what}: leg {d} mm");
-    }
-    for t in turns {
-        let a = t["plant_angle_deg"].as_f64().unwrap().abs();
-        assert!((a - 90.0).abs() <= 10.0, "{what}: turn {a} deg");
-    }
-}
 
 #[test]
 fn a_robot_whose_config_gives_no_gains_runs_umbmark_with_derived_ones() {

@@ -45,6 +45,25 @@ pub struct Settings {
     pub counts_per_wheel_rev: f32,
     /// How the motor driver is wired.
     pub driver: DriverWiring,
+    /// Stop timing and watchdog thresholds.
+    pub stop: StopSettings,
+}
+
+/// How a cut wheel is stopped, and the progress watchdog's thresholds
+/// (factory: the thesis' constants, Henrytwo's).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct StopSettings {
+    /// Coast after the cut before the counter-pulse, milliseconds.
+    pub coast_ms: u16,
+    /// Counter-pulse, milliseconds.
+    pub pulse_ms: u16,
+    /// The cut comes the distance earlier that the wheel covers in this
+    /// time at its set-point, milliseconds.
+    pub lead_ms: u16,
+    /// Net progress a driven wheel must make within the stall time, counts.
+    pub progress_counts: i16,
+    /// Counts against the commanded direction that are a fault.
+    pub wrong_way_counts: i16,
 }
 
 /// The motor driver's kind and pins (`henrytwo_protocol::DriverKind`),
@@ -85,6 +104,13 @@ impl Settings {
                 Param::RightPin3.factory_default() as u8,
             ],
         },
+        stop: StopSettings {
+            coast_ms: Param::BrakeCoastMs.factory_default() as u16,
+            pulse_ms: Param::BrakePulseMs.factory_default() as u16,
+            lead_ms: Param::StopLeadMs.factory_default() as u16,
+            progress_counts: Param::StallProgressCounts.factory_default() as i16,
+            wrong_way_counts: Param::WrongWayCounts.factory_default() as i16,
+        },
     };
 
     /// The value of `p` (the leg length from `HT_LEG_LENGTH_MM`).
@@ -116,6 +142,11 @@ impl Settings {
             Param::RightPin1 => self.driver.right[0] as f32,
             Param::RightPin2 => self.driver.right[1] as f32,
             Param::RightPin3 => self.driver.right[2] as f32,
+            Param::BrakeCoastMs => self.stop.coast_ms as f32,
+            Param::BrakePulseMs => self.stop.pulse_ms as f32,
+            Param::StopLeadMs => self.stop.lead_ms as f32,
+            Param::StallProgressCounts => self.stop.progress_counts as f32,
+            Param::WrongWayCounts => self.stop.wrong_way_counts as f32,
         }
     }
 
@@ -149,6 +180,11 @@ impl Settings {
             Param::RightPin1 => self.driver.right[0] = v as u8,
             Param::RightPin2 => self.driver.right[1] = v as u8,
             Param::RightPin3 => self.driver.right[2] = v as u8,
+            Param::BrakeCoastMs => self.stop.coast_ms = v as u16,
+            Param::BrakePulseMs => self.stop.pulse_ms = v as u16,
+            Param::StopLeadMs => self.stop.lead_ms = v as u16,
+            Param::StallProgressCounts => self.stop.progress_counts = v as i16,
+            Param::WrongWayCounts => self.stop.wrong_way_counts = v as i16,
         }
     }
 }
@@ -175,6 +211,11 @@ const _: () = {
     assert!(Param::MmPerCountLeft.check(d.mm_per_count.left).is_ok());
     assert!(Param::MmPerCountRight.check(d.mm_per_count.right).is_ok());
     assert!(Param::CountsPerWheelRev.check(d.counts_per_wheel_rev).is_ok());
+    assert!(Param::BrakeCoastMs.check(d.stop.coast_ms as f32).is_ok());
+    assert!(Param::BrakePulseMs.check(d.stop.pulse_ms as f32).is_ok());
+    assert!(Param::StopLeadMs.check(d.stop.lead_ms as f32).is_ok());
+    assert!(Param::StallProgressCounts.check(d.stop.progress_counts as f32).is_ok());
+    assert!(Param::WrongWayCounts.check(d.stop.wrong_way_counts as f32).is_ok());
 };
 
 // `set` stores the whole-number parameters in integer fields: every value the
@@ -184,4 +225,9 @@ const _: () = {
     assert!(limits::STALL_DUTY.min >= 0.0 && limits::STALL_DUTY.max <= u8::MAX as f32);
     assert!(limits::DRIVER_KIND.min >= 0.0 && limits::DRIVER_KIND.max <= u8::MAX as f32);
     assert!(limits::DRIVER_PIN.min >= 0.0 && limits::DRIVER_PIN.max <= u8::MAX as f32);
+    assert!(limits::BRAKE_COAST_MS.min >= 0.0 && limits::BRAKE_COAST_MS.max <= u16::MAX as f32);
+    assert!(limits::BRAKE_PULSE_MS.min >= 0.0 && limits::BRAKE_PULSE_MS.max <= u16::MAX as f32);
+    assert!(limits::STOP_LEAD_MS.min >= 0.0 && limits::STOP_LEAD_MS.max <= u16::MAX as f32);
+    assert!(limits::STALL_PROGRESS_COUNTS.min >= 0.0 && limits::STALL_PROGRESS_COUNTS.max <= i16::MAX as f32);
+    assert!(limits::WRONG_WAY_COUNTS.min >= 0.0 && limits::WRONG_WAY_COUNTS.max <= i16::MAX as f32);
 };

@@ -19,6 +19,15 @@ pub const fn ms(ms: u32) -> u32 {
 
 const _: () = assert!(ms(1000) == 250_000 && ms(5) == 1250);
 
+/// `ms` milliseconds in timer clocks, for a run-time value: one 32-bit
+/// product (a whole number of clocks per millisecond), no 64-bit division.
+#[inline(always)]
+pub const fn ms_of(ms: u16) -> u32 {
+    ms as u32 * (CLOCKS_PER_S / 1000)
+}
+
+const _: () = assert!(CLOCKS_PER_S.is_multiple_of(1000) && ms_of(20) == ms(20) && ms_of(5) == ms(5));
+
 /// True when `now` is at or after `deadline` (wrapping, valid for deadlines
 /// less than ~2.4 hours away).
 #[inline(always)]

@@ -19,7 +19,8 @@ pub const WHEELBASE_MM: Range = Param::WheelbaseMm.range();
 pub const LEG_LENGTH_MM: Range = Param::LegLengthMm.range();
 /// Spin-turn angle of the UMBmark and triangle tests, degrees: 1-360 deg.
 pub const TURN_DEG: Range = Param::TurnUmbmarkDeg.range();
-/// Wheel speed set-point, thesis "RPM" (wheel RPM / 6): 1-40.
+/// Wheel speed set-point, thesis "RPM" (wheel RPM / 6): 1-500 (a host checks a robot's
+/// set-point against its motor's top speed, far below that).
 pub const SETPOINT_THESIS_RPM: Range = Param::SetpointLeft.range();
 /// PID proportional gain (duty-map units per thesis RPM): 0-100.
 pub const PID_KP: Range = Param::KpLeft.range();
@@ -40,6 +41,17 @@ pub const COUNTS_PER_WHEEL_REV: Range = Param::CountsPerWheelRev.range();
 pub const DRIVER_KIND: Range = Param::DriverKind.range();
 /// A motor driver pin, an Arduino Mega pin number or [`NO_PIN`](crate::NO_PIN), whole: 0-255.
 pub const DRIVER_PIN: Range = Param::LeftPin1.range();
+/// A cut wheel's coast before its counter-pulse, milliseconds, whole: 0-1000 ms.
+pub const BRAKE_COAST_MS: Range = Param::BrakeCoastMs.range();
+/// The counter-pulse, milliseconds, whole: 0-200 ms.
+pub const BRAKE_PULSE_MS: Range = Param::BrakePulseMs.range();
+/// The stop lead (the cut moved earlier by the distance covered in it at the set-point),
+/// milliseconds, whole: 0-2000 ms.
+pub const STOP_LEAD_MS: Range = Param::StopLeadMs.range();
+/// Net progress the stall watchdog asks of a driven wheel, counts, whole: 1-1000.
+pub const STALL_PROGRESS_COUNTS: Range = Param::StallProgressCounts.range();
+/// Counts against the commanded direction that are a wrong-direction fault, whole: 1-5000.
+pub const WRONG_WAY_COUNTS: Range = Param::WrongWayCounts.range();
 
 // A pair of parameters shares one name only while they share one range.
 const _: () = {
@@ -100,7 +112,7 @@ mod tests {
         assert_eq!(r(WHEELBASE_MM), (50.0, 500.0, false));
         assert_eq!(r(LEG_LENGTH_MM), (10.0, 5000.0, false));
         assert_eq!(r(TURN_DEG), (1.0, 360.0, false));
-        assert_eq!(r(SETPOINT_THESIS_RPM), (1.0, 40.0, false));
+        assert_eq!(r(SETPOINT_THESIS_RPM), (1.0, 500.0, false));
         assert_eq!(r(PID_KP), (0.0, 100.0, false));
         assert_eq!(r(PID_KI), (0.0, 1000.0, false));
         assert_eq!(r(PID_KD), (0.0, 10.0, false));
@@ -110,6 +122,11 @@ mod tests {
         assert_eq!(r(COUNTS_PER_WHEEL_REV), (1.0, 100_000.0, false));
         assert_eq!(r(DRIVER_KIND), (0.0, 2.0, true));
         assert_eq!(r(DRIVER_PIN), (0.0, 255.0, true));
+        assert_eq!(r(BRAKE_COAST_MS), (0.0, 1000.0, true));
+        assert_eq!(r(BRAKE_PULSE_MS), (0.0, 200.0, true));
+        assert_eq!(r(STOP_LEAD_MS), (0.0, 2000.0, true));
+        assert_eq!(r(STALL_PROGRESS_COUNTS), (1.0, 1000.0, true));
+        assert_eq!(r(WRONG_WAY_COUNTS), (1.0, 5000.0, true));
     }
 
     #[test]

@@ -74,6 +74,22 @@ pub enum Param {
     RightPin2 = 25,
     /// Right motor driver pin 3.
     RightPin3 = 26,
+    /// After a wheel is cut, milliseconds it coasts before its
+    /// counter-pulse (whole number; the thesis' 20 ms).
+    BrakeCoastMs = 27,
+    /// The counter-pulse at full duty against the wheel's direction,
+    /// milliseconds (whole number; the thesis' 5 ms, 0 for none).
+    BrakePulseMs = 28,
+    /// Stop lead, milliseconds (whole number): a leg's and a turn wheel's cut
+    /// comes the distance earlier that the wheel covers in this time at its
+    /// set-point, the coast it makes after the cut. 0 cuts at the target.
+    StopLeadMs = 29,
+    /// Stall watchdog: net progress in counts a wheel driven at or above
+    /// [`Param::StallDuty`] must make within the stall time (whole number).
+    StallProgressCounts = 30,
+    /// Counts against its commanded direction within a segment that make a
+    /// wrong-direction fault (whole number).
+    WrongWayCounts = 31,
 }
 
 /// The pin value of a driver pin that is not connected.
@@ -170,7 +186,7 @@ impl fmt::Display for Range {
 
 impl Param {
     /// Every parameter, in id order.
-    pub const ALL: [Param; 26] = [
+    pub const ALL: [Param; 31] = [
         Param::CorrLeft,
         Param::CorrRight,
         Param::WheelbaseMm,
@@ -197,6 +213,11 @@ impl Param {
         Param::RightPin1,
         Param::RightPin2,
         Param::RightPin3,
+        Param::BrakeCoastMs,
+        Param::BrakePulseMs,
+        Param::StopLeadMs,
+        Param::StallProgressCounts,
+        Param::WrongWayCounts,
     ];
 
     /// The parameter with id `id`.
@@ -223,7 +244,7 @@ impl Param {
             Param::WheelbaseMm => real(50.0, 500.0, "mm"),
             Param::LegLengthMm => real(10.0, 5000.0, "mm"),
             Param::TurnUmbmarkDeg | Param::TurnTriangleDeg => real(1.0, 360.0, "deg"),
-            Param::SetpointLeft | Param::SetpointRight => real(1.0, 40.0, "thesis RPM"),
+            Param::SetpointLeft | Param::SetpointRight => real(1.0, 500.0, "thesis RPM"),
             Param::KpLeft | Param::KpRight => real(0.0, 100.0, ""),
             Param::KiLeft | Param::KiRight => real(0.0, 1000.0, ""),
             Param::KdLeft | Param::KdRight => real(0.0, 10.0, ""),
@@ -238,6 +259,11 @@ impl Param {
             | Param::RightPin1
             | Param::RightPin2
             | Param::RightPin3 => whole(0.0, 255.0, ""),
+            Param::BrakeCoastMs => whole(0.0, 1000.0, "ms"),
+            Param::BrakePulseMs => whole(0.0, 200.0, "ms"),
+            Param::StopLeadMs => whole(0.0, 2000.0, "ms"),
+            Param::StallProgressCounts => whole(1.0, 1000.0, "counts"),
+            Param::WrongWayCounts => whole(1.0, 5000.0, "counts"),
         }
     }
 
@@ -273,6 +299,14 @@ impl Param {
             Param::RightPin1 => 7.0,
             Param::RightPin2 => 6.0,
             Param::LeftPin3 | Param::RightPin3 => NO_PIN as f32,
+            // The thesis' Inercia_Stop_*: a 20 ms coast, a 5 ms counter-pulse,
+            // cut at the target.
+            Param::BrakeCoastMs => 20.0,
+            Param::BrakePulseMs => 5.0,
+            Param::StopLeadMs => 0.0,
+            // Henrytwo makes about 13 counts per period at the set-point.
+            Param::StallProgressCounts => 3.0,
+            Param::WrongWayCounts => 64.0,
         }
     }
 
@@ -313,6 +347,11 @@ impl Param {
             Param::RightPin1 => "right_pin1",
             Param::RightPin2 => "right_pin2",
             Param::RightPin3 => "right_pin3",
+            Param::BrakeCoastMs => "brake_coast_ms",
+            Param::BrakePulseMs => "brake_pulse_ms",
+            Param::StopLeadMs => "stop_lead_ms",
+            Param::StallProgressCounts => "stall_progress_counts",
+            Param::WrongWayCounts => "wrong_way_counts",
         }
     }
 }
@@ -328,7 +367,7 @@ mod tests {
             assert_eq!(Param::from_u8(p.id()), Some(*p));
         }
         assert_eq!(Param::from_u8(0), None);
-        assert_eq!(Param::from_u8(27), None);
+        assert_eq!(Param::from_u8(32), None);
         assert_eq!(Param::from_u8(255), None);
     }
 
@@ -370,6 +409,31 @@ mod tests {
         assert_eq!(Param::CorrLeft.check(1.0013), Ok(1.0013));
         assert_eq!(Param::LeftPin1.check(9.5), Err(Status::OutOfRange));
         assert_eq!(Param::DriverKind.check(1.0), Ok(1.0));
+        assert_eq!(Param::BrakeCoastMs.check(20.5), Err(Status::OutOfRange));
+        assert_eq!(Param::StopLeadMs.check(0.5), Err(Status::OutOfRange));
+        assert_eq!(Param::WrongWayCounts.check(64.0), Ok(64.0));
+        assert_eq!(
+            Param::StallProgressCounts.check(2.5),
+            Err(Status::OutOfRange)
+        );
+    }
+
+    /// The stop timing and thresholds' factory values are the constants the
+    /// robust firmware had compiled in: a robot told nothing runs as before.
+    #[test]
+    fn stop_timing_and_thresholds_default_to_the_thesis_constants() {
+        let ids: [(Param, u8, f32); 5] = [
+            (Param::BrakeCoastMs, 27, 20.0),
+            (Param::BrakePulseMs, 28, 5.0),
+            (Param::StopLeadMs, 29, 0.0),
+            (Param::StallProgressCounts, 30, 3.0),
+            (Param::WrongWayCounts, 31, 64.0),
+        ];
+        for (p, id, v) in ids {
+            assert_eq!(p.id(), id, "{p:?}");
+            assert_eq!(p.factory_default(), v, "{p:?}");
+            assert!(p.range().integer, "{p:?}");
+        }
     }
 
     #[test]

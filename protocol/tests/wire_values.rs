@@ -119,6 +119,11 @@ fn parameter_names() {
             "right_pin1",
             "right_pin2",
             "right_pin3",
+            "brake_coast_ms",
+            "brake_pulse_ms",
+            "stop_lead_ms",
+            "stall_progress_counts",
+            "wrong_way_counts",
         ]
     );
 }

@@ -79,3 +79,19 @@ pub fn hil(args: &[&str]) -> std::process::Output {
         .output()
         .expect("hil runs")
 }
+
+/// A UMBmark run's report as issue 47's robots must drive it: 4 legs each within 1 % of
+/// 2 m, 4 turns within 10 degrees of 90.
+pub fn assert_umbmark_square(v: &serde_json::Value, what: &str) {
+    let legs = v["legs"].as_array().unwrap();
+    let turns = v["turns"].as_array().unwrap();
+    assert_eq!((legs.len(), turns.len()), (4, 4), "{what}: {v:#}");
+    for l in legs {
+        let d = l["plant_distance_mm"].as_f64().unwrap();
+        assert!((d - 2000.0).abs() <= 20.0, "{what}: leg {d} mm");
+    }
+    for t in turns {
+        let a = t["plant_angle_deg"].as_f64().unwrap().abs();
+        assert!((a - 90.0).abs() <= 10.0, "{what}: turn {a} deg");
+    }
+}

@@ -86,6 +86,16 @@ impl Hardware for Mega {
     fn control_tick(d: &mut Drive<DriveMotors, Encoders>, n: u32, stall: StallLimits) -> Fault {
         ht_control_tick(d, n, stall)
     }
+
+    #[inline(always)]
+    fn control_tick_tuned(
+        d: &mut Drive<DriveMotors, Encoders>,
+        n: u32,
+        stall: StallLimits,
+        t: control::Tuned,
+    ) -> Fault {
+        ht_control_tick_tuned(d, n, stall, t)
+    }
 }
 
 /// One control period ([`control::tick`]). Not inlined and named, so a
@@ -93,7 +103,20 @@ impl Hardware for Mega {
 #[inline(never)]
 #[no_mangle]
 pub fn ht_control_tick(d: &mut Drive<DriveMotors, Encoders>, n: u32, stall: StallLimits) -> Fault {
-    control::tick(d, n, stall)
+    control::tick(d, n, stall, control::Factory)
+}
+
+/// The control period with the settings' watchdog thresholds, when they are
+/// not the factory ones (`stall_progress_counts`, `wrong_way_counts`).
+#[inline(never)]
+#[no_mangle]
+pub fn ht_control_tick_tuned(
+    d: &mut Drive<DriveMotors, Encoders>,
+    n: u32,
+    stall: StallLimits,
+    t: control::Tuned,
+) -> Fault {
+    control::tick(d, n, stall, t)
 }
 
 #[avr_device::entry]

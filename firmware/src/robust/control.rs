@@ -11,7 +11,8 @@ use crate::robot;
 
 pub use super::drive::TABLE_COUNTS;
 use super::drive::{Drive, Speeds, Stage, Wheel};
-use super::progress::{fault_of, judge_progress, Check, WRONG_WAY_COUNTS};
+use super::progress::{fault_of, judge_progress, Check};
+pub use super::progress::{Factory, Thresholds, Tuned};
 
 /// One control period in microseconds, as `HT_PERIOD_US` shows it.
 pub const PERIOD_US: f32 = robot::SAMPLE_PERIOD_US as f32;
@@ -46,7 +47,14 @@ pub(crate) struct WheelOutcome {
 /// driven at or above the stall duty after the start's grace are judged, any
 /// other starts the window again) and wrong-direction checks.
 #[inline(always)]
-pub(crate) fn control_wheel(w: &mut Wheel, speeds: &Speeds, count: i32, n: u32, stall: StallLimits) -> WheelOutcome {
+pub(crate) fn control_wheel<T: Thresholds>(
+    w: &mut Wheel,
+    speeds: &Speeds,
+    count: i32,
+    n: u32,
+    stall: StallLimits,
+    t: T,
+) -> WheelOutcome {
     let delta = count.wrapping_sub(w.last_count);
     w.last_count = count;
     let counts = delta.unsigned_abs();
@@ -58,7 +66,7 @@ pub(crate) fn control_wheel(w: &mut Wheel, speeds: &Speeds, count: i32, n: u32, 
     let mut check = Check::Ok;
     if w.applied >= stall.duty && w.grace == 0 {
         let moved = if counts > u16::MAX as u32 { u16::MAX } else { counts as u16 };
-        check = judge_progress(w, count as i16, moved, n as u16, stall.ticks);
+        check = judge_progress(w, count as i16, moved, n as u16, stall.ticks, t);
     } else {
         w.grace = w.grace.saturating_sub(1);
         w.mark = count as i16;
@@ -67,7 +75,8 @@ pub(crate) fn control_wheel(w: &mut Wheel, speeds: &Speeds, count: i32, n: u32, 
     w.applied = duty;
     if check == Check::Ok {
         let progress = count.wrapping_sub(w.start_count);
-        let wrong_way = if w.forward { progress < -WRONG_WAY_COUNTS } else { progress > WRONG_WAY_COUNTS };
+        let limit = t.wrong_way();
+        let wrong_way = if w.forward { progress < -limit } else { progress > limit };
         if wrong_way {
             check = Check::WrongWay;
         }
@@ -82,11 +91,16 @@ pub(crate) fn control_wheel(w: &mut Wheel, speeds: &Speeds, count: i32, n: u32, 
 /// Inlined into its caller: the firmware calls it from one named function
 /// (`ht_control_tick`) that a timing tool finds by its symbol.
 #[inline(always)]
-pub fn tick<M: Bridges, E: WheelEncoders>(d: &mut Drive<M, E>, n: u32, stall: StallLimits) -> Fault {
+pub fn tick<M: Bridges, E: WheelEncoders, T: Thresholds>(
+    d: &mut Drive<M, E>,
+    n: u32,
+    stall: StallLimits,
+    t: T,
+) -> Fault {
     let c = d.encoders.counts();
     let mut fault = Fault::None;
     if d.left.stage == Stage::Driving {
-        let o = control_wheel(&mut d.left, &d.speeds, c.left, n, stall);
+        let o = control_wheel(&mut d.left, &d.speeds, c.left, n, stall, t);
         if d.left.forward {
             d.motors.set_forward(Side::Left, o.duty);
         } else {
@@ -97,7 +111,7 @@ pub fn tick<M: Bridges, E: WheelEncoders>(d: &mut Drive<M, E>, n: u32, stall: St
         fault = fault_of(o.check, Fault::StallLeft, Fault::WrongWayLeft);
     }
     if d.right.stage == Stage::Driving {
-        let o = control_wheel(&mut d.right, &d.speeds, c.right, n, stall);
+        let o = control_wheel(&mut d.right, &d.speeds, c.right, n, stall, t);
         if d.right.forward {
             d.motors.set_forward(Side::Right, o.duty);
         } else {
@@ -119,6 +133,8 @@ mod tests {
     use crate::robust::fake::{self, Encoders, Motors};
     use crate::robust::progress::STALL_GRACE_TICKS;
     use crate::settings::Settings;
+
+    use crate::robust::progress::{STALL_PROGRESS_COUNTS, WRONG_WAY_COUNTS};
 
     const LIMITS: StallLimits = StallLimits { duty: 200, ticks: 14 };
 
@@ -173,11 +189,11 @@ mod tests {
         d.speeds = s;
         d.left = driving(true);
         d.encoders.counts = crate::io::Counts { left: 13, right: 0 };
-        tick(&mut d, 1, LIMITS);
+        tick(&mut d, 1, LIMITS, Factory);
         assert!((bench::speed_left() - 24.074).abs() < 1e-2, "{}", bench::speed_left());
         // Beyond the table, and over two periods.
         d.encoders.counts = crate::io::Counts { left: 13 + 100, right: 0 };
-        tick(&mut d, 2, LIMITS);
+        tick(&mut d, 2, LIMITS, Factory);
         assert!((bench::speed_left() - 92.59).abs() < 1e-1, "{}", bench::speed_left());
     }
 
@@ -197,7 +213,7 @@ mod tests {
             d.encoders.counts = crate::io::Counts { left, right };
             let rpm = thesis_rpm(delta, robot::SAMPLE_PERIOD_S * n as f32);
             let expected = duty_from_output(reference.update(rpm));
-            assert_eq!(tick(&mut d, n, LIMITS), Fault::None);
+            assert_eq!(tick(&mut d, n, LIMITS, Factory), Fault::None);
             assert_eq!(d.motors.left, (expected, 0), "left after {delta} counts");
             assert_eq!(d.motors.right, (0, expected), "right after {delta} counts");
             assert_eq!(bench::duty_left(), expected);
@@ -211,7 +227,7 @@ mod tests {
         let mut d = drive();
         d.left = driving(true);
         d.right.stage = Stage::Coast;
-        tick(&mut d, 1, LIMITS);
+        tick(&mut d, 1, LIMITS, Factory);
         assert!(d.motors.log.iter().all(|&(side, _, _)| side == Side::Left), "{:?}", d.motors.log);
     }
 
@@ -221,9 +237,9 @@ mod tests {
         w.applied = 255;
         let still = StallLimits { duty: 1, ticks: 1 };
         for _ in 0..STALL_GRACE_TICKS {
-            assert!(control_wheel(&mut w, &s, 0, 1, still).check == Check::Ok);
+            assert!(control_wheel(&mut w, &s, 0, 1, still, Factory).check == Check::Ok);
         }
-        assert!(control_wheel(&mut w, &s, 0, 1, still).check == Check::Stall);
+        assert!(control_wheel(&mut w, &s, 0, 1, still, Factory).check == Check::Stall);
     }
 
     #[test]
@@ -232,7 +248,7 @@ mod tests {
         w.grace = 0;
         w.still = 13;
         w.applied = LIMITS.duty - 1;
-        assert!(control_wheel(&mut w, &s, 2, 1, LIMITS).check == Check::Ok);
+        assert!(control_wheel(&mut w, &s, 2, 1, LIMITS, Factory).check == Check::Ok);
         assert_eq!((w.still, w.mark), (0, 2));
     }
 
@@ -242,9 +258,22 @@ mod tests {
         for (forward, sign) in [(true, -1), (false, 1)] {
             let mut w = driving(forward);
             w.grace = u8::MAX;
-            assert!(control_wheel(&mut w, &s, sign * WRONG_WAY_COUNTS, 1, LIMITS).check == Check::Ok);
-            assert!(control_wheel(&mut w, &s, sign * (WRONG_WAY_COUNTS + 1), 1, LIMITS).check == Check::WrongWay);
+            let limit = WRONG_WAY_COUNTS as i32;
+            assert!(control_wheel(&mut w, &s, sign * limit, 1, LIMITS, Factory).check == Check::Ok);
+            assert!(control_wheel(&mut w, &s, sign * (limit + 1), 1, LIMITS, Factory).check == Check::WrongWay);
         }
+    }
+
+    /// The wrong-way limit is the settings', not the constant's.
+    #[test]
+    fn the_wrong_way_limit_is_the_one_passed() {
+        let s = henrytwo();
+        let t = Tuned::of(STALL_PROGRESS_COUNTS, 200).unwrap();
+        let mut w = driving(true);
+        w.grace = u8::MAX;
+        assert!(control_wheel(&mut w, &s, -200, 1, LIMITS, t).check == Check::Ok);
+        assert!(control_wheel(&mut w, &s, -201, 1, LIMITS, t).check == Check::WrongWay);
+        assert!(Tuned::of(STALL_PROGRESS_COUNTS, WRONG_WAY_COUNTS).is_none());
     }
 
     /// A late step that moved more counts than 16 bits hold counts as the
@@ -259,7 +288,7 @@ mod tests {
         w.applied = LIMITS.duty;
         let step = u16::MAX as i32 + 1;
         assert_eq!((step as i16, step as u16), (0, 0));
-        let out = control_wheel(&mut w, &s, step, LIMITS.ticks as u32, LIMITS);
+        let out = control_wheel(&mut w, &s, step, LIMITS.ticks as u32, LIMITS, Factory);
         assert!(out.check == Check::EncoderInconsistent);
         assert_eq!(w.travel, u16::MAX);
     }
@@ -271,9 +300,9 @@ mod tests {
         d.left = driving(true);
         d.right = driving(true);
         d.encoders.counts = crate::io::Counts { left: -100, right: -100 };
-        assert_eq!(tick(&mut d, 1, LIMITS), Fault::WrongWayLeft);
+        assert_eq!(tick(&mut d, 1, LIMITS, Factory), Fault::WrongWayLeft);
         d.left.stage = Stage::Done;
         d.right.start_count = 0;
-        assert_eq!(tick(&mut d, 1, LIMITS), Fault::WrongWayRight);
+        assert_eq!(tick(&mut d, 1, LIMITS, Factory), Fault::WrongWayRight);
     }
 }

@@ -70,7 +70,19 @@ pub trait Hardware {
     /// entry and exit.
     #[inline(always)]
     fn control_tick(d: &mut Drive<Self::Motors, Self::Encoders>, n: u32, stall: StallLimits) -> Fault {
-        control::tick(d, n, stall)
+        control::tick(d, n, stall, control::Factory)
+    }
+
+    /// The same with thresholds other than the factory ones (a second copy:
+    /// the factory one keeps its constants).
+    #[inline(always)]
+    fn control_tick_tuned(
+        d: &mut Drive<Self::Motors, Self::Encoders>,
+        n: u32,
+        stall: StallLimits,
+        t: control::Tuned,
+    ) -> Fault {
+        control::tick(d, n, stall, t)
     }
 }
 
@@ -95,6 +107,13 @@ pub struct App<H: Hardware> {
     /// Ticks since the segment started, and its limit.
     pub(crate) segment_ticks: u32,
     pub(crate) segment_limit: u32,
+    /// The settings' watchdog thresholds when they are not the factory
+    /// ones, taken at each segment start.
+    pub(crate) tuned: Option<control::Tuned>,
+    /// In a turn with a stop lead: each wheel's count at which it is cut
+    /// without one, while its trip is the look-ahead before it (`None`:
+    /// the trip is the cut).
+    pub(crate) turn_ahead: [Option<i32>; 2],
 }
 
 impl<H: Hardware> App<H> {
@@ -126,6 +145,8 @@ impl<H: Hardware> App<H> {
             leg_mm: robot::DEFAULT_LEG_MM,
             segment_ticks: 0,
             segment_limit: 0,
+            tuned: None,
+            turn_ahead: [None; 2],
         }
     }
 

@@ -4,7 +4,7 @@
 //!
 //! Layout, from EEPROM address [`BASE`]:
 //! - byte 0: [`MAGIC`], the layout's version;
-//! - then one slot of [`SLOT_LEN`] bytes per parameter id 1..=26, at
+//! - then one slot of [`SLOT_LEN`] bytes per parameter id 1..=31, at
 //!   `BASE + 1 + 5 * (id - 1)`: the value as `f32` little-endian, then the
 //!   CRC-8 (`henrytwo_protocol::crc8`) of the id byte and those four bytes.
 //!   The slot of `LegLengthMm` (id 4) is never written: the leg length is the
@@ -15,6 +15,10 @@
 //! NaN with a wrong CRC) keeps the factory value. With another magic byte
 //! nothing is taken, the slots that are not erased are queued to be
 //! rewritten with the factory values, and the magic is written after them.
+//!
+//! Ids 27-31 (stop timing and thresholds) came after ids 1-26 under the
+//! same magic: their slots follow, so an EEPROM written before them keeps
+//! its values and reads the new slots erased, the factory values.
 //!
 //! A write never waits: [`Stored::step`] writes one byte when the EEPROM is
 //! not busy (3.4 ms per byte on the chip), skipping bytes that already hold
@@ -70,6 +74,9 @@ pub fn decode_slot(p: Param, slot: [u8; SLOT_LEN as usize]) -> Option<f32> {
 
 /// Bit of the magic byte in [`Stored`]'s queue (the slots' bits are their ids).
 const MAGIC_BIT: u32 = 1;
+
+// The queue holds a bit per id in a `u32`: ids up to 31.
+const _: () = assert!(Param::ALL.len() < 32);
 
 /// The settings with the store they are kept in, and what is still to be
 /// written there.
@@ -316,6 +323,26 @@ mod tests {
         bench::set_leg_length_mm(777.0);
         Stored::load(e, Settings::DEFAULT);
         assert_eq!(bench::leg_length_mm(), 777.0);
+    }
+
+    /// An EEPROM written before ids 27-31 existed (their slots erased)
+    /// keeps its values and runs the new ones at their factory values,
+    /// without rewriting anything.
+    #[test]
+    fn an_eeprom_of_the_26_parameter_layout_keeps_its_values() {
+        let mut e = Eeprom::default();
+        e.bytes[0] = MAGIC;
+        let a = slot_addr(Param::WheelbaseMm) as usize;
+        e.bytes[a..a + 5].copy_from_slice(&encode_slot(Param::WheelbaseMm, 180.0));
+        assert_eq!(slot_addr(Param::BrakeCoastMs), 1 + 5 * 26);
+        let mut s = Stored::load(e, Settings::DEFAULT);
+        assert_eq!(s.settings.wheelbase_mm, 180.0);
+        assert_eq!(s.settings.stop, Settings::DEFAULT.stop);
+        assert!(!s.pending());
+        s.set(Param::StopLeadMs, 250.0);
+        drain(&mut s);
+        let again = Stored::load(Eeprom::holding(s.store()), Settings::DEFAULT);
+        assert_eq!((again.settings.wheelbase_mm, again.settings.stop.lead_ms), (180.0, 250));
     }
 
     #[test]

@@ -14,17 +14,18 @@ use henrytwo_protocol::Fault;
 
 use super::drive::Wheel;
 
-/// A wheel that goes this many counts against its commanded direction
-/// within a segment is a fault.
-pub const WRONG_WAY_COUNTS: i32 = 64;
+/// A wheel that goes more than this many counts against its commanded
+/// direction within a segment is a fault: the factory `wrong_way_counts`.
+pub const WRONG_WAY_COUNTS: i16 = 64;
 /// Stall watchdog: net progress, in counts in the commanded direction, that
 /// a wheel driven at or above the stall duty must make within the stall
-/// time. At the set-points a wheel makes about 13 counts per tick; a wheel
+/// time: the factory `stall_progress_counts`. At the set-points a wheel makes about 13 counts per tick; a wheel
 /// that turns while its count does not advance (the 2x decoder with channel
 /// B stuck counts +1, -1, +1 ...) or that creeps a count or two is stopped.
 pub const STALL_PROGRESS_COUNTS: i16 = 3;
 /// ... and counts moved within that time (each tick's change, either way,
-/// added up) that make it an encoder fault rather than a stall. Movement in
+/// added up) that make it an encoder fault rather than a stall: the progress
+/// asked (this at the factory settings). Movement in
 /// the commanded direction alone adds up to at most 2 under the net progress
 /// above (a wheel coasting to a stop), so 3 means the count went back and
 /// forth: edges arrive but do not add up. Sampled once per tick, the count
@@ -32,10 +33,71 @@ pub const STALL_PROGRESS_COUNTS: i16 = 3;
 /// the ticks change it by one; 5 in the 14 ticks on the bench), so an
 /// encoder whose edges come in even numbers per tick looks like a stall.
 pub const ENCODER_TRAVEL_COUNTS: u16 = 3;
+
+// The travel that makes an encoder fault is the progress asked.
+const _: () = assert!(ENCODER_TRAVEL_COUNTS == STALL_PROGRESS_COUNTS as u16);
 /// Ticks after a segment start the stall watchdog leaves alone (the first
 /// runs at the start duty, below any sensible stall duty; then the wheels
 /// spin up from rest).
 pub const STALL_GRACE_TICKS: u8 = 3;
+
+/// The progress watchdog's count thresholds. The factory ones
+/// ([`Factory`]) are compile-time constants: the tick a robot told nothing
+/// runs is the code it ran when they were compiled in, to the cycle (the
+/// bench's results depend on the tick's timing); a robot given others runs
+/// a second copy of the tick ([`Tuned`]).
+pub trait Thresholds: Copy {
+    /// Net progress, counts, that restarts the stall window.
+    fn progress(self) -> i16;
+    /// Counts against the commanded direction that are a fault.
+    fn wrong_way(self) -> i32;
+}
+
+/// The factory thresholds, [`STALL_PROGRESS_COUNTS`] and [`WRONG_WAY_COUNTS`].
+#[derive(Clone, Copy, Debug)]
+pub struct Factory;
+
+impl Thresholds for Factory {
+    #[inline(always)]
+    fn progress(self) -> i16 {
+        STALL_PROGRESS_COUNTS
+    }
+    #[inline(always)]
+    fn wrong_way(self) -> i32 {
+        WRONG_WAY_COUNTS as i32
+    }
+}
+
+/// Thresholds from the settings (`stall_progress_counts`, `wrong_way_counts`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tuned {
+    /// Net progress, counts.
+    pub progress: i16,
+    /// Counts against the commanded direction.
+    pub wrong_way: i16,
+}
+
+impl Thresholds for Tuned {
+    #[inline(always)]
+    fn progress(self) -> i16 {
+        self.progress
+    }
+    #[inline(always)]
+    fn wrong_way(self) -> i32 {
+        self.wrong_way as i32
+    }
+}
+
+impl Tuned {
+    /// `None` for the factory thresholds (the tick's [`Factory`] copy runs).
+    pub const fn of(progress: i16, wrong_way: i16) -> Option<Tuned> {
+        if progress == STALL_PROGRESS_COUNTS && wrong_way == WRONG_WAY_COUNTS {
+            None
+        } else {
+            Some(Tuned { progress, wrong_way })
+        }
+    }
+}
 
 /// What the watchdogs found on one wheel.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -56,20 +118,22 @@ pub enum Check {
 /// long). Out of line: one copy for both wheels, and a wheel under normal
 /// control (below the stall duty) does not call it.
 ///
-/// Once the count has advanced [`STALL_PROGRESS_COUNTS`] in the commanded
+/// Once the count has advanced `progress` ([`STALL_PROGRESS_COUNTS`] at the
+/// factory settings) in the commanded
 /// direction from the window's mark, the window starts again (as it does on
 /// any period not judged). `ticks` judged periods without that progress are
-/// a fault: an encoder fault if the count moved [`ENCODER_TRAVEL_COUNTS`] or
-/// more in that window (edges arrive, the count does not advance), a stall
+/// a fault: an encoder fault if the count moved `progress` counts (either
+/// way, [`ENCODER_TRAVEL_COUNTS`] at the factory settings) or more in that window (edges arrive, the count does not advance), a stall
 /// otherwise.
 #[inline(never)]
-pub(crate) fn judge_progress(w: &mut Wheel, count: i16, counts: u16, n: u16, ticks: u16) -> Check {
+pub(crate) fn judge_progress<T: Thresholds>(w: &mut Wheel, count: i16, counts: u16, n: u16, ticks: u16, t: T) -> Check {
+    let progress = t.progress();
     if w.still == 0 {
         w.travel = 0;
     }
     let net = count.wrapping_sub(w.mark);
     let net = if w.forward { net } else { net.wrapping_neg() };
-    if net >= STALL_PROGRESS_COUNTS {
+    if net >= progress {
         w.mark = count;
         w.still = 0;
         return Check::Ok;
@@ -78,7 +142,7 @@ pub(crate) fn judge_progress(w: &mut Wheel, count: i16, counts: u16, n: u16, tic
     w.travel = w.travel.saturating_add(counts);
     if w.still < ticks {
         Check::Ok
-    } else if w.travel >= ENCODER_TRAVEL_COUNTS {
+    } else if w.travel >= progress as u16 {
         Check::EncoderInconsistent
     } else {
         Check::Stall
@@ -116,7 +180,7 @@ mod tests {
             .map(|&c| {
                 let moved = c.wrapping_sub(last).unsigned_abs();
                 last = c;
-                judge_progress(w, c, moved, 1, TICKS)
+                judge_progress(w, c, moved, 1, TICKS, Factory)
             })
             .collect()
     }
@@ -163,11 +227,32 @@ mod tests {
         assert!(judge_path(&mut wheel(true), &down).contains(&Check::EncoderInconsistent));
     }
 
+    /// The progress asked is the one passed: creeping six counts forward
+    /// within the stall time is a stall when eight are asked (a robot with
+    /// finer encoders), not an encoder fault, and progress at the factory 3.
+    #[test]
+    fn the_progress_asked_is_the_one_passed() {
+        let judge = |t: Tuned| {
+            let mut w = wheel(true);
+            let mut last = 0i16;
+            let mut checks = std::vec::Vec::new();
+            for i in 1..=TICKS as i16 {
+                let c = i / 5 * 3;
+                checks.push(judge_progress(&mut w, c, c.wrapping_sub(last).unsigned_abs(), 1, TICKS, t));
+                last = c;
+            }
+            checks
+        };
+        let asked = |progress| Tuned { progress, wrong_way: WRONG_WAY_COUNTS };
+        assert_eq!(judge(asked(8))[TICKS as usize - 1], Check::Stall);
+        assert!(judge(asked(STALL_PROGRESS_COUNTS)).iter().all(|&c| c == Check::Ok));
+    }
+
     #[test]
     fn missed_periods_count_towards_the_stall_time() {
         let mut w = wheel(true);
-        assert_eq!(judge_progress(&mut w, 0, 0, TICKS - 1, TICKS), Check::Ok);
-        assert_eq!(judge_progress(&mut w, 0, 0, 1, TICKS), Check::Stall);
+        assert_eq!(judge_progress(&mut w, 0, 0, TICKS - 1, TICKS, Factory), Check::Ok);
+        assert_eq!(judge_progress(&mut w, 0, 0, 1, TICKS, Factory), Check::Stall);
     }
 
     #[test]

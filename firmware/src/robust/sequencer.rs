@@ -8,10 +8,15 @@
 //!   times per leg and both wheels are cut within one count of the end.
 //! - In a spin turn each wheel is cut when its own count reaches its own
 //!   target.
-//! - A cut wheel coasts [`BRAKE_COAST`], then gets a counter-pulse of
-//!   [`BRAKE_PULSE`]; when both are done, [`INERTIA_WAIT`] and
-//!   [`STOP_WAIT`] pass before the next segment (the thesis'
-//!   `Inercia_Stop_*` and `Stop_General`).
+//! - A cut wheel coasts `brake_coast_ms` (factory [`BRAKE_COAST`]), then
+//!   gets a counter-pulse of `brake_pulse_ms` (factory [`BRAKE_PULSE`]);
+//!   when both are done, [`INERTIA_WAIT`] and [`STOP_WAIT`] pass before the
+//!   next segment (the thesis' `Inercia_Stop_*` and `Stop_General`).
+//! - A stop lead (`stop_lead_ms`, factory 0) moves the cut earlier by the
+//!   distance a wheel covers in that time at its set-point, the coast a
+//!   robot with slow motors makes after it: taken off the leg's target and
+//!   the turn wheels' counts once, at the segment start (never in the
+//!   control tick).
 //! - A fault (from the watchdogs, or the segment time-out) stops the motors
 //!   at once and ends the test.
 
@@ -29,15 +34,15 @@ use crate::robot;
 use crate::settings::PerWheel;
 use crate::time;
 
-use super::control::{StallLimits, PERIOD_US};
+use super::control::{StallLimits, Tuned, PERIOD_US};
 use super::drive::{Stage, Wheel};
 use super::progress::STALL_GRACE_TICKS;
 use super::{App, Hardware};
 
 /// Thesis `Inercia_Stop_*`: after a wheel is cut, 20 ms until its
-/// counter-pulse ...
+/// counter-pulse (the factory `brake_coast_ms`) ...
 pub const BRAKE_COAST: u32 = time::ms(20);
-/// ... which lasts 5 ms at full duty ...
+/// ... which lasts 5 ms at full duty (the factory `brake_pulse_ms`) ...
 pub const BRAKE_PULSE: u32 = time::ms(5);
 /// ... then the `delay(1000)` that ends `Inercia_Stop_*` ...
 pub const INERTIA_WAIT: u32 = time::ms(1000);
@@ -47,6 +52,10 @@ pub const STOP_WAIT: u32 = time::ms(1000);
 pub const TIMEOUT_FACTOR: f32 = 4.0;
 /// ... plus this many ticks (2 s).
 pub const TIMEOUT_EXTRA_TICKS: u32 = 134;
+
+/// A turn wheel's cut with a stop lead this close (counts) is armed as the
+/// cut; a farther one is looked at again halfway there.
+pub const TURN_CUT_NEAR: i32 = 4;
 
 /// What the robot is doing.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -118,10 +127,11 @@ impl<H: Hardware> App<H> {
             Segment::Leg => {
                 let m = s.mm_per_count;
                 let r = leg_reference_mm(m.left, m.right);
+                let to_cut = if s.stop.lead_ms == 0 { self.leg_mm } else { self.leg_mm - self.leg_lead_mm() };
                 let l = Leg {
                     w_left: leg_weight(s.correction.left, m.left, r),
                     w_right: leg_weight(s.correction.right, m.right, r),
-                    target: leg_target(self.leg_mm, r),
+                    target: leg_target(to_cut, r),
                 };
                 leg = Some(l);
                 self.arm_leg(l, c, c);
@@ -137,8 +147,14 @@ impl<H: Hardware> App<H> {
                 let nr = spin_target_counts(angle, s.wheelbase_mm, s.correction.right, m.right);
                 let (fl, fr) = spin.forward();
                 let at = |start: i32, up: bool, n: i32| if up { start.wrapping_add(n) } else { start.wrapping_sub(n) };
-                self.drive.encoders.arm(Side::Left, fl, at(c.left, fl, nl));
-                self.drive.encoders.arm(Side::Right, fr, at(c.right, fr, nr));
+                let (mut al, mut ar) = (nl, nr);
+                if s.stop.lead_ms != 0 {
+                    al = self.turn_look_ahead(nl, Side::Left);
+                    ar = self.turn_look_ahead(nr, Side::Right);
+                    self.turn_ahead = [Some(at(c.left, fl, nl)), Some(at(c.right, fr, nr))];
+                }
+                self.drive.encoders.arm(Side::Left, fl, at(c.left, fl, al));
+                self.drive.encoders.arm(Side::Right, fr, at(c.right, fr, ar));
                 ((fl, fr), (if nl > nr { nl } else { nr }) as f32)
             }
         };
@@ -152,6 +168,7 @@ impl<H: Hardware> App<H> {
         let nominal = wheel_counts / (set_min / self.drive.speeds.per_count);
         self.segment_limit = (TIMEOUT_FACTOR * nominal) as u32 + TIMEOUT_EXTRA_TICKS;
         self.segment_ticks = 0;
+        self.tuned = Tuned::of(s.stop.progress_counts, s.stop.wrong_way_counts);
         for (side, fwd, count, gains, set) in [
             (Side::Left, forward.0, c.left, s.gains.left, raw.left),
             (Side::Right, forward.1, c.right, s.gains.right, raw.right),
@@ -178,6 +195,78 @@ impl<H: Hardware> App<H> {
         bench::set_phase(if segment == Segment::Leg { Phase::Leg } else { Phase::Turn });
         bench::set_state(RunState::Driving);
         self.mode = Mode::Segment { test, index, leg };
+    }
+
+    /// Counts a wheel makes in the stop lead at its set-point (`set`, thesis
+    /// RPM in counts, i.e. set-point / c): lead periods times counts per
+    /// period. Out of line and cold: a factory robot (lead 0) never calls it.
+    #[cold]
+    #[inline(never)]
+    fn lead_counts(&self, set: f32) -> f32 {
+        let periods = self.stored.settings.stop.lead_ms as f32 * 1000.0 / robot::SAMPLE_PERIOD_US as f32;
+        periods * set / self.drive.speeds.per_count
+    }
+
+    /// The leg's stop lead in millimetres of the mean corrected wheel
+    /// distance (each wheel's counts in the lead times its corrected
+    /// distance per count), at most half the leg: a short leg never reaches
+    /// the set-point, and a cut at its start would drive nothing.
+    #[cold]
+    #[inline(never)]
+    fn leg_lead_mm(&self) -> f32 {
+        let s = &self.stored.settings;
+        let (c, m, sp) = (s.correction, s.mm_per_count, s.setpoint);
+        let left = self.lead_counts(sp.left / c.left) * c.left * m.left;
+        let right = self.lead_counts(sp.right / c.right) * c.right * m.right;
+        let lead = (left + right) / 2.0;
+        let half = self.leg_mm / 2.0;
+        if lead > half {
+            half
+        } else {
+            lead
+        }
+    }
+
+    /// Where a turn wheel with a stop lead is first looked at: twice the
+    /// lead's counts at its set-point before its target `n` (the wheel may
+    /// be faster than the set-point by then), leaving at least a quarter
+    /// of `n`; its cut is then placed from its speed ([`Self::lead_cut`]).
+    #[cold]
+    #[inline(never)]
+    fn turn_look_ahead(&self, n: i32, side: Side) -> i32 {
+        let s = &self.stored.settings;
+        let (sp, c) = match side {
+            Side::Left => (s.setpoint.left, s.correction.left),
+            Side::Right => (s.setpoint.right, s.correction.right),
+        };
+        let lead = (2.0 * self.lead_counts(sp / c) + 0.5) as i32;
+        let most = n - n / 4;
+        n - if lead > most { most } else { lead }
+    }
+
+    /// A turn wheel's look-ahead trip fired: its cut is the counts it
+    /// covers in the stop lead at its speed of the last control period
+    /// (`rpm`, thesis RPM in counts) before `target`. The wheel may still be
+    /// speeding up, so a cut far ahead is looked at again halfway there (as
+    /// a leg's trips close in); a near one (within [`TURN_CUT_NEAR`] counts)
+    /// is armed as the cut. Returns true when the wheel is at or past its
+    /// cut: cut it now.
+    #[cold]
+    #[inline(never)]
+    fn lead_cut(&mut self, side: Side, target: i32, now: i32, rpm: f32) -> bool {
+        let lead = (self.lead_counts(rpm) + 0.5) as i32;
+        let fwd = self.drive.wheel(side).forward;
+        let cut = if fwd { target.wrapping_sub(lead) } else { target.wrapping_add(lead) };
+        let ahead = if fwd { cut.wrapping_sub(now) } else { now.wrapping_sub(cut) };
+        if ahead <= 0 {
+            return true;
+        }
+        let step = if ahead <= TURN_CUT_NEAR { ahead } else { ahead / 2 };
+        if step == ahead {
+            self.turn_ahead[side as usize] = None;
+        }
+        self.drive.encoders.arm(side, fwd, if fwd { now.wrapping_add(step) } else { now.wrapping_sub(step) });
+        false
     }
 
     /// Arms both trips of a leg from the counts `now` (start: `start`): each
@@ -220,15 +309,27 @@ impl<H: Hardware> App<H> {
             bench::set_stop_left(c.left);
             bench::set_stop_right(c.right);
             bench::record_cut(3, c.left, c.right);
+            let coast = time::ms_of(self.stored.settings.stop.coast_ms);
             for side in [Side::Left, Side::Right] {
                 let w = self.drive.wheel(side);
                 w.stage = Stage::Coast;
-                w.until = now.wrapping_add(BRAKE_COAST);
+                w.until = now.wrapping_add(coast);
             }
         } else {
             for (bit, side, mask) in [(TRIP_LEFT, Side::Left, 1), (TRIP_RIGHT, Side::Right, 2)] {
                 if tripped & bit == 0 || self.drive.wheel(side).stage != Stage::Driving {
                     continue;
+                }
+                let i = side as usize;
+                if let Some(target) = self.turn_ahead[i] {
+                    let (now_count, rpm) = match side {
+                        Side::Left => (counts.left, bench::speed_left()),
+                        Side::Right => (counts.right, bench::speed_right()),
+                    };
+                    if !self.lead_cut(side, target, now_count, rpm) {
+                        continue;
+                    }
+                    self.turn_ahead[i] = None;
                 }
                 let fwd = self.drive.wheel(side).forward;
                 let d = &mut self.drive;
@@ -237,9 +338,10 @@ impl<H: Hardware> App<H> {
                     d.encoders.counts()
                 });
                 bench::record_cut(mask, c.left, c.right);
+                let coast = time::ms_of(self.stored.settings.stop.coast_ms);
                 let w = self.drive.wheel(side);
                 w.stage = Stage::Coast;
-                w.until = now.wrapping_add(BRAKE_COAST);
+                w.until = now.wrapping_add(coast);
             }
         }
         if self.drive.left.stage != Stage::Driving && self.drive.right.stage != Stage::Driving {
@@ -265,9 +367,10 @@ impl<H: Hardware> App<H> {
                     match stage {
                         Stage::Coast => {
                             self.drive.set(side, !fwd, 255);
+                            let pulse = time::ms_of(self.stored.settings.stop.pulse_ms);
                             let w = self.drive.wheel(side);
                             w.stage = Stage::Pulse;
-                            w.until = now.wrapping_add(BRAKE_PULSE);
+                            w.until = now.wrapping_add(pulse);
                         }
                         Stage::Pulse => {
                             self.drive.set(side, !fwd, 0);
@@ -336,7 +439,10 @@ impl<H: Hardware> App<H> {
         bench::set_period_us(if n == 1 { PERIOD_US } else { PERIOD_US * n as f32 });
         let stall_ticks = (self.stored.settings.stall_timeout_ms as u32).div_ceil(robot::SAMPLE_PERIOD_US / 1000);
         let stall = StallLimits { duty: self.stored.settings.stall_duty, ticks: stall_ticks as u16 };
-        let mut fault = H::control_tick(&mut self.drive, n, stall);
+        let mut fault = match self.tuned {
+            None => H::control_tick(&mut self.drive, n, stall),
+            Some(t) => H::control_tick_tuned(&mut self.drive, n, stall, t),
+        };
         self.segment_ticks = self.segment_ticks.saturating_add(n);
         if fault == Fault::None && self.segment_ticks > self.segment_limit {
             fault = Fault::SegmentTimeout;
@@ -393,6 +499,7 @@ impl<H: Hardware> App<H> {
     pub(crate) fn stop_all(&mut self) {
         self.drive.motors.all_off();
         self.drive.encoders.disarm_all();
+        self.turn_ahead = [None; 2];
         self.drive.left.stage = Stage::Done;
         self.drive.right.stage = Stage::Done;
         self.clock.disarm_alarm();

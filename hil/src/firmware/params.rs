@@ -185,6 +185,19 @@ pub fn plan(
             crate::firmware::tune::note_once(&note);
             send.extend(gains);
         }
+        // Likewise the stop timing and thresholds, each unless given.
+        if let Some((stop, note)) = crate::firmware::stop::automatic(robot) {
+            let stop: Vec<_> = stop
+                .into_iter()
+                .filter(|(p, _)| !extra.iter().any(|(q, _)| q == p))
+                .collect();
+            if !stop.is_empty() {
+                if let Some(note) = note {
+                    crate::firmware::tune::note_once(&note);
+                }
+                send.extend(stop);
+            }
+        }
     }
     if takes_params(firmware) {
         send.extend_from_slice(extra);

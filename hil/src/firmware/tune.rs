@@ -153,11 +153,7 @@ pub enum TuneError {
 /// The set-point the firmware drives wheel `i` at on `robot`: the config's
 /// `[firmware]` `setpoint_*`, else the factory value.
 fn setpoint(robot: &RobotConfig, p: Param) -> f64 {
-    robot
-        .firmware
-        .get(p.name())
-        .copied()
-        .unwrap_or(p.factory_default() as f64)
+    super::settings::setpoint_thesis_rpm(robot, usize::from(p == Param::SetpointRight))
 }
 
 fn first_order(m: &MotorModel) -> &FirstOrderMotor {

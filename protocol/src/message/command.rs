@@ -210,7 +210,7 @@ mod tests {
         assert_eq!(Command::decode(&[0x10, 6]), Err(Status::OutOfRange));
         assert_eq!(Command::decode(&[0x10, 1]), Err(Status::OutOfRange));
         assert_eq!(Command::decode(&[0x31, 0]), Err(Status::UnknownParam));
-        assert_eq!(Command::decode(&[0x31, 27]), Err(Status::UnknownParam));
+        assert_eq!(Command::decode(&[0x31, 32]), Err(Status::UnknownParam));
         let mut set = [0x30, 1, 0, 0, 0, 0];
         set[2..].copy_from_slice(&2.0f32.to_le_bytes());
         assert_eq!(Command::decode(&set), Err(Status::OutOfRange));

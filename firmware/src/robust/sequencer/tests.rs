@@ -417,3 +417,57 @@ fn each_tick_reads_the_battery_and_shows_its_colour() {
     app.tick_plant(0);
     assert_eq!(app.leds.writes, 1, "an unchanged colour is not written again");
 }
+
+/// A stop lead ends a leg the distance earlier both wheels cover in it at
+/// their set-points: 150 ms is 10 periods of 13.07 counts (14.47 thesis
+/// RPM / 1.107) on Henrytwo, 21.82 mm, 261 counts of the two wheels'
+/// sum; lead 0 is the target to the count.
+#[test]
+fn a_stop_lead_ends_a_leg_earlier_by_the_set_point_distance() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.set_param(Param::StopLeadMs, 150.0);
+    app.start_test(Test::Line).unwrap();
+    let sum = drive_leg_to_its_end(&mut app);
+    assert!((23962 - 262..=23962 - 260).contains(&sum), "{sum}");
+    let mut app = App::fake();
+    app.set_param(Param::StopLeadMs, 0.0);
+    app.start_test(Test::Line).unwrap();
+    assert_eq!(drive_leg_to_its_end(&mut app), 23962);
+}
+
+/// A turn wheel with a stop lead is looked at twice the lead at its
+/// set-point before its target, and cut the lead at its measured speed
+/// before it: at twice the set-point speed, 261 counts before 612.
+#[test]
+fn a_turn_wheel_with_a_lead_is_cut_by_its_measured_speed() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.set_param(Param::StopLeadMs, 150.0);
+    app.start_segment(Test::UmbmarkCw, 1);
+    // Look-ahead at 612 - 2 * 131 = 350.
+    app.drive.encoders.move_by(Side::Left, 349);
+    app.poll();
+    assert_eq!(app.drive.left.stage, Stage::Driving);
+    bench::set_speed_left(2.0 * 14.47);
+    app.drive.encoders.edge(Side::Left, 1);
+    app.poll();
+    assert_eq!(app.drive.left.stage, Stage::Driving);
+    app.drive.encoders.edge(Side::Left, 1);
+    app.poll();
+    assert_eq!((app.drive.left.stage, bench::cut_left()), (Stage::Coast, 351));
+}
+
+/// The brake's coast and pulse are the settings'.
+#[test]
+fn the_brake_timing_is_the_settings() {
+    let _bench = fake::lock();
+    let mut app = App::fake();
+    app.set_param(Param::BrakeCoastMs, 40.0);
+    other_robot(&mut app);
+    app.start_segment(Test::UmbmarkCw, 1);
+    app.drive.encoders.move_by(Side::Left, 250);
+    app.poll();
+    assert_eq!(app.drive.left.stage, Stage::Coast);
+    assert_eq!(app.drive.left.until.wrapping_sub(app.clock.now), time::ms(40));
+}
