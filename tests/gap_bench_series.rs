@@ -268,9 +268,9 @@ fn the_series_of_several_runs_score_by_their_mean_and_their_spread() {
     }
 }
 
-/// Runs start at a phase of the control period drawn from their seed: runs of the nominal
-/// robot (nothing random in its plant) end apart from one another, and the same seed gives
-/// the same runs.
+/// Runs start at phases of the control period spread evenly from an offset drawn from
+/// their experiment's seed: runs of the nominal robot (nothing random in its plant) end
+/// apart from one another, and the same seed gives the same runs.
 #[test]
 fn runs_start_at_a_phase_drawn_from_their_seed() {
     let b = bench();
@@ -284,9 +284,24 @@ fn runs_start_at_a_phase_drawn_from_their_seed() {
     xs.dedup();
     assert!(xs.len() >= 2, "{ends:?}");
     assert_eq!(ends, b.predict(&EffectParams::new(), &exp).unwrap());
-    let phases: Vec<f64> = (0..64).map(hil::runs::gap_bench::start_phase_s).collect();
-    assert!(phases.iter().all(|p| (0.0..CONTROL_PERIOD_S).contains(p)));
-    let mean = phases.iter().sum::<f64>() / 64.0;
+    // Four runs spread evenly over the period, from an offset drawn from the seed.
+    let phase = hil::runs::gap_bench::start_phase_s;
+    let mut offsets = Vec::new();
+    for seed in 0..64 {
+        let phases: Vec<f64> = (0..4).map(|run| phase(seed, run, 4)).collect();
+        assert!(
+            phases.iter().all(|p| (0.0..CONTROL_PERIOD_S).contains(p)),
+            "{phases:?}"
+        );
+        for w in phases.windows(2) {
+            assert!(
+                (w[1] - w[0] - CONTROL_PERIOD_S / 4.0).abs() < 1e-12,
+                "{phases:?}"
+            );
+        }
+        offsets.push(phases[0] * 4.0);
+    }
+    let mean = offsets.iter().sum::<f64>() / 64.0;
     assert!(
         (mean - CONTROL_PERIOD_S / 2.0).abs() < 0.15 * CONTROL_PERIOD_S,
         "{mean}"

@@ -68,16 +68,20 @@ pub use series::{
 pub use shard::{merge, partial_path, run_shard, MergeError, Partial, ShardPlan, PARTIAL_KIND};
 pub use speed::{measure_diagnosis, DiagnosisSpeed, SpeedPlan, Timed, BUDGET_S};
 
-/// Where in the firmware's control period run `seed` starts, s: uniform over one period,
-/// drawn from the seed. A person starts each run at no particular phase of the
-/// controller's tick, and the firmware's discrete decisions (the tick a turn's count is
-/// reached at, the count a leg stops on) depend on it: runs of one robot from one start
-/// phase would all make the same of them, and a prediction from one phase jumps with the
-/// smallest change of an effect. Drawn apart from the plant's own streams (the seed's mix
-/// with a constant of its own).
-pub fn start_phase_s(seed: u64) -> f64 {
+/// Where in the firmware's control period run `run` of the `runs` of an experiment seeded
+/// `seed` starts, s. A person starts each run at no particular phase of the controller's
+/// tick, and the firmware's discrete decisions (the tick a turn's count is reached at, the
+/// count a leg stops on) depend on it: runs of one robot from one start phase would all
+/// make the same of them, and a prediction from one phase jumps with the smallest change
+/// of an effect. The runs spread evenly over one period, from an offset drawn from the
+/// seed (a stratified sample: their mean varies less with the offset than that of as many
+/// phases drawn one by one, so a prediction moves less when everything before the start
+/// shifts, as a firmware that boots sooner shifts it). Drawn apart from the plant's own
+/// streams (the seed's mix with a constant of its own).
+pub fn start_phase_s(seed: u64, run: usize, runs: usize) -> f64 {
     use plant_model::rng::{mix, unit};
-    unit(mix(seed ^ START_PHASE_STREAM)) * CONTROL_PERIOD_S
+    let offset = unit(mix(seed ^ START_PHASE_STREAM));
+    (run as f64 + offset) / runs.max(1) as f64 * CONTROL_PERIOD_S
 }
 
 /// The stream constant of [`start_phase_s`].
@@ -108,6 +112,8 @@ struct RunJob {
     params: Vec<(Param, f32)>,
     leg_mm: f64,
     seed: u64,
+    /// Where in the control period the run starts, s ([`start_phase_s`]).
+    start_delay_s: f64,
     /// Commanded heading change of the whole test, rad.
     heading_rad: f64,
     /// Record the run's telemetry (see `series.rs`).
@@ -346,6 +352,7 @@ impl BenchModel {
                     params: fw_params.clone(),
                     leg_mm: exp.firmware.leg_mm,
                     seed: run_seed(exp.seed, run),
+                    start_delay_s: start_phase_s(exp.seed, run, exp.runs),
                     heading_rad,
                     series,
                 });
@@ -415,7 +422,7 @@ impl BenchModel {
             // A robot that cannot move (a dead band beyond its drive) stops the run early
             // instead of using the whole time limit.
             hang_after_s: Some(HANG_AFTER_S),
-            start_delay_s: start_phase_s(job.seed),
+            start_delay_s: job.start_delay_s,
             ..TestOptions::default()
         };
         let probe = job
