@@ -7,27 +7,16 @@
 
 mod support;
 
-use support::{assert_umbmark_square as assert_square, hil_at_root as hil, json_report as json};
+use support::{assert_umbmark_both_ways_with_one_note, hil_at_root as hil, json_report as json};
 
 const HEAVY: &str = "fixtures/robots/heavy100.toml";
 
 #[test]
 fn a_heavy_robot_runs_umbmark_with_derived_stop_timing() {
-    for test in ["umbmark-cw", "umbmark-ccw"] {
-        let out = hil(&["run", test, "--robot", HEAVY, "--json"]);
-        assert_eq!(out.status.code(), Some(0), "{test}: {out:?}");
-        let v = json(&out);
-        assert_eq!(v["completed"], true, "{test}");
-        assert_square(&v, test);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(stderr.lines().count(), 1, "{stderr}");
-        assert!(
-            stderr.starts_with(
-                "note: the factory stop timing is predicted to coast this robot's wheels far past"
-            ),
-            "{stderr}"
-        );
-    }
+    assert_umbmark_both_ways_with_one_note(
+        HEAVY,
+        "note: the factory stop timing is predicted to coast this robot's wheels far past",
+    );
 }
 
 /// The derived timing is what the run needs: the same robot told the

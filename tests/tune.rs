@@ -6,26 +6,20 @@
 
 mod support;
 
-use support::{assert_umbmark_square as assert_square, hil_at_root as hil, json_report as json};
+use support::{
+    assert_umbmark_both_ways_with_one_note, assert_umbmark_square as assert_square,
+    hil_at_root as hil, json_report as json,
+};
 
 const COARSE: &str = "fixtures/robots/coarse65.toml";
 
 #[test]
 fn a_robot_whose_config_gives_no_gains_runs_umbmark_with_derived_ones() {
-    for test in ["umbmark-cw", "umbmark-ccw"] {
-        let out = hil(&["run", test, "--robot", COARSE, "--json"]);
-        assert_eq!(out.status.code(), Some(0), "{test}: {out:?}");
-        let v = json(&out);
-        assert_eq!(v["completed"], true, "{test}");
-        assert_square(&v, test);
-        // Said once, on one line.
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(stderr.lines().count(), 1, "{stderr}");
-        assert!(
-            stderr.starts_with("note: the factory PID gains are predicted to chatter the duty to 0 on this robot (7.8 counts per period"),
-            "{stderr}"
-        );
-    }
+    // Said once, on one line.
+    assert_umbmark_both_ways_with_one_note(
+        COARSE,
+        "note: the factory PID gains are predicted to chatter the duty to 0 on this robot (7.8 counts per period",
+    );
 }
 
 #[test]

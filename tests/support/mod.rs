@@ -80,6 +80,22 @@ pub fn hil(args: &[&str]) -> std::process::Output {
         .expect("hil runs")
 }
 
+/// `hil run umbmark-cw` and `umbmark-ccw` of the robot config `robot` with nothing by hand:
+/// each exits 0, completed, a square as [`assert_umbmark_square`] has it, and one line on
+/// stderr, the note that starts `note`.
+pub fn assert_umbmark_both_ways_with_one_note(robot: &str, note: &str) {
+    for test in ["umbmark-cw", "umbmark-ccw"] {
+        let out = hil_at_root(&["run", test, "--robot", robot, "--json"]);
+        assert_eq!(out.status.code(), Some(0), "{test}: {out:?}");
+        let v = json_report(&out);
+        assert_eq!(v["completed"], true, "{test}");
+        assert_umbmark_square(&v, test);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.starts_with(note), "{stderr}");
+    }
+}
+
 /// A UMBmark run's report as issue 47's robots must drive it: 4 legs each within 1 % of
 /// 2 m, 4 turns within 10 degrees of 90.
 pub fn assert_umbmark_square(v: &serde_json::Value, what: &str) {
