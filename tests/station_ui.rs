@@ -580,31 +580,23 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
 
     // At the fastest pace the page offers, a UMBmark's speed chart still
     // has samples inside each of its four turns (segments 1, 3, 5, 7).
+    // The poller runs on the host's clock: on a loaded host it once stalled
+    // for half a wall second (10 robot-seconds at 20x, a whole turn without
+    // a sample, in CI beside the bench diagnosis' self-test), so a run that
+    // misses a turn is run once more; two in a row fail.
     let max = attr(&c, "#speed", "max")
         .await
         .expect("the speed field states its maximum");
     type_into(&c, "speed", &max).await;
-    click(&c, Locator::Id("connect")).await;
-    let at = format!(" at {max}x ");
-    wait_text(&c, "status", 30, |t| t.contains(&at)).await;
-    click(&c, Locator::Css("button[data-test='umbmark-ccw']")).await;
-    wait_count(&c, "#floor circle.end", 1, 60).await;
-    const TURN: u8 = 2;
-    let until = Instant::now() + Duration::from_secs(5);
-    let turns = loop {
-        let samples: Vec<(f64, u8, u8)> = data_of(&c, "#speeds", "data-samples").await;
-        let mut turns: Vec<u8> = samples
-            .iter()
-            .filter(|s| s.1 == TURN)
-            .map(|s| s.2)
-            .collect();
-        turns.dedup();
-        if turns == [1, 3, 5, 7] || Instant::now() > until {
-            break (turns, samples);
+    let mut tries = Vec::new();
+    for _ in 0..2 {
+        let (turns, samples) = fastest_umbmark_turns(&c, &max).await;
+        if turns == [1, 3, 5, 7] {
+            break;
         }
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    };
-    assert_eq!(turns.0, [1, 3, 5, 7], "samples at {max}x: {:?}", turns.1);
+        tries.push(format!("turns {turns:?} in samples {samples:?}"));
+    }
+    assert!(tries.len() < 2, "samples at {max}x: {tries:#?}");
     // Every legend's box holds its labels, "UMBmark CCW" too.
     let (overflow, checked) = legend_overflow(&c).await;
     assert!(overflow.is_empty(), "{overflow:?}");
@@ -614,4 +606,29 @@ async fn the_charts_have_numbered_axes_and_every_run_starts_at_the_origin() {
     screenshot(&c, "station-ui-fastest.png").await;
     c.close().await.unwrap();
     let _ = std::fs::remove_dir_all(&sessions);
+}
+
+/// Connect at `pace`, run a UMBmark CCW and read the turns (segment numbers)
+/// the speed chart has samples in, with the samples (time, state, segment).
+async fn fastest_umbmark_turns(c: &Client, pace: &str) -> (Vec<u8>, Vec<(f64, u8, u8)>) {
+    const TURN: u8 = 2;
+    click(c, Locator::Id("connect")).await;
+    let at = format!(" at {pace}x ");
+    wait_text(c, "status", 30, |t| t.contains(&at)).await;
+    click(c, Locator::Css("button[data-test='umbmark-ccw']")).await;
+    wait_count(c, "#floor circle.end", 1, 60).await;
+    let until = Instant::now() + Duration::from_secs(5);
+    loop {
+        let samples: Vec<(f64, u8, u8)> = data_of(c, "#speeds", "data-samples").await;
+        let mut turns: Vec<u8> = samples
+            .iter()
+            .filter(|s| s.1 == TURN)
+            .map(|s| s.2)
+            .collect();
+        turns.dedup();
+        if turns == [1, 3, 5, 7] || Instant::now() > until {
+            return (turns, samples);
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
 }
