@@ -200,6 +200,18 @@ mod tests {
         RobotConfig::load(&path).unwrap()
     }
 
+    /// `r`'s left motor stopped from the thesis set-point after the factory
+    /// 20 ms coast and a pulse of `pulse_s`, as [`stop_time`] gives it.
+    fn left_stop(r: &RobotConfig, pulse_s: f64) -> (f64, f64) {
+        stop_time(
+            first_order(&r.motor.left),
+            r.battery.voltage_v,
+            14.47,
+            0.020,
+            pulse_s,
+        )
+    }
+
     /// Henrytwo derives the factory values: nothing is sent, the firmware
     /// runs as it always has.
     #[test]
@@ -215,14 +227,7 @@ mod tests {
     /// Henrytwo's motors stop within the gate with the factory timing.
     #[test]
     fn henrytwo_stops_within_a_few_periods() {
-        let r = RobotConfig::default();
-        let (t, _) = stop_time(
-            first_order(&r.motor.left),
-            r.battery.voltage_v,
-            14.47,
-            0.020,
-            0.005,
-        );
+        let (t, _) = left_stop(&RobotConfig::default(), 0.005);
         assert!(t > 0.02 && t < STOP_GATE_S, "{t}");
     }
 
@@ -235,26 +240,14 @@ mod tests {
         let get = |p| d.iter().find(|(q, _)| *q == p).unwrap().1;
         let (pulse, lead) = (get(Param::BrakePulseMs), get(Param::StopLeadMs));
         assert_eq!(pulse, PULSE_MAX_MS, "{d:?}");
-        let (t, left) = stop_time(
-            first_order(&r.motor.left),
-            r.battery.voltage_v,
-            14.47,
-            0.020,
-            pulse as f64 / 1000.0,
-        );
+        let (t, left) = left_stop(&r, pulse as f64 / 1000.0);
         assert!(left > 0.0 && left < 1.0, "{left}");
         assert!(
             ((t * 1000.0).round() as f32 - lead).abs() <= 1.0,
             "{t} {lead}"
         );
         // The factory timing would coast most of the coast time constant.
-        let (factory, _) = stop_time(
-            first_order(&r.motor.left),
-            r.battery.voltage_v,
-            14.47,
-            0.020,
-            0.005,
-        );
+        let (factory, _) = left_stop(&r, 0.005);
         assert!(factory > 0.25, "{factory}");
     }
 
