@@ -72,8 +72,13 @@ pub fn top_thesis_rpm(robot: &RobotConfig, i: usize) -> f64 {
         &robot.motor.right
     };
     let plant_model::MotorModel::FirstOrder(m) = m;
-    m.gain_thesis_rpm * (1.0 - m.dead_band_duty) / (m.reference_duty - m.dead_band_duty)
-        * robot.battery.voltage_v
+    full_duty_thesis_rpm(m, robot.battery.voltage_v)
+}
+
+/// A first-order motor's steady speed at full duty on `volts`, thesis "RPM"
+/// (the plant's `steady_speed` at duty 1, in the firmware's unit).
+pub fn full_duty_thesis_rpm(m: &plant_model::FirstOrderMotor, volts: f64) -> f64 {
+    m.gain_thesis_rpm * (1.0 - m.dead_band_duty) / (m.reference_duty - m.dead_band_duty) * volts
         / m.fit_voltage_v
 }
 

@@ -25,7 +25,7 @@
 use henrytwo_protocol::Param;
 use plant_model::{FirstOrderMotor, MotorModel, RobotConfig};
 
-use super::settings::setpoint_thesis_rpm;
+use super::settings::{full_duty_thesis_rpm, setpoint_thesis_rpm};
 use super::tune::PERIOD_S;
 
 /// The parameters this module derives.
@@ -74,7 +74,7 @@ pub fn stop_time(
     let tc = motor.coast_tau().0;
     let tau = motor.tau_s;
     // Speeds over the set-point.
-    let reverse = -reverse_top(motor, volts) / setpoint;
+    let reverse = -full_duty_thesis_rpm(motor, volts) / setpoint;
     let mut distance = tc * (1.0 - (-coast_s / tc).exp());
     let v1 = (-coast_s / tc).exp();
     let decay = (-pulse_s / tau).exp();
@@ -84,12 +84,6 @@ pub fn stop_time(
         distance += v2 * tc;
     }
     (distance, v2)
-}
-
-/// The reverse drive's steady speed at full duty, thesis RPM.
-fn reverse_top(m: &FirstOrderMotor, volts: f64) -> f64 {
-    m.gain_thesis_rpm * (1.0 - m.dead_band_duty) / (m.reference_duty - m.dead_band_duty) * volts
-        / m.fit_voltage_v
 }
 
 /// The derived values of every parameter in [`STOP`], in its order.
@@ -120,7 +114,7 @@ pub fn derive(robot: &RobotConfig) -> [(Param, f32); 5] {
             .iter()
             .map(|&(m, sp)| {
                 let v1 = (-coast_s / m.coast_tau().0).exp();
-                let reverse = reverse_top(m, volts) / sp;
+                let reverse = full_duty_thesis_rpm(m, volts) / sp;
                 m.tau_s * (1.0 + v1 / reverse).ln()
             })
             .fold(0.0, f64::max);
