@@ -160,6 +160,23 @@ pub fn choose(
             ));
             None
         }
+        // The same evidence a joint fit must give to earn its place (`earns_place`): the
+        // training data fitted markedly better than by the nominal robot, by 6 or more and
+        // to three quarters or less. A few χ² off a residual far beyond noise is the
+        // misfit's scatter, not an effect (a wheelbase 5 % wide, among candidates that
+        // cannot hold it, took a dead band of 0.0056 ± 0.0038 for 3 % of its score).
+        Some((_, c)) if !marked(nominal_score, c.train_score()) => {
+            notes.push(format!(
+                "no candidate is taken: the best, {} (training score {:.1}), does not fit the \
+                 training data markedly better than the nominal bench robot ({:.1}): by \
+                 {MARKED_CHI2} or more and to {:.0} % or less",
+                c.effect,
+                c.train_score(),
+                nominal_score,
+                100.0 * MARKED_FRACTION
+            ));
+            None
+        }
         // Cross-validation estimates each candidate's error on data it was not fitted to,
         // but the estimate scatters: a candidate must predict the left-out data markedly
         // better than the nominal robot.
@@ -499,8 +516,9 @@ pub(super) mod tests {
     }
 
     /// No effect is taken where the data ask for none: a nominal robot at noise level (χ²
-    /// 12 over 6 residuals, p = 0.06) keeps a candidate that would improve it by 10, a
-    /// candidate only 4 better than the nominal robot's 100 is not taken, and one fitted
+    /// 12 over 6 residuals, p = 0.06) keeps a candidate that would improve it by 10; a
+    /// candidate only 4 better than the nominal robot's 100 is not taken, nor one 6 better
+    /// (94: a residual far beyond noise barely moved), while one at 75 is; and one fitted
     /// at its neutral value (the nominal robot itself) is passed over for the best effect
     /// that is one.
     #[test]
@@ -523,6 +541,13 @@ pub(super) mod tests {
             d.notes
         );
         let d = choose_among(&[(DEAD_BAND, 0.1, 94.0, 0.5, 0.2)]);
+        assert_eq!(d.winner, None);
+        assert!(
+            d.notes.iter().any(|n| n.contains("to 75 % or less")),
+            "{:?}",
+            d.notes
+        );
+        let d = choose_among(&[(DEAD_BAND, 0.1, 75.0, 0.5, 0.2)]);
         assert_eq!(d.winner, Some((DEAD_BAND.to_owned(), 0.1)));
         let d = choose_among(&[(DEAD_BAND, 0.0, 2.0, 0.5, 0.2), (TOE, 1.0, 50.0, 0.5, 0.2)]);
         assert_eq!(d.winner, Some((TOE.to_owned(), 1.0)));
