@@ -164,7 +164,7 @@ pub fn choose(
         // training data fitted markedly better than by the nominal robot, by 6 or more and
         // to three quarters or less. A few χ² off a residual far beyond noise is the
         // misfit's scatter, not an effect (a wheelbase 5 % wide, among candidates that
-        // cannot hold it, took a dead band of 0.0056 ± 0.0038 for 3 % of its score).
+        // cannot hold it, took a dead band of 0.0056 ± 0.0038 for 8 % of its score).
         Some((_, c)) if !marked(nominal_score, c.train_score()) => {
             notes.push(format!(
                 "no candidate is taken: the best, {} (training score {:.1}), does not fit the \
