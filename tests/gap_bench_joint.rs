@@ -6,8 +6,9 @@
 //! fitted alone) so that it is the fit, not its start, that finds them. One test per
 //! direction, so that the two run side by side.
 //!
-//! With coasting as a third hidden effect the end points cannot tell a wide wheelbase from a
-//! coast (both change UMBmark's turns); the telemetry can, and the joint fit follows it.
+//! With coasting as a third hidden effect a wider wheelbase and a longer coast trade off in
+//! the end points, and the bench's answer is rough along that ridge: the triple's fit ends
+//! with regression steps, which follow the trend (docs/guide/diagnose.md#joint-fits).
 
 #[path = "support/mod.rs"]
 mod support;
@@ -24,15 +25,14 @@ use plant_model::RobotConfig;
 const LEG_MM: f64 = 1000.0;
 
 fn joint_case(k: usize) {
-    let cut = hidden_case(&TWO_EFFECT_CASES[k], 46 + k as u64, &[]);
+    let cut = hidden_case(&TWO_EFFECT_CASES[k], 46 + k as u64);
     assert!(cut >= HELDOUT_CUT_PCT, "cut {cut:.0} %");
 }
 
 /// Fits the effects of `case` jointly on self-test data hiding them (seed `seed`); checks
-/// each value within [`VALUE_WITHIN_PCT`] of its deviation, but those of `on_ridge` only on
-/// the deviation's side and within a factor of two of it, and every value determined;
+/// each value within [`VALUE_WITHIN_PCT`] of its deviation and every value determined;
 /// returns the held-out gap beyond noise's cut, %.
-fn hidden_case(case: &[(&str, f64)], seed: u64, on_ridge: &[&str]) -> f64 {
+fn hidden_case(case: &[(&str, f64)], seed: u64) -> f64 {
     let bench = BenchModel::new(support::firmware("robust"), RobotConfig::default(), 2);
     let specs = hil::runs::gap_bench::bench_parameters();
     let mut hidden = EffectParams::new();
@@ -70,17 +70,10 @@ fn hidden_case(case: &[(&str, f64)], seed: u64, on_ridge: &[&str]) -> f64 {
     eprintln!("{report}");
     for (((effect, injected), got), neutral) in case.iter().zip(&f.values).zip(&nominal) {
         let (want, found) = (injected - neutral, got - neutral);
-        if on_ridge.contains(effect) {
-            assert!(
-                found * want > 0.0 && (0.5..=2.0).contains(&(found / want)),
-                "{effect}: {report}"
-            );
-        } else {
-            assert!(
-                100.0 * (found - want).abs() <= VALUE_WITHIN_PCT * want.abs(),
-                "{effect}: {report}"
-            );
-        }
+        assert!(
+            100.0 * (found - want).abs() <= VALUE_WITHIN_PCT * want.abs(),
+            "{effect}: {report}"
+        );
     }
     assert!(f.determined, "{report}");
     cut
@@ -96,27 +89,14 @@ fn a_large_right_wheel_and_a_narrow_wheelbase_are_both_found() {
     joint_case(1);
 }
 
-/// Ed, Eb and coasting hidden together: Ed within 10 % of its deviation, Eb and coasting
-/// each on its side and within a factor of two of its deviation (measured 0.9711, 1.0451,
-/// 0.100 s: 3.7 %, 9.8 % and 16.5 % off; the 10 % for Eb is not asserted, see
-/// below: it held for some start phases and not for others). On the end points alone from the nominal robot the
-/// wheelbase came out 1.014 (73 % off); from the nominal robot alone, 1.030. The held-out
-/// triangle's gap beyond noise was cut 57 % (18.9 -> 8.2 cm), short of the 80 %,
-/// though the fit scores the training data below the hidden truth itself: not asserted.
-/// A 180° shuttle in the training data and more starts were measured and not kept
-/// (docs/guide/diagnose.md#joint-fits): the cut reached 68 % with the wheelbase 20 % off.
-/// These values hang on the runs' start phases: with phases drawn one by one, 7 % off with
-/// one firmware and, with a firmware that boots 0.7 ms sooner (every phase shifted), Eb 28 %
-/// and coasting 13 % off; with phases spread evenly over the period (as now), the values
-/// above and a cut of 81 %, and with 4 or 5 runs per centroid Eb 37 % and 71 % off. The
-/// hidden truth scores the training data worse than the fit (81.5 against 66.7): along the
-/// ridge where a wider wheelbase and a longer coast give the same turns these data do not
-/// tell the two apart, and Ed, which no other effect mimics, is the value they fix.
+/// Ed, Eb and coasting hidden together: each within 10 % of its deviation, the held-out
+/// gap beyond noise cut by 80 % or more. Measured: Ed 0.9708 ± 0.0008, Eb 1.0506 ± 0.0104,
+/// coast 0.128 ± 0.007 s (2.6, 1.3 and 6.5 % off), cut 88 %, in 1140 bench runs. Without
+/// the regression steps: 0.9711, 1.0451, 0.100 s (coast 16.5 % off). Over seeds 46 to 51
+/// all three were within 10 % in 5 of 6 and the cut 80 % or more in 5 of 6 (the guide's
+/// table).
 #[test]
 fn a_coasting_robot_with_both_errors_is_found_with_all_three() {
-    hidden_case(
-        &THREE_EFFECT_CASE,
-        46,
-        &[gap::effects::WHEELBASE_RATIO, gap::effects::COAST],
-    );
+    let cut = hidden_case(&THREE_EFFECT_CASE, 46);
+    assert!(cut >= HELDOUT_CUT_PCT, "cut {cut:.0} %");
 }

@@ -184,6 +184,7 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
         joint_pairs: 1,
         joint_iterations: 1,
         joint_fold_iterations: 1,
+        joint_regression_steps: 1,
         ..default
     };
     let speed = measure_diagnosis(&SpeedPlan {

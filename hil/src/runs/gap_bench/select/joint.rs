@@ -12,7 +12,9 @@
 //! improves markedly on the model so far (the single winner, or the nominal robot), predicts
 //! the left-out groups markedly better (each fold refitted from the joint value), and every
 //! value is determined (more than two standard errors from neutral); then a third effect is
-//! tried the same way on top of it.
+//! tried the same way on top of it. A triple's fit ends with regression steps
+//! (`regression.rs`): two of its effects trade off in the end points, and along that ridge
+//! the local differences follow the bench's roughness, not its trend.
 
 use std::collections::HashMap;
 
@@ -22,6 +24,8 @@ use gap::{EffectParams, GapError, Model, ParamSpec, Scorer};
 use serde::{Deserialize, Serialize};
 
 use super::choose::MARKED_CHI2;
+use super::linalg::{inverse, normal_equations, solve};
+use super::regression;
 use super::{fold_of, Batched, FitPlan, SelectOptions};
 
 /// Forward-difference step of the Jacobian, in scales of each effect
@@ -285,11 +289,100 @@ impl<'a> Joint<'a> {
         Ok(p)
     }
 
+    /// [`super::regression`]'s steps from `p`, `steps` of them: the mean of the points
+    /// they reach, and what its uncertainty takes from them (`p` itself and None when the
+    /// first is undetermined).
+    fn regression_steps(
+        &mut self,
+        p: &[f64],
+        groups: &[usize],
+        steps: usize,
+    ) -> Result<(Vec<f64>, Option<Smoothed>), GapError> {
+        let offsets = regression::design(p.len());
+        let mut at = p.to_vec();
+        let mut reached: Vec<Vec<f64>> = Vec::new();
+        let mut slopes: Vec<Vec<Vec<f64>>> = Vec::new();
+        for _ in 0..steps {
+            let design: Vec<Vec<f64>> = offsets.iter().map(|d| self.offset(&at, d)).collect();
+            self.eval(&design, groups)?;
+            // The clamped points' own offsets, so a design cut by a bound regresses on
+            // where it was evaluated.
+            let actual: Vec<Vec<f64>> = design
+                .iter()
+                .map(|q| {
+                    q.iter()
+                        .zip(&at)
+                        .zip(&self.specs)
+                        .map(|((a, b), s)| (a - b) / s.scale)
+                        .collect()
+                })
+                .collect();
+            let residuals: Vec<Vec<f64>> =
+                design.iter().map(|q| self.residuals(q, groups)).collect();
+            let Some(t) = regression::trend(&actual, &residuals) else {
+                break;
+            };
+            at = self.offset(&at, &t.step);
+            reached.push(at.clone());
+            slopes.push(t.jacobian);
+        }
+        if reached.is_empty() {
+            return Ok((p.to_vec(), None));
+        }
+        let n = reached.len() as f64;
+        let mean: Vec<f64> = (0..p.len())
+            .map(|i| reached.iter().map(|q| q[i]).sum::<f64>() / n)
+            .collect();
+        let mean = self.clamp(&mean);
+        self.eval(std::slice::from_ref(&mean), groups)?;
+        // The points' variance about their mean, in scales², not over n: each step starts
+        // where the last ended, so they are not independent draws.
+        let spread2 = (0..p.len())
+            .map(|i| {
+                reached
+                    .iter()
+                    .map(|q| ((q[i] - mean[i]) / self.specs[i].scale).powi(2))
+                    .sum::<f64>()
+                    / (n - 1.0).max(1.0)
+            })
+            .collect();
+        let jacobian = (0..p.len())
+            .map(|c| {
+                (0..slopes[0][c].len())
+                    .map(|i| slopes.iter().map(|j| j[c][i]).sum::<f64>() / n)
+                    .collect()
+            })
+            .collect();
+        Ok((mean, Some(Smoothed { jacobian, spread2 })))
+    }
+
+    /// `p` moved by `d` scales of each effect, kept inside the ranges.
+    fn offset(&self, p: &[f64], d: &[f64]) -> Vec<f64> {
+        let q: Vec<f64> = p
+            .iter()
+            .zip(d)
+            .zip(&self.specs)
+            .map(|((x, d), s)| x + d * s.scale)
+            .collect();
+        self.clamp(&q)
+    }
+
     /// Standard errors (in each effect's unit) and the largest |correlation| at `p` over
     /// all training groups: (JᵀJ)⁻¹ inflated by χ²/dof when above 1. None where singular.
-    fn uncertainty(&mut self, p: &[f64]) -> Result<(Vec<Option<f64>>, Option<f64>), GapError> {
+    /// J is the forward differences' at `p`, or, for a fit that ended with regression
+    /// steps, their models' mean slopes, and the spread of the points they reached is
+    /// added to each variance: the forward differences of a rough answer are steeper than
+    /// its trend, and would claim a precision the steps do not have.
+    fn uncertainty(
+        &mut self,
+        p: &[f64],
+        smoothed: Option<&Smoothed>,
+    ) -> Result<(Vec<Option<f64>>, Option<f64>), GapError> {
         let groups = self.groups(&|_| true);
-        let jac = self.jacobian(p, &groups)?;
+        let jac = match smoothed {
+            Some(s) => s.jacobian.clone(),
+            None => self.jacobian(p, &groups)?,
+        };
         let r = self.residuals(p, &groups);
         let (a, _) = normal_equations(&jac, &r);
         let k = p.len();
@@ -300,7 +393,7 @@ impl<'a> Joint<'a> {
         };
         let se = (0..k)
             .map(|i| {
-                let v = inv[i][i] * inflate;
+                let v = inv[i][i] * inflate + smoothed.map_or(0.0, |s| s.spread2[i]);
                 (v.is_finite() && v > 0.0).then(|| v.sqrt() * self.specs[i].scale)
             })
             .collect();
@@ -316,67 +409,12 @@ impl<'a> Joint<'a> {
     }
 }
 
-/// JᵀJ and Jᵀr of a Jacobian given by columns.
-fn normal_equations(jac: &[Vec<f64>], r: &[f64]) -> (Vec<Vec<f64>>, Vec<f64>) {
-    let k = jac.len();
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    let a = (0..k)
-        .map(|i| (0..k).map(|j| dot(&jac[i], &jac[j])).collect())
-        .collect();
-    let g = (0..k).map(|i| dot(&jac[i], r)).collect();
-    (a, g)
-}
-
-/// `m x = b` by Gaussian elimination with partial pivoting (None: singular).
-fn solve(m: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
-    let n = b.len();
-    let mut a: Vec<Vec<f64>> = m
-        .iter()
-        .zip(b)
-        .map(|(row, &y)| row.iter().copied().chain([y]).collect())
-        .collect();
-    let scale = m
-        .iter()
-        .flatten()
-        .fold(0.0f64, |s, x| s.max(x.abs()))
-        .max(f64::MIN_POSITIVE);
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[p][c].abs() <= 1e-12 * scale {
-            return None;
-        }
-        a.swap(c, p);
-        let pivot = a[c].clone();
-        for (i, row) in a.iter_mut().enumerate() {
-            if i != c {
-                let f = row[c] / pivot[c];
-                for (x, p) in row.iter_mut().zip(&pivot).skip(c) {
-                    *x -= f * p;
-                }
-            }
-        }
-    }
-    Some((0..n).map(|i| a[i][n] / a[i][i]).collect())
-}
-
-/// The inverse of `m` (None: singular).
-fn inverse(m: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
-    let n = m.len();
-    let cols: Vec<Vec<f64>> = (0..n)
-        .map(|j| {
-            solve(
-                m,
-                &(0..n)
-                    .map(|i| f64::from(u8::from(i == j)))
-                    .collect::<Vec<_>>(),
-            )
-        })
-        .collect::<Option<_>>()?;
-    Some(
-        (0..n)
-            .map(|i| (0..n).map(|j| cols[j][i]).collect())
-            .collect(),
-    )
+/// What a fit's uncertainty takes from its regression steps (see [`Joint::uncertainty`]).
+struct Smoothed {
+    /// The mean of their models' slopes: a column per effect (per scale).
+    jacobian: Vec<Vec<f64>>,
+    /// The variance of the points they reached, per effect, in scales².
+    spread2: Vec<f64>,
 }
 
 /// Fits `effects` jointly from the best of `starts` on the training data (see the module
@@ -419,7 +457,11 @@ pub(super) fn fit_joint(
         .min_by(|a, b| j.score(a, &groups).total_cmp(&j.score(b, &groups)))
         .ok_or_else(|| GapError::Fit(format!("no start for {}", effects.join(" + "))))?
         .clone();
-    let p = j.fit(&start, &|_| true, opts.joint_iterations)?;
+    let mut p = j.fit(&start, &|_| true, opts.joint_iterations)?;
+    let mut smoothed = None;
+    if effects.len() >= 3 {
+        (p, smoothed) = j.regression_steps(&p, &groups, opts.joint_regression_steps)?;
+    }
     let (train_chi2, series) = j.parts(&p, &groups);
     let scored_series = super::telemetry::scores_series(train, opts);
     let cv_chi2 = if plan.cv() {
@@ -436,7 +478,7 @@ pub(super) fn fit_joint(
     } else {
         None
     };
-    let (std_err, max_correlation) = j.uncertainty(&p)?;
+    let (std_err, max_correlation) = j.uncertainty(&p, smoothed.as_ref())?;
     let determined = j
         .specs
         .iter()
@@ -487,7 +529,7 @@ pub(super) fn std_err_of(
         seen: HashMap::new(),
     };
     j.eval(&[vec![value]], &j.groups(&|_| true))?;
-    Ok(j.uncertainty(&[value])?.0[0])
+    Ok(j.uncertainty(&[value], None)?.0[0])
 }
 
 /// Whether `larger` earns its place over a model of score `base_train` (training) and
@@ -497,34 +539,4 @@ pub(super) fn earns_place(larger: &JointFit, base_train: f64, base_score: f64) -
     larger.determined
         && super::choose::marked(base_train, larger.train_score())
         && base_score - larger.score() >= MARKED_CHI2
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The small linear algebra of the fit: a 2 × 2 and a 3 × 3 system solved, a singular
-    /// one refused, an inverse times its matrix the identity.
-    #[test]
-    fn systems_are_solved_and_singular_ones_refused() {
-        let m = vec![vec![4.0, 1.0], vec![1.0, 3.0]];
-        let x = solve(&m, &[1.0, 2.0]).unwrap();
-        assert!((4.0 * x[0] + x[1] - 1.0).abs() < 1e-12 && (x[0] + 3.0 * x[1] - 2.0).abs() < 1e-12);
-        let m3 = vec![
-            vec![0.0, 2.0, 1.0],
-            vec![1.0, 0.0, 0.0],
-            vec![3.0, 1.0, 5.0],
-        ];
-        let inv = inverse(&m3).unwrap();
-        for (i, row) in m3.iter().enumerate() {
-            for j in 0..3 {
-                let v: f64 = row.iter().zip(&inv).map(|(a, r)| a * r[j]).sum();
-                assert!(
-                    (v - f64::from(u8::from(i == j))).abs() < 1e-12,
-                    "{i} {j} {v}"
-                );
-            }
-        }
-        assert_eq!(solve(&[vec![1.0, 2.0], vec![2.0, 4.0]], &[1.0, 2.0]), None);
-    }
 }

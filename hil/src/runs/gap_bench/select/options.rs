@@ -42,6 +42,9 @@ pub struct SelectOptions {
     pub joint_iterations: usize,
     #[serde(default = "two")]
     pub joint_fold_iterations: usize,
+    /// Regression steps that end a joint fit of three effects (see `select/regression.rs`).
+    #[serde(default = "five")]
+    pub joint_regression_steps: usize,
 }
 
 fn two() -> usize {
@@ -52,6 +55,9 @@ fn three() -> usize {
 }
 fn four() -> usize {
     4
+}
+fn five() -> usize {
+    5
 }
 fn six() -> usize {
     6
@@ -77,6 +83,7 @@ impl Default for SelectOptions {
             joint_pairs: four(),
             joint_iterations: six(),
             joint_fold_iterations: two(),
+            joint_regression_steps: five(),
         }
     }
 }
