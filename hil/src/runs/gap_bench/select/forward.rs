@@ -32,6 +32,45 @@ pub(super) const BORENSTEIN_PAIR: [&str; 2] = [
     gap::effects::WHEELBASE_RATIO,
 ];
 
+/// The third effects to try on the taken pair `pair`, with their single fits' values
+/// (neutral where not fitted), [`THIRDS`] in all: Borenstein's other error first when the
+/// pair holds one of them, then the best ranked single fits not in it. A robot has both of
+/// Borenstein's errors, and the other's single fit can stay at neutral, compensated by the
+/// pair's: on a robot hiding Ed, Eb and coasting the pair Ed + coast is taken, the wheelbase
+/// fitted alone moved nothing, and the ranked singles offered two effects the robot lacks.
+fn third_effects(d: &BenchDiagnosis, pair: &[String]) -> Vec<(String, f64)> {
+    let outside = |e: &str| !pair.iter().any(|p| p == e || same_robot(p, e));
+    let mut out: Vec<(String, f64)> = Vec::new();
+    let held = BORENSTEIN_PAIR
+        .iter()
+        .filter(|e| pair.iter().any(|p| p == *e))
+        .count();
+    if held == 1 {
+        let other = BORENSTEIN_PAIR.iter().find(|e| outside(e)).and_then(|e| {
+            let fitted = d
+                .candidates
+                .iter()
+                .find(|c| c.effect == *e)
+                .map(|c| c.value);
+            let neutral = crate::runs::gap_bench::bench_parameters()
+                .into_iter()
+                .find(|s| s.name == *e)
+                .map(|s| s.neutral);
+            Some(((*e).to_owned(), fitted.or(neutral)?))
+        });
+        out.extend(other);
+    }
+    for c in d.ranked_singles() {
+        if out.len() >= THIRDS {
+            break;
+        }
+        if outside(&c.effect) && !out.iter().any(|(e, _)| *e == c.effect) {
+            out.push((c.effect.clone(), c.value));
+        }
+    }
+    out
+}
+
 /// One pair to fit: its effects, the starts its fit chooses from (the best on the training
 /// data is where Levenberg-Marquardt begins) and where they came from.
 pub(super) type PairStart = (Vec<String>, Vec<Vec<f64>>, &'static str);
@@ -202,16 +241,7 @@ pub(super) fn forward(
     if let Some(p) = best_pair.filter(|p| earns_place(p, base_train, base_score)) {
         (base_train, base_score) = (p.train_score(), p.score());
         if opts.max_effects >= 3 {
-            let thirds: Vec<(String, f64)> = d
-                .ranked_singles()
-                .into_iter()
-                .filter(|c| {
-                    !p.effects.contains(&c.effect)
-                        && !p.effects.iter().any(|e| same_robot(e, &c.effect))
-                })
-                .take(THIRDS)
-                .map(|c| (c.effect.clone(), c.value))
-                .collect();
+            let thirds = third_effects(d, &p.effects);
             let mut best_triple: Option<JointFit> = None;
             for (e, v) in thirds {
                 let effects: Vec<String> = p.effects.iter().cloned().chain([e.clone()]).collect();
@@ -337,6 +367,44 @@ mod tests {
         assert_eq!(thirds[2..], grid[1..], "{starts:?}");
         assert!(starts.iter().all(|v| v[..2] == [0.97, 1.05]), "{starts:?}");
         assert_eq!(third_starts(&[0.97, 1.05], COAST, 0.0, &opts).len(), 7);
+    }
+
+    /// On a pair holding one of Borenstein's errors the other is the first third effect,
+    /// though its single fit stayed at neutral (and so does not rank), then the best ranked
+    /// single not in the pair; on Borenstein's pair, the two best ranked singles not in it;
+    /// on a pair holding the wheelbase's other name (turn slip), no wheelbase.
+    #[test]
+    fn borenstein_other_error_is_tried_first_as_a_third() {
+        use gap::effects::{COAST, DISTANCE_SCALE, TURN_SLIP};
+        let d = choose_against(
+            100.0,
+            &[
+                (COAST, 0.1, 10.0, 1.0, 0.5),
+                (WHEEL_DIAMETER_RATIO, 0.97, 20.0, 1.0, 0.5),
+                (CASTOR_DRAG, 2.0, 30.0, 1.0, 0.5),
+                (DISTANCE_SCALE, 0.98, 40.0, 1.0, 0.5),
+                (WHEELBASE_RATIO, 1.0, 100.0, 1.0, 0.5),
+            ],
+        );
+        let pair = |a: &str, b: &str| vec![a.to_owned(), b.to_owned()];
+        let thirds = third_effects(&d, &pair(WHEEL_DIAMETER_RATIO, COAST));
+        assert_eq!(
+            thirds,
+            vec![
+                (WHEELBASE_RATIO.to_owned(), 1.0),
+                (CASTOR_DRAG.to_owned(), 2.0)
+            ]
+        );
+        let thirds = third_effects(&d, &pair(WHEEL_DIAMETER_RATIO, WHEELBASE_RATIO));
+        assert_eq!(
+            thirds,
+            vec![(COAST.to_owned(), 0.1), (CASTOR_DRAG.to_owned(), 2.0)]
+        );
+        let thirds = third_effects(&d, &pair(WHEEL_DIAMETER_RATIO, TURN_SLIP));
+        assert_eq!(
+            thirds,
+            vec![(COAST.to_owned(), 0.1), (CASTOR_DRAG.to_owned(), 2.0)]
+        );
     }
 
     /// Borenstein's pair is fitted though neither of its effects ranks first alone, from
