@@ -170,7 +170,7 @@ fn shards_merge_into_the_single_machine_report_and_wrong_sets_are_refused() {
 fn the_diagnosis_benchmark_produces_its_numbers() {
     let bench = BenchModel::new(support::firmware("robust"), RobotConfig::default(), 1);
     // The fewest runs that still take every kind of fit: one run per centroid, one pair
-    // and one iteration of each joint fit.
+    // and one iteration of each joint fit, no regression steps (`gap_bench_joint` runs them).
     let default = SelectOptions::default();
     let opts = SelectOptions {
         shortlist: 0,
@@ -184,7 +184,7 @@ fn the_diagnosis_benchmark_produces_its_numbers() {
         joint_pairs: 1,
         joint_iterations: 1,
         joint_fold_iterations: 1,
-        joint_regression_steps: 1,
+        joint_regression_steps: 0,
         ..default
     };
     let speed = measure_diagnosis(&SpeedPlan {

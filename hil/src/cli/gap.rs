@@ -490,8 +490,13 @@ impl Gap {
             &|line| eprintln!("{line}"),
         )?;
         self.json.emit(&t, || t.render())?;
-        let failed = t.cases.iter().filter(|c| !c.passed());
-        cases_failed(failed.map(|c| c.effect.as_str()), t.cases.len())
+        let failed: Vec<String> = t
+            .cases
+            .iter()
+            .filter(|c| !c.passed())
+            .map(|c| c.label())
+            .collect();
+        cases_failed(failed.iter().map(String::as_str), t.cases.len())
     }
 }
 

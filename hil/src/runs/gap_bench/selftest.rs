@@ -144,6 +144,12 @@ impl BenchCase {
             || (!self.visible() && self.winner.is_none())
     }
 
+    /// What the case hid, as a failing self-test names it: its effect, or every hidden
+    /// effect joined by '+' (as `--hidden` takes them).
+    pub fn label(&self) -> String {
+        case_label(&self.effect, &self.hidden)
+    }
+
     /// The report takes no effect: no winner, no chosen model.
     pub fn took_nothing(&self) -> bool {
         self.winner.is_none() && self.diagnosis.chosen.is_empty()
@@ -208,6 +214,19 @@ impl BenchCase {
         } else {
             self.winner.is_none()
         }
+    }
+}
+
+/// See [`BenchCase::label`].
+fn case_label(effect: &str, hidden: &[(String, f64)]) -> String {
+    if hidden.len() > 1 {
+        hidden
+            .iter()
+            .map(|(e, _)| e.as_str())
+            .collect::<Vec<_>>()
+            .join("+")
+    } else {
+        effect.to_owned()
     }
 }
 
@@ -545,6 +564,24 @@ pub fn bench_self_test_on(
 mod tests {
     use super::super::select::heldout_worse_note;
     use super::*;
+
+    /// A case of several hidden effects is named by all of them, as `--hidden` takes them;
+    /// a case of one by its effect (and the real-robot case by its own name).
+    #[test]
+    fn a_case_is_named_by_every_effect_it_hides() {
+        let h = |names: &[&str]| -> Vec<(String, f64)> {
+            names.iter().map(|n| ((*n).to_owned(), 1.0)).collect()
+        };
+        assert_eq!(
+            case_label(
+                "wheel_diameter_ratio",
+                &h(&["wheel_diameter_ratio", "wheelbase_ratio", "coast"])
+            ),
+            "wheel_diameter_ratio+wheelbase_ratio+coast"
+        );
+        assert_eq!(case_label("coast", &h(&["coast"])), "coast");
+        assert_eq!(case_label(REAL_ROBOT_CASE, &[]), REAL_ROBOT_CASE);
+    }
 
     /// A held-out gap that grew is unreported only without the diagnosis' own note: the
     /// note for 1.00 -> 1.50 cm clears it, another note does not, and a gap that shrank or
