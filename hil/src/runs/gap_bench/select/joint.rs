@@ -255,13 +255,7 @@ impl<'a> Joint<'a> {
                         row[i] += lambda * a[i][i].max(1e-9);
                     }
                     let step = solve(&m, &g.iter().map(|x| -x).collect::<Vec<_>>())?;
-                    let q: Vec<f64> = p
-                        .iter()
-                        .zip(&step)
-                        .zip(&self.specs)
-                        .map(|((x, d), s)| x + d * s.scale)
-                        .collect();
-                    Some((lambda, self.clamp(&q)))
+                    Some((lambda, self.offset(&p, &step)))
                 })
                 .collect();
             let points: Vec<Vec<f64>> = trials.iter().map(|t| t.1.clone()).collect();
