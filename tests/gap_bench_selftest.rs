@@ -22,7 +22,8 @@
 mod support;
 
 use hil::runs::gap_bench::{
-    bench_self_test, bench_self_test_on, BenchModel, BenchSelfTest, SelectOptions, DEFAULT_CASES,
+    bench_self_test, bench_self_test_on, BenchModel, BenchSelfTest, SelectOptions, SelfTestDesign,
+    DEFAULT_CASES,
 };
 use plant_model::RobotConfig;
 use std::sync::OnceLock;
@@ -227,7 +228,7 @@ fn a_robot_whose_error_no_candidate_holds_gets_no_effect() {
         &bench(),
         &real,
         &[vec![]],
-        LEG_MM,
+        SelfTestDesign::legs(LEG_MM),
         0,
         &singles(0),
         &|line| eprintln!("{line}"),

@@ -8,7 +8,8 @@ use gap::selftest::{render_cases_with, CaseColumns};
 use gap::SplitRule;
 use hil::firmware::elf::Firmware;
 use hil::runs::gap_bench::{
-    BenchModel, SelectOptions, CENTROID_RUNS, DEFAULT_CASES, GRID_POINTS, REFINE_STEPS,
+    BenchModel, SelectOptions, SelfTestDesign, CENTROID_RUNS, DEFAULT_CASES, GRID_POINTS,
+    REFINE_STEPS,
 };
 use hil::runs::odometry::Shard;
 use plant_model::RobotConfig;
@@ -82,6 +83,11 @@ pub struct Gap {
     #[arg(long, requires = "bench", default_value_t = 300,
           value_parser = clap::value_parser!(u16).range(100..=5000))]
     leg_mm: u16,
+    /// With --bench --self-test: record a shuttle too and train on it
+    /// (UMBmark counter-clockwise with 180° corners): turns of a second
+    /// angle, which tell a coast from a wheelbase.
+    #[arg(long, requires = "self_test", requires = "bench")]
+    shuttle: bool,
     /// With --bench: points of each candidate's search grid over its range
     /// (3 to 15). Fewer points and --refine steps cost fewer bench runs and
     /// find values only as finely: a first look, or a check that shards merge.
@@ -484,7 +490,10 @@ impl Gap {
             &bench,
             real.as_ref().unwrap_or(&bench),
             &cases,
-            f64::from(self.leg_mm),
+            SelfTestDesign {
+                leg_mm: f64::from(self.leg_mm),
+                shuttle: self.shuttle,
+            },
             self.seed,
             &self.select_options(),
             &|line| eprintln!("{line}"),

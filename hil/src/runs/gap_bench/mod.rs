@@ -58,8 +58,8 @@ pub use select::{
 };
 pub use selftest::{
     bench_self_test, bench_self_test_of, bench_self_test_on, self_test_split, BenchCase,
-    BenchSelfTest, DEFAULT_CASES, HELDOUT_CUT_PCT, REAL_ROBOT_CASE, RUNS_PER_GROUP,
-    THREE_EFFECT_CASE, TWO_EFFECT_CASES, VALUE_WITHIN_PCT,
+    BenchSelfTest, SelfTestDesign, DEFAULT_CASES, HELDOUT_CUT_PCT, REAL_ROBOT_CASE, RUNS_PER_GROUP,
+    SHUTTLE_CORNER_DEG, SHUTTLE_GROUP, THREE_EFFECT_CASE, TWO_EFFECT_CASES, VALUE_WITHIN_PCT,
 };
 pub use series::{
     series_chi2, series_chi2_of_runs, series_noise, SegmentFit, SeriesNoise, SeriesRun,

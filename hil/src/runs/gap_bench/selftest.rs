@@ -1,7 +1,8 @@
 //! The bench-backed diagnosis' self-test: "real" data made by the bench with one hidden
 //! effect, as a person with a tape measure would record it (5 runs per group, floor noise
 //! 1°/√m), the thesis' protocol (UMBmark both ways and a line for training, the
-//! counter-clockwise triangle held out), diagnosed blind: the kinematic diagnosis' shortlist,
+//! counter-clockwise triangle held out; a shuttle in training too when asked, see
+//! [`SelfTestDesign::shuttle`]), diagnosed blind: the kinematic diagnosis' shortlist,
 //! then [`super::diagnose_bench`]. Each group also has the telemetry of its first run, its
 //! speeds from the encoder counts of each control period as a robot's firmware logs them
 //! (whole counts: the resolution of a real robot's log); [`SelectOptions::series`] says
@@ -18,6 +19,48 @@ use super::{diagnose_bench, kinematic_shortlist, BenchDiagnosis, BenchModel, Sel
 
 /// Runs per group, as the thesis recorded.
 pub const RUNS_PER_GROUP: usize = 5;
+/// The corner of the shuttle ([`SelfTestDesign::shuttle`]), degrees.
+pub const SHUTTLE_CORNER_DEG: f64 = 180.0;
+/// The shuttle's runs per run of the other groups: its centroid is what tells a coast from
+/// a wheelbase. On the three-effect robot over 6 seeds, with as many runs as the others
+/// the wheelbase ended more than 10 % off in 2, with twice as many within 5 % in all 6
+/// (docs/guide/diagnose.md#joint-fits).
+pub const SHUTTLE_RUNS_FACTOR: usize = 2;
+/// The name of the shuttle's group (UMBmark's groups are "bench").
+pub const SHUTTLE_GROUP: &str = "shuttle";
+
+/// What a self-test records: the legs, and whether the training data hold a shuttle too.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SelfTestDesign {
+    /// Leg of every test, mm.
+    pub leg_mm: f64,
+    /// Train on a shuttle as well: UMBmark's counter-clockwise run with its corners set to
+    /// [`SHUTTLE_CORNER_DEG`] (out and back twice, the firmware's `turn_umbmark_deg`),
+    /// [`SHUTTLE_RUNS_FACTOR`] times as many runs as the other groups.
+    /// UMBmark turns by one angle only, and a wheelbase (a turn short in proportion to its
+    /// angle) and a coast (a turn long by what the wheels run on after the stop, whatever
+    /// the angle) change those turns alike: a robot with both is not determined by UMBmark
+    /// and a line. Turns of a second angle tell them apart.
+    pub shuttle: bool,
+}
+
+impl SelfTestDesign {
+    /// The thesis' protocol with legs of `leg_mm`, no shuttle.
+    pub fn legs(leg_mm: f64) -> Self {
+        SelfTestDesign {
+            leg_mm,
+            shuttle: false,
+        }
+    }
+
+    /// The same with the shuttle in the training data.
+    pub fn with_shuttle(self) -> Self {
+        SelfTestDesign {
+            shuttle: true,
+            ..self
+        }
+    }
+}
 /// The floor's heading noise of the "real" data, degrees per √m.
 pub const FLOOR_NOISE_DEG_PER_SQRT_M: f64 = 1.0;
 
@@ -241,6 +284,8 @@ fn grew_unreported(before_cm: f64, after_cm: f64, notes: &[String]) -> bool {
 pub struct BenchSelfTest {
     /// Leg of every test, mm.
     pub leg_mm: f64,
+    /// The training data held the shuttle ([`SelfTestDesign::shuttle`]).
+    pub shuttle: bool,
     pub cases: Vec<BenchCase>,
 }
 
@@ -252,9 +297,17 @@ impl BenchSelfTest {
         let _ = writeln!(
             s,
             "Bench self-test: L = {:.0} mm, {RUNS_PER_GROUP} runs per group, floor noise \
-             {FLOOR_NOISE_DEG_PER_SQRT_M}°/√m; train on umbmark_cw, umbmark_ccw, line; hold \
+             {FLOOR_NOISE_DEG_PER_SQRT_M}°/√m; train on umbmark_cw, umbmark_ccw, line{}; hold \
              out triangle_ccw",
-            self.leg_mm
+            self.leg_mm,
+            if self.shuttle {
+                format!(
+                    ", {SHUTTLE_GROUP} (umbmark_ccw, {SHUTTLE_CORNER_DEG}° corners, {} runs)",
+                    SHUTTLE_RUNS_FACTOR * RUNS_PER_GROUP
+                )
+            } else {
+                String::new()
+            }
         );
         let _ = writeln!(
             s,
@@ -352,30 +405,46 @@ impl BenchSelfTest {
     }
 }
 
-/// The "real" data of one case: every test of the design, `runs_per_group` runs each (the
-/// self-test's [`RUNS_PER_GROUP`]), on the bench with `hidden` and floor noise.
+/// The "real" data of one case: every test of `design`, `runs_per_group` runs each (the
+/// self-test's [`RUNS_PER_GROUP`]), on the bench with `hidden` and floor noise. The
+/// shuttle comes last, with the next seed: the other groups are the same with it or without.
 pub(super) fn make_data(
     bench: &BenchModel,
     hidden: &EffectParams,
-    leg_mm: f64,
+    design: SelfTestDesign,
     seed: u64,
     runs_per_group: usize,
 ) -> Result<Dataset, GapError> {
     let reference = bench.reference();
-    let tests = [
+    let nominal = Firmware::nominal(&reference, design.leg_mm);
+    let mut tests: Vec<(TestKind, Firmware)> = [
         TestKind::UmbmarkCw,
         TestKind::UmbmarkCcw,
         TestKind::Line,
         TestKind::TriangleCcw,
-    ];
+    ]
+    .iter()
+    .map(|&t| (t, nominal.clone()))
+    .collect();
+    if design.shuttle {
+        let shuttle = Firmware {
+            turn_umbmark_deg: SHUTTLE_CORNER_DEG,
+            ..nominal.clone()
+        };
+        tests.push((TestKind::UmbmarkCcw, shuttle));
+    }
     let experiments: Vec<Experiment> = tests
-        .iter()
+        .into_iter()
         .enumerate()
-        .map(|(i, &test)| Experiment {
+        .map(|(i, (test, firmware))| Experiment {
+            runs: if firmware.turn_umbmark_deg == SHUTTLE_CORNER_DEG {
+                SHUTTLE_RUNS_FACTOR * runs_per_group
+            } else {
+                runs_per_group
+            },
             test,
-            firmware: Firmware::nominal(&reference, leg_mm),
+            firmware,
             reference,
-            runs: runs_per_group,
             seed: seed.wrapping_add(i as u64 + 1),
         })
         .collect();
@@ -396,7 +465,12 @@ pub(super) fn make_data(
                 theta_rad: Some(r.theta_rad),
             })
             .collect();
-        let group = Group::new("bench", exp, runs)?;
+        let name = if exp.firmware.turn_umbmark_deg == SHUTTLE_CORNER_DEG {
+            SHUTTLE_GROUP
+        } else {
+            "bench"
+        };
+        let group = Group::new(name, exp, runs)?;
         // The first run's log, its speeds from the encoder counts as the firmware's.
         groups.push(match series.into_iter().next() {
             Some(s) => group.with_telemetry(s.counted),
@@ -406,8 +480,8 @@ pub(super) fn make_data(
     Dataset::new(groups)
 }
 
-/// The self-test's split: UMBmark both ways and the line for training, the triangle held
-/// out.
+/// The self-test's split: UMBmark both ways (the shuttle among them) and the line for
+/// training, the triangle held out.
 pub(super) fn split_rule() -> SplitRule {
     SplitRule::TrainOnTests(vec![
         TestKind::UmbmarkCw,
@@ -421,10 +495,10 @@ pub(super) fn split_rule() -> SplitRule {
 pub fn self_test_split(
     bench: &BenchModel,
     hidden: &EffectParams,
-    leg_mm: f64,
+    design: SelfTestDesign,
     seed: u64,
 ) -> Result<(gap::data::TrainSet, gap::data::HeldOutSet), GapError> {
-    make_data(bench, hidden, leg_mm, seed, RUNS_PER_GROUP)?.split(&split_rule())
+    make_data(bench, hidden, design, seed, RUNS_PER_GROUP)?.split(&split_rule())
 }
 
 /// Runs one case per `(effect, value)` of `cases`.
@@ -449,7 +523,8 @@ pub fn bench_self_test_of(
     opts: &SelectOptions,
     progress: &dyn Fn(&str),
 ) -> Result<BenchSelfTest, GapError> {
-    bench_self_test_on(bench, bench, cases, leg_mm, seed, opts, progress)
+    let design = SelfTestDesign::legs(leg_mm);
+    bench_self_test_on(bench, bench, cases, design, seed, opts, progress)
 }
 
 /// The label of a case that hides no effect of the candidate list: its "real" data come
@@ -465,7 +540,7 @@ pub fn bench_self_test_on(
     bench: &BenchModel,
     real: &BenchModel,
     cases: &[Vec<(&str, f64)>],
-    leg_mm: f64,
+    design: SelfTestDesign,
     seed: u64,
     opts: &SelectOptions,
     progress: &dyn Fn(&str),
@@ -503,7 +578,7 @@ pub fn bench_self_test_on(
         let data = make_data(
             real,
             &hidden,
-            leg_mm,
+            design,
             seed ^ (k as u64) << 32,
             RUNS_PER_GROUP,
         )?;
@@ -557,7 +632,11 @@ pub fn bench_self_test_on(
             diagnosis: d,
         });
     }
-    Ok(BenchSelfTest { leg_mm, cases: out })
+    Ok(BenchSelfTest {
+        leg_mm: design.leg_mm,
+        shuttle: design.shuttle,
+        cases: out,
+    })
 }
 
 #[cfg(test)]

@@ -142,7 +142,7 @@ pub fn measure_diagnosis(plan: &SpeedPlan) -> Result<DiagnosisSpeed, GapError> {
     let data = make_data(
         &with_jobs(data_jobs),
         &hidden,
-        plan.leg_mm,
+        super::SelfTestDesign::legs(plan.leg_mm),
         plan.seed,
         plan.runs_per_group,
     )?;
