@@ -29,6 +29,9 @@ pub const SHUTTLE_RUNS_FACTOR: usize = 2;
 /// The name of the shuttle's group (UMBmark's groups are "bench").
 pub const SHUTTLE_GROUP: &str = "shuttle";
 
+/// The floor's heading noise of the "real" data, degrees per √m.
+pub const FLOOR_NOISE_DEG_PER_SQRT_M: f64 = 1.0;
+
 /// What a self-test records: the legs, and whether the training data hold a shuttle too.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SelfTestDesign {
@@ -61,8 +64,6 @@ impl SelfTestDesign {
         }
     }
 }
-/// The floor's heading noise of the "real" data, degrees per √m.
-pub const FLOOR_NOISE_DEG_PER_SQRT_M: f64 = 1.0;
 
 /// The hidden effects of the self-test, in order (`--cases N` runs the first N): first one
 /// the kinematic model cannot represent (a left dead band) and one it can (coasting), then
@@ -417,37 +418,39 @@ pub(super) fn make_data(
 ) -> Result<Dataset, GapError> {
     let reference = bench.reference();
     let nominal = Firmware::nominal(&reference, design.leg_mm);
-    let mut tests: Vec<(TestKind, Firmware)> = [
+    // (group name, test, firmware, runs)
+    let mut planned: Vec<(&str, TestKind, Firmware, usize)> = [
         TestKind::UmbmarkCw,
         TestKind::UmbmarkCcw,
         TestKind::Line,
         TestKind::TriangleCcw,
     ]
     .iter()
-    .map(|&t| (t, nominal.clone()))
+    .map(|&t| ("bench", t, nominal.clone(), runs_per_group))
     .collect();
     if design.shuttle {
         let shuttle = Firmware {
             turn_umbmark_deg: SHUTTLE_CORNER_DEG,
             ..nominal.clone()
         };
-        tests.push((TestKind::UmbmarkCcw, shuttle));
+        let runs = SHUTTLE_RUNS_FACTOR * runs_per_group;
+        planned.push((SHUTTLE_GROUP, TestKind::UmbmarkCcw, shuttle, runs));
     }
-    let experiments: Vec<Experiment> = tests
+    let (names, experiments): (Vec<&str>, Vec<Experiment>) = planned
         .into_iter()
         .enumerate()
-        .map(|(i, (test, firmware))| Experiment {
-            runs: if firmware.turn_umbmark_deg == SHUTTLE_CORNER_DEG {
-                SHUTTLE_RUNS_FACTOR * runs_per_group
-            } else {
-                runs_per_group
-            },
-            test,
-            firmware,
-            reference,
-            seed: seed.wrapping_add(i as u64 + 1),
+        .map(|(i, (name, test, firmware, runs))| {
+            let seed = seed.wrapping_add(i as u64 + 1);
+            let exp = Experiment {
+                test,
+                firmware,
+                reference,
+                runs,
+                seed,
+            };
+            (name, exp)
         })
-        .collect();
+        .unzip();
     let mut noisy = hidden.clone();
     noisy.set(FLOOR_NOISE, FLOOR_NOISE_DEG_PER_SQRT_M);
     let requests: Vec<_> = experiments
@@ -455,7 +458,8 @@ pub(super) fn make_data(
         .map(|e| (noisy.clone(), e.clone()))
         .collect();
     let mut groups = Vec::new();
-    for (exp, answer) in experiments.into_iter().zip(bench.run_many(&requests, true)) {
+    let answers = bench.run_many(&requests, true);
+    for ((name, exp), answer) in names.into_iter().zip(experiments).zip(answers) {
         let (ends, series) = answer?;
         let runs = ends
             .into_iter()
@@ -465,11 +469,6 @@ pub(super) fn make_data(
                 theta_rad: Some(r.theta_rad),
             })
             .collect();
-        let name = if exp.firmware.turn_umbmark_deg == SHUTTLE_CORNER_DEG {
-            SHUTTLE_GROUP
-        } else {
-            "bench"
-        };
         let group = Group::new(name, exp, runs)?;
         // The first run's log, its speeds from the encoder counts as the firmware's.
         groups.push(match series.into_iter().next() {
